@@ -1,0 +1,1 @@
+//! Bytes → words of one line. STUB: being written.

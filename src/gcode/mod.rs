@@ -1,0 +1,122 @@
+//! G-code in and out: a streaming reader over bytes and a deterministic writer.
+//!
+//! The reader never copies the file into a `String`. It yields one [`Line`] per source line,
+//! in order, with the raw bytes (for verbatim pass-through), what the line did, and — for
+//! G0/G1/G2/G3 — the straight pieces it moves along in absolute millimetres (arcs linearised).
+//! Values are parsed as f64 (absolute E such as `E12345.67891` keeps every digit).
+
+use glam::DVec3;
+
+use crate::toolpath::Feature;
+
+pub mod lexer;
+pub mod reader;
+pub mod write;
+
+pub use reader::{ReadOptions, Reader, State};
+
+/// What one source line did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Command {
+    /// Blank line or a comment that changes nothing.
+    Comment,
+    /// G0/G1/G2/G3. `rapid` for G0, `arc` for G2/G3.
+    Move { rapid: bool, arc: bool },
+    /// G92. `e` is the new E if given; `xyz` whether any of X, Y, Z was given.
+    SetPosition { e: Option<f64>, xyz: bool },
+    /// M82 (absolute, `relative = false`) or M83 (relative).
+    ExtrusionMode { relative: bool },
+    /// G90 (absolute) or G91 (relative): positioning mode for X Y Z (and E unless M82/M83 follow).
+    Positioning { relative: bool },
+    /// G20 (inch = true) or G21 (mm).
+    Units { inch: bool },
+    /// A layer start: `;LAYER_CHANGE`, `;LAYER:n`, or (in files with no such markers) the first
+    /// extrusion at a new, higher Z. The state's `layer` already holds the new index.
+    LayerStart,
+    /// `;TYPE:…` — the state's `feature` already holds the new feature.
+    FeatureType(Feature),
+    /// `;WARPSLICE_BEGIN` (true) or `;WARPSLICE_END` (false).
+    RegionMarker { begin: bool },
+    /// Anything else (temperatures, fans, M-codes, unknown commands): pass through verbatim.
+    Other,
+}
+
+/// One straight piece of a move, absolute millimetres in the G-code's own frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub from: DVec3,
+    pub to: DVec3,
+    /// Filament pushed along this piece, mm (a delta, whatever the file's E mode).
+    pub e: f64,
+    /// Feed rate in force, mm/min.
+    pub f: f64,
+    /// The slicer's layer index in force (0 before the first layer start).
+    pub layer: u32,
+    /// The feature type in force.
+    pub feature: Feature,
+    /// G0.
+    pub rapid: bool,
+}
+
+impl Move {
+    /// An extruding move: pushes filament and moves in X, Y or Z.
+    pub fn is_extrusion(&self) -> bool {
+        self.e > 0.0 && self.from != self.to
+    }
+}
+
+/// One source line: raw bytes, line number, what it did, and its move pieces.
+#[derive(Debug)]
+pub struct Line<'a> {
+    /// The line as in the file, without its terminator (`\n` or `\r\n`).
+    pub raw: &'a [u8],
+    /// 1-based line number.
+    pub number: u64,
+    pub command: Command,
+    /// The straight pieces of a move (one for G0/G1, several for an arc, none otherwise).
+    pub moves: &'a [Move],
+}
+
+/// Why G-code could not be read. Messages name the line and what to do.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum GcodeError {
+    /// Binary G-code (`.bgcode`, magic `GCDE`).
+    Binary,
+    /// A word that does not parse (`line`, the text of the word).
+    BadNumber { line: u64, word: String },
+    /// `*` checksum that does not match the line.
+    Checksum { line: u64, expected: u8, found: u8 },
+    /// An arc that cannot be expanded (radius too small for the chord, zero radius, no centre).
+    BadArc { line: u64, reason: String },
+    /// A line longer than the reader accepts (bytes).
+    LineTooLong { line: u64, bytes: usize },
+}
+
+impl std::fmt::Display for GcodeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            GcodeError::Binary => write!(
+                f,
+                "this is binary G-code (.bgcode); export plain-text G-code from the slicer (PrusaSlicer: Printer Settings → General → Firmware → uncheck 'Supports binary G-code')"
+            ),
+            GcodeError::BadNumber { line, word } => {
+                write!(f, "G-code line {line}: cannot read the number in '{word}'")
+            }
+            GcodeError::Checksum { line, expected, found } => write!(
+                f,
+                "G-code line {line}: checksum *{found} does not match the line (expected *{expected})"
+            ),
+            GcodeError::BadArc { line, reason } => write!(
+                f,
+                "G-code line {line}: cannot expand the arc ({reason}); turn off arc fitting in the slicer"
+            ),
+            GcodeError::LineTooLong { line, bytes } => {
+                write!(f, "G-code line {line} is {bytes} bytes long; is this really G-code?")
+            }
+        }
+    }
+}
+
+impl std::error::Error for GcodeError {}

@@ -1,0 +1,46 @@
+//! # warpslice
+//!
+//! Non-planar slicing by warping, after seeds 000 (B-axis pipeline), 001 (3Z tilting bed),
+//! 002 (conic/tilted slicing, Slicer4RTN) and 004 (5-axis A/B table).
+//!
+//! The pipeline is the architecture; data flows one way:
+//!
+//! ```text
+//!  STL bytes ─► mesh ─► subdivide ─► warp.forward ─► warped STL + job ──► (user's planar slicer)
+//!                                                                               │
+//!  G-code ◄─ machine.inverse ◄─ unwarp (segment, warp.inverse, E, travel) ◄─ register ◄─ gcode::read
+//! ```
+//!
+//! ## Frames
+//! - **input frame**: the STL as read.
+//! - **model frame**: the input translated so that the centre of its XY bounding box is at
+//!   (0, 0) and its lowest point at z = 0. Every warp is defined here.
+//! - **slicing frame**: T(model frame) lifted so its lowest point (anchor included) is at z = 0;
+//!   the warped STL is written in it.
+//! - **slicer bed frame**: where the slicer put the warped mesh; [`register`] finds the shift.
+//! - **output frame**: model frame + `model_to_output` (written into every output file).
+//! - **machine frame**: axis values after a machine's inverse kinematics.
+//!
+//! ## Conventions
+//! mm and degrees at every interface (CLI, JSON, G-code), radians inside; f64 throughout.
+//! The tool axis `n` is the unit vector from the tip into the nozzle (up when printing planar).
+//! "outward" means z' = z + g with g ≥ 0 growing away from the warp's centre.
+
+pub mod num;
+pub mod tolerance;
+
+pub mod mesh;
+pub mod warp;
+pub mod job;
+pub mod gcode;
+pub mod register;
+pub mod toolpath;
+pub mod unwarp;
+pub mod pipeline;
+pub mod machine;
+
+#[cfg(not(target_arch = "wasm32"))]
+pub mod slicer;
+
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;

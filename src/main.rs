@@ -1,0 +1,2 @@
+//! The `warpslice` command line. STUB: being written.
+fn main() {}

@@ -1,0 +1,121 @@
+//! Triangle meshes: read and write STL, report defects, subdivide before warping.
+//!
+//! A [`Mesh`] is indexed (shared vertices), f64, in whatever frame its producer says.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+pub mod report;
+pub mod stl;
+pub mod subdivide;
+
+pub use report::MeshReport;
+pub use stl::{read_stl, write_stl, StlFormat};
+pub use subdivide::{subdivide, SubdivideOptions, SubdivideStats};
+
+/// An indexed triangle mesh (counter-clockwise triangles seen from outside).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub vertices: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// An axis-aligned bounding box, mm.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    /// The empty box (min = +∞, max = −∞); `include` grows it.
+    pub const EMPTY: Aabb = Aabb { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
+
+    pub fn include(&mut self, p: DVec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+    pub fn is_empty(&self) -> bool {
+        !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
+    }
+    pub fn size(&self) -> DVec3 {
+        self.max - self.min
+    }
+    pub fn center(&self) -> DVec3 {
+        (self.min + self.max) * 0.5
+    }
+    pub fn of_points(points: impl IntoIterator<Item = DVec3>) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for p in points {
+            b.include(p);
+        }
+        b
+    }
+}
+
+impl Mesh {
+    /// Bounding box of the vertices that some triangle uses.
+    pub fn bbox(&self) -> Aabb {
+        let mut b = Aabb::EMPTY;
+        for t in &self.triangles {
+            for &i in t {
+                b.include(self.vertices[i as usize]);
+            }
+        }
+        b
+    }
+    /// Move every vertex by `d`.
+    pub fn translate(&mut self, d: DVec3) {
+        for v in &mut self.vertices {
+            *v += d;
+        }
+    }
+}
+
+/// Why an STL could not be read. Each message says what to fix.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MeshError {
+    /// The file has no bytes.
+    Empty,
+    /// Binary STL shorter than its header + face count + faces say.
+    Truncated { expected_bytes: u64, actual_bytes: u64 },
+    /// Binary STL whose face count disagrees with the file size.
+    FaceCountMismatch { header_count: u64, bytes_for: u64 },
+    /// A coordinate is NaN or infinite (triangle index, 0-based).
+    NonFinite { triangle: usize },
+    /// The file holds no triangles.
+    NoTriangles,
+    /// ASCII STL: a facet with other than three vertices (1-based line number).
+    NotATriangle { line: usize, vertices: usize },
+    /// ASCII STL that does not parse (1-based line number and what was found).
+    Syntax { line: usize, message: String },
+}
+
+impl std::fmt::Display for MeshError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MeshError::Empty => write!(f, "the STL file is empty (0 bytes): export the model again"),
+            MeshError::Truncated { expected_bytes, actual_bytes } => write!(
+                f,
+                "the binary STL is truncated: its header announces {expected_bytes} bytes but the file has {actual_bytes}; export it again"
+            ),
+            MeshError::FaceCountMismatch { header_count, bytes_for } => write!(
+                f,
+                "the binary STL's face count says {header_count} triangles but the file holds {bytes_for}; export it again"
+            ),
+            MeshError::NonFinite { triangle } => write!(
+                f,
+                "triangle {triangle} has a non-finite coordinate (NaN or infinity); repair the model"
+            ),
+            MeshError::NoTriangles => write!(f, "the STL holds no triangles"),
+            MeshError::NotATriangle { line, vertices } => write!(
+                f,
+                "line {line}: a facet with {vertices} vertices; STL facets must be triangles"
+            ),
+            MeshError::Syntax { line, message } => write!(f, "line {line}: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for MeshError {}

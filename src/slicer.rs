@@ -1,0 +1,1 @@
+//! Driving the real planar slicers installed on this machine (native only). STUB: being written.

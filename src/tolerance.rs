@@ -1,0 +1,27 @@
+//! Named tolerances and defaults. Each constant says what it bounds.
+
+/// Default longest triangle edge after subdivision, mm (`--max-edge`).
+pub const DEFAULT_MAX_EDGE: f64 = 1.0;
+/// Default chord tolerance, mm (`--tolerance`): the largest distance between a warped/unwarped
+/// polyline and the exact image of the straight edge or move it replaces.
+pub const DEFAULT_TOLERANCE: f64 = 0.01;
+/// Default longest extruding segment after unwarping, mm (`--max-segment`).
+pub const DEFAULT_MAX_SEGMENT: f64 = 1.0;
+/// Default intended layer height, mm (written to the job; the slicer's actual first layer and
+/// layer height are read back from the G-code).
+pub const DEFAULT_LAYER_HEIGHT: f64 = 0.2;
+/// Registration: the largest accepted mismatch between the G-code's object-extrusion bounding
+/// box and the warped mesh's, mm. Above it the G-code is taken to be of another model.
+pub const MAX_REGISTRATION_RESIDUAL: f64 = 1.0;
+/// Accuracy of the inverse of a warp with a 1-D numeric solve (the `--base` blend), mm.
+pub const INVERSE_SOLVE_TOLERANCE: f64 = 1e-12;
+/// Below this distance two points or lengths are taken to be equal, mm.
+pub const LENGTH_EPSILON: f64 = 1e-9;
+/// Chord tolerance for linearising G2/G3 arcs when reading G-code, mm.
+pub const ARC_CHORD_TOLERANCE: f64 = 0.005;
+/// Travel: clearance kept above everything printed so far, mm.
+pub const DEFAULT_TRAVEL_CLEARANCE: f64 = 1.0;
+/// Travel: retraction added when the slicer did not retract before a lifted travel, mm of filament.
+pub const DEFAULT_RETRACT_LENGTH: f64 = 0.8;
+/// Lowest z any output point may have, mm (the bed is z = 0; see `unwarp` for the clamp).
+pub const BED_Z: f64 = 0.0;

@@ -1,0 +1,34 @@
+//! Curved layers, seed 000 §4.2.2 Eq. 1:
+//!
+//! T_z = z + s·c·(x + a)² / (w/2 + |a|)
+//!
+//! s = strength (dimensionless), c = +1 outward / −1 inward, a = offset (mm) shifting the
+//! vertex of the parabola to x = −a, w = the model's width in x (mm). Layers are parabolic
+//! cylinders along y; the tool axis tilts in the XZ plane only, by atan(2·s·c·(x+a)/(w/2+|a|)).
+
+use glam::DVec2;
+
+use super::{Direction, Height};
+
+/// g(x, y) = s·c·(x + a)² / (w/2 + |a|).
+#[derive(Clone, Copy, Debug)]
+pub struct Curved {
+    k: f64,
+    a: f64,
+}
+
+impl Curved {
+    pub fn new(strength: f64, direction: Direction, offset: f64, width: f64) -> Curved {
+        Curved { k: strength * direction.sign() / (width / 2.0 + offset.abs()), a: offset }
+    }
+}
+
+impl Height for Curved {
+    fn g(&self, x: f64, _y: f64) -> f64 {
+        let u = x + self.a;
+        self.k * u * u
+    }
+    fn grad(&self, x: f64, _y: f64) -> DVec2 {
+        DVec2::new(2.0 * self.k * (x + self.a), 0.0)
+    }
+}

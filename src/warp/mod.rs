@@ -1,0 +1,319 @@
+//! Warps: the transform T from the model frame to the slicing frame, and back.
+//!
+//! A warp is chosen so that the planes z' = k·h of the warped mesh are the wanted non-planar
+//! layers of the real part: layer k is the surface T_z(p) = k·h in the model frame. Each warp
+//! lives in one file behind the one small [`Warp`] trait:
+//!
+//! | warp | T_z(x, y, z) | seed |
+//! |---|---|---|
+//! | [`curved`] | z + s·c·(x+a)² / (w/2 + \|a\|) | 000 Eq. 1 |
+//! | [`tilted`] | z + s·c·\|x+a\| | 000 Eq. 2 |
+//! | [`conic`] | z + c·r·tan α, r = \|(x, y) − centre\| | 002 (Slicer4RTN) |
+//! | [`belt`] | z + (d·(x, y))·tan α | 002 (`--axis=3`) |
+//!
+//! c = +1 for `outward` (z' = z + g, g ≥ 0 growing away from the centre: layers fall outward and
+//! the tool tilts outward), −1 for `inward`. All four are shears in z: T(x,y,z) = (x, y, z + g(x,y)),
+//! so det J = 1 and extruded volume is unchanged. The optional [`base`] blend keeps the first
+//! layers flat: z' = z + w(z)·g(x, y).
+//!
+//! The tool axis at a model point is the unit layer normal ∇T_z / |∇T_z| (tip → nozzle).
+
+use glam::{DMat3, DVec3};
+use serde::{Deserialize, Serialize};
+
+pub mod base;
+pub mod belt;
+pub mod conic;
+pub mod curved;
+pub mod laws;
+pub mod shear;
+pub mod tilted;
+
+pub use base::BaseBlend;
+pub use shear::{Height, Shear};
+
+/// A transform T from the model frame to the slicing frame (both mm).
+pub trait Warp: Send + Sync + std::fmt::Debug {
+    /// T(p): model frame → slicing frame.
+    fn forward(&self, p: DVec3) -> DVec3;
+    /// T⁻¹(q): slicing frame → model frame.
+    fn inverse(&self, q: DVec3) -> DVec3;
+    /// The Jacobian ∂T/∂p at a model-frame point (columns ∂T/∂x, ∂T/∂y, ∂T/∂z).
+    fn jacobian(&self, p: DVec3) -> DMat3;
+
+    /// det J at a model-frame point: the ratio of warped to model volume. Unwarped extrusion is
+    /// E_out = E_in / det J.
+    fn jacobian_det(&self, p: DVec3) -> f64 {
+        self.jacobian(p).determinant()
+    }
+    /// The unit tool axis at a model-frame point: ∇T_z / |∇T_z| (the third row of J).
+    fn tool_axis(&self, p: DVec3) -> DVec3 {
+        let j = self.jacobian(p);
+        let g = DVec3::new(j.x_axis.z, j.y_axis.z, j.z_axis.z);
+        let len = g.length();
+        if len > 0.0 {
+            g / len
+        } else {
+            DVec3::Z
+        }
+    }
+}
+
+/// `outward` (c = +1) or `inward` (c = −1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    #[default]
+    Outward,
+    Inward,
+}
+
+impl Direction {
+    /// c of seed 000: +1 outward, −1 inward.
+    pub fn sign(self) -> f64 {
+        match self {
+            Direction::Outward => 1.0,
+            Direction::Inward => -1.0,
+        }
+    }
+}
+
+impl std::str::FromStr for Direction {
+    type Err = WarpError;
+    fn from_str(s: &str) -> Result<Self, WarpError> {
+        match s {
+            "outward" => Ok(Direction::Outward),
+            "inward" => Ok(Direction::Inward),
+            _ => Err(WarpError::BadParameter {
+                name: "direction",
+                value: s.to_string(),
+                allowed: "outward or inward".into(),
+            }),
+        }
+    }
+}
+
+/// A warp and its parameters, as the CLI, the job file and the web app give them.
+/// Lengths in mm, angles in degrees.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+#[non_exhaustive]
+pub enum WarpSpec {
+    /// Seed 000 Eq. 1. `width` is the model's width in x (filled in from the mesh when 0).
+    Curved { strength: f64, direction: Direction, offset: f64, #[serde(default)] width: f64 },
+    /// Seed 000 Eq. 2.
+    Tilted { strength: f64, direction: Direction, offset: f64 },
+    /// Seed 002: conic layers about the vertical axis through `center`.
+    Conic { angle: f64, direction: Direction, center: [f64; 2] },
+    /// Seed 002 tilted slices: planes falling toward the unit vector `toward`.
+    Belt { angle: f64, toward: [f64; 2] },
+}
+
+impl WarpSpec {
+    /// The CLI / UI name of the warp.
+    pub fn name(&self) -> &'static str {
+        match self {
+            WarpSpec::Curved { .. } => "curved",
+            WarpSpec::Tilted { .. } => "tilted",
+            WarpSpec::Conic { .. } => "conic",
+            WarpSpec::Belt { .. } => "belt",
+        }
+    }
+
+    /// Fill in what depends on the model (the curved warp's width) from the model-frame bbox.
+    pub fn resolve(&mut self, model_bbox: &crate::mesh::Aabb) {
+        if let WarpSpec::Curved { width, .. } = self {
+            if *width <= 0.0 {
+                *width = model_bbox.size().x;
+            }
+        }
+    }
+
+    /// Check the parameters; names the bad one and its allowed range.
+    pub fn validate(&self) -> Result<(), WarpError> {
+        fn finite(name: &'static str, v: f64) -> Result<(), WarpError> {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(WarpError::BadParameter { name, value: v.to_string(), allowed: "a finite number".into() })
+            }
+        }
+        match *self {
+            WarpSpec::Curved { strength, offset, width, .. } => {
+                finite("strength", strength)?;
+                finite("offset", offset)?;
+                finite("width", width)?;
+                if strength < 0.0 {
+                    return Err(WarpError::BadParameter {
+                        name: "strength",
+                        value: strength.to_string(),
+                        allowed: "≥ 0 (use --direction inward for concave layers)".into(),
+                    });
+                }
+                if width / 2.0 + offset.abs() <= 0.0 {
+                    return Err(WarpError::BadParameter {
+                        name: "width",
+                        value: width.to_string(),
+                        allowed: "> 0 (a model with no extent in x cannot take the curved warp)".into(),
+                    });
+                }
+            }
+            WarpSpec::Tilted { strength, offset, .. } => {
+                finite("strength", strength)?;
+                finite("offset", offset)?;
+                if strength < 0.0 {
+                    return Err(WarpError::BadParameter {
+                        name: "strength",
+                        value: strength.to_string(),
+                        allowed: "≥ 0 (use --direction inward for concave layers)".into(),
+                    });
+                }
+            }
+            WarpSpec::Conic { angle, center, .. } => {
+                finite("center", center[0])?;
+                finite("center", center[1])?;
+                if !(angle > 0.0 && angle < 90.0) {
+                    return Err(WarpError::BadParameter {
+                        name: "angle",
+                        value: angle.to_string(),
+                        allowed: "0 < angle < 90 degrees".into(),
+                    });
+                }
+            }
+            WarpSpec::Belt { angle, toward } => {
+                if !(angle > 0.0 && angle < 90.0) {
+                    return Err(WarpError::BadParameter {
+                        name: "angle",
+                        value: angle.to_string(),
+                        allowed: "0 < angle < 90 degrees".into(),
+                    });
+                }
+                let l = (toward[0] * toward[0] + toward[1] * toward[1]).sqrt();
+                if !(l.is_finite() && l > 0.0) {
+                    return Err(WarpError::BadParameter {
+                        name: "toward",
+                        value: format!("{},{}", toward[0], toward[1]),
+                        allowed: "a non-zero direction dx,dy".into(),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The height function g(x, y) of this shear warp.
+    pub fn height(&self) -> Box<dyn Height> {
+        match *self {
+            WarpSpec::Curved { strength, direction, offset, width } => {
+                Box::new(curved::Curved::new(strength, direction, offset, width))
+            }
+            WarpSpec::Tilted { strength, direction, offset } => {
+                Box::new(tilted::Tilted::new(strength, direction, offset))
+            }
+            WarpSpec::Conic { angle, direction, center } => {
+                Box::new(conic::Conic::new(angle, direction, center))
+            }
+            WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
+        }
+    }
+
+    /// The largest value of this warp's strength parameter (strength, or angle in degrees) for
+    /// which a height function scaled to reach `max_negative_g` at the current value would reach
+    /// `limit_g` instead. Used to name the limit in refusals.
+    pub fn strength_for_limit(&self, current_max_negative_g: f64, limit_g: f64) -> (&'static str, f64) {
+        let ratio = if current_max_negative_g > 0.0 { limit_g / current_max_negative_g } else { f64::INFINITY };
+        match *self {
+            WarpSpec::Curved { strength, .. } | WarpSpec::Tilted { strength, .. } => ("strength", strength * ratio),
+            WarpSpec::Conic { angle, .. } | WarpSpec::Belt { angle, .. } => {
+                ("angle", crate::num::deg(crate::num::atan(crate::num::tan(crate::num::rad(angle)) * ratio)))
+            }
+        }
+    }
+}
+
+/// Why a warp cannot be built or used.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum WarpError {
+    /// A parameter outside its range.
+    BadParameter { name: &'static str, value: String, allowed: String },
+    /// ∂z'/∂z ≤ 0 somewhere in the model's bounding box: layers would fold over.
+    NotMonotonic { warp: &'static str, parameter: &'static str, largest_allowed: f64, base: [f64; 2], worst_point: [f64; 2] },
+    /// The inverse did not converge (a point outside the warp's domain).
+    InverseFailed { point: [f64; 3] },
+}
+
+impl std::fmt::Display for WarpError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WarpError::BadParameter { name, value, allowed } => {
+                write!(f, "warp parameter {name} = {value} is not allowed: {allowed}")
+            }
+            WarpError::NotMonotonic { warp, parameter, largest_allowed, base, worst_point } => write!(
+                f,
+                "the {warp} warp with --base {},{} folds the layers over near x = {:.2}, y = {:.2} (∂z'/∂z ≤ 0): \
+                 the largest allowed {parameter} for this model and base is {:.3}; lower it or widen the base blend (larger z1 − z0)",
+                base[0], base[1], worst_point[0], worst_point[1], largest_allowed
+            ),
+            WarpError::InverseFailed { point } => write!(
+                f,
+                "cannot invert the warp at ({:.4}, {:.4}, {:.4}): the point lies outside the warped model's domain",
+                point[0], point[1], point[2]
+            ),
+        }
+    }
+}
+
+impl std::error::Error for WarpError {}
+
+/// Everything that defines a warp: the spec and the optional flat base `[z0, z1]` (mm).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WarpParams {
+    pub spec: WarpSpec,
+    #[serde(default)]
+    pub base: Option<[f64; 2]>,
+}
+
+impl WarpParams {
+    /// Build the warp for a model whose model-frame bounding box is `model_bbox` (resolves the
+    /// spec, validates it and checks monotonicity of the base blend over the bbox).
+    pub fn build(&mut self, model_bbox: &crate::mesh::Aabb) -> Result<Shear, WarpError> {
+        self.spec.resolve(model_bbox);
+        self.spec.validate()?;
+        let blend = match self.base {
+            None => None,
+            Some([z0, z1]) => {
+                if !(z0.is_finite() && z1.is_finite() && z0 >= 0.0 && z1 > z0) {
+                    return Err(WarpError::BadParameter {
+                        name: "base",
+                        value: format!("{z0},{z1}"),
+                        allowed: "z0,z1 with 0 ≤ z0 < z1 (mm)".into(),
+                    });
+                }
+                Some(BaseBlend::new(z0, z1))
+            }
+        };
+        let shear = Shear::new(self.spec.height(), blend);
+        if let Some(b) = blend {
+            // ∂z'/∂z = 1 + w'(z)·g(x,y) ≥ 1 − w'_max·max(−g): check g over the bbox.
+            let (min_g, at) = shear.height().min_over(model_bbox);
+            let need = -min_g * b.max_slope();
+            if need >= 1.0 {
+                let limit_g = 1.0 / b.max_slope() * (1.0 - MONOTONIC_MARGIN);
+                let (parameter, largest) = self.spec.strength_for_limit(-min_g, limit_g);
+                return Err(WarpError::NotMonotonic {
+                    warp: self.spec.name(),
+                    parameter,
+                    largest_allowed: largest,
+                    base: [b.z0, b.z1],
+                    worst_point: at,
+                });
+            }
+        }
+        Ok(shear)
+    }
+}
+
+/// Safety margin on ∂z'/∂z when naming the largest allowed strength: the named value keeps
+/// ∂z'/∂z ≥ this fraction (a margin of 1 %, so the named value itself is accepted).
+pub const MONOTONIC_MARGIN: f64 = 0.01;
