@@ -1,1 +1,125 @@
-//! STUB: being written.
+//! The job file: everything `unwarp` needs to map a slicer's G-code back.
+//!
+//! `warp` writes it next to the warped STL (`WARPED.job.json`); the same job drives `unwarp`
+//! and is echoed on one line into every output G-code. Its `hash` (FNV-1a 64 over the
+//! canonical JSON of every other field, 16 hex digits) is also written into the warped STL's
+//! 80-byte header, so a warped STL is recognisable.
+
+use serde::{Deserialize, Serialize};
+
+use crate::mesh::Aabb;
+use crate::warp::WarpParams;
+
+/// Version of the job format; bumped when a field changes meaning.
+pub const JOB_FORMAT: u32 = 1;
+
+/// A warp job (all lengths mm).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Job {
+    /// `warpslice` version that wrote the job.
+    pub version: String,
+    /// Job format ([`JOB_FORMAT`]).
+    pub format: u32,
+    /// Warp kind and parameters (resolved: the curved warp's width is filled in).
+    pub warp: WarpParams,
+    /// input frame + this = model frame (centre of the XY bbox at 0, lowest point at z = 0).
+    pub input_to_model: [f64; 3],
+    /// Model-frame bounding box of the input mesh.
+    pub model_bbox: Aabb,
+    /// STL z = T_z + `stl_z_offset`: the warped STL is lifted so that its lowest point (the
+    /// anchor's underside when there is one) is at z = 0. x and y are not moved.
+    pub stl_z_offset: f64,
+    /// Bounding box of the warped part in STL coordinates (anchor excluded).
+    pub warped_bbox: Aabb,
+    /// Intended layer height (and anchor thickness), mm.
+    pub layer_height: f64,
+    /// Thickness of the removable anchor slab under the warped part, or `None` if the warped
+    /// bottom is flat and needs none. The slicer's first layer holds only the anchor (and
+    /// skirt/brim); unwarp drops the anchor's extrusions.
+    pub anchor: Option<f64>,
+    /// Subdivision settings used.
+    pub max_edge: f64,
+    pub tolerance: f64,
+    /// FNV-1a 64 of the input STL bytes, 16 hex digits.
+    pub input_hash: String,
+    /// FNV-1a 64 of this job's canonical JSON with `hash` empty, 16 hex digits.
+    pub hash: String,
+}
+
+/// Why a job file cannot be used.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum JobError {
+    /// Not valid job JSON (serde's message with line and column).
+    Parse { message: String },
+    /// The format is newer or older than this warpslice reads.
+    Format { found: u32, expected: u32 },
+    /// The hash does not match the content (the file was edited or damaged).
+    Hash { found: String, computed: String },
+}
+
+impl std::fmt::Display for JobError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            JobError::Parse { message } => write!(f, "the job file is not valid: {message}"),
+            JobError::Format { found, expected } => write!(
+                f,
+                "the job file has format {found}, this warpslice reads format {expected}: warp the model again"
+            ),
+            JobError::Hash { found, computed } => write!(
+                f,
+                "the job file's hash {found} does not match its content ({computed}): it was edited or damaged; warp the model again"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for JobError {}
+
+impl Job {
+    /// Compute and store the hash.
+    pub fn seal(&mut self) {
+        self.hash = self.compute_hash();
+    }
+
+    /// FNV-1a 64 of the canonical JSON with an empty hash field.
+    pub fn compute_hash(&self) -> String {
+        let mut copy = self.clone();
+        copy.hash = String::new();
+        let json = serde_json::to_string(&copy).unwrap_or_default();
+        format!("{:016x}", fnv1a64(json.as_bytes()))
+    }
+
+    /// One line of JSON (for the output header).
+    pub fn to_json_line(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
+    }
+
+    /// Pretty JSON (for the job file).
+    pub fn to_json_pretty(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default() + "\n"
+    }
+
+    /// Parse and check a job file.
+    pub fn from_json(text: &str) -> Result<Job, JobError> {
+        let job: Job = serde_json::from_str(text).map_err(|e| JobError::Parse { message: e.to_string() })?;
+        if job.format != JOB_FORMAT {
+            return Err(JobError::Format { found: job.format, expected: JOB_FORMAT });
+        }
+        let computed = job.compute_hash();
+        if computed != job.hash {
+            return Err(JobError::Hash { found: job.hash.clone(), computed });
+        }
+        Ok(job)
+    }
+}
+
+/// FNV-1a, 64 bit.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}

@@ -31,6 +31,7 @@ pub mod tolerance;
 
 pub mod mesh;
 pub mod warp;
+pub mod anchor;
 pub mod job;
 pub mod gcode;
 pub mod register;
@@ -38,6 +39,7 @@ pub mod toolpath;
 pub mod unwarp;
 pub mod pipeline;
 pub mod machine;
+pub mod shapes;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod slicer;

@@ -1,1 +1,206 @@
-//! STUB: being written.
+//! The two user-facing steps, as plain functions over bytes: [`warp_model`] (STL → warped STL
+//! + job) and [`crate::unwarp::unwarp`] (G-code + job → non-planar G-code). The CLI, the wasm
+//! module and the web worker are thin faces over these.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::anchor;
+use crate::job::{fnv1a64, Job, JobError, JOB_FORMAT};
+use crate::mesh::{self, Aabb, Mesh, MeshError, MeshReport, SubdivideOptions, SubdivideStats};
+use crate::tolerance::{DEFAULT_LAYER_HEIGHT, DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
+use crate::warp::{Warp, WarpError, WarpParams};
+
+/// Whether to put the removable anchor slab under the warped part (see [`crate::anchor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum AnchorMode {
+    /// When the warped bottom is not flat.
+    #[default]
+    Auto,
+    On,
+    Off,
+}
+
+/// Options of the warp step (CLI: `warpslice warp`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WarpOptions {
+    pub warp: WarpParams,
+    /// `--max-edge`, mm.
+    #[serde(default = "default_max_edge")]
+    pub max_edge: f64,
+    /// `--tolerance`, mm.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// `--layer-height`, mm: the layer height you will slice with (anchor thickness).
+    #[serde(default = "default_layer_height")]
+    pub layer_height: f64,
+    /// `--anchor auto|on|off`.
+    #[serde(default)]
+    pub anchor: AnchorMode,
+}
+
+fn default_max_edge() -> f64 {
+    DEFAULT_MAX_EDGE
+}
+fn default_tolerance() -> f64 {
+    DEFAULT_TOLERANCE
+}
+fn default_layer_height() -> f64 {
+    DEFAULT_LAYER_HEIGHT
+}
+
+impl WarpOptions {
+    pub fn new(warp: WarpParams) -> WarpOptions {
+        WarpOptions {
+            warp,
+            max_edge: DEFAULT_MAX_EDGE,
+            tolerance: DEFAULT_TOLERANCE,
+            layer_height: DEFAULT_LAYER_HEIGHT,
+            anchor: AnchorMode::Auto,
+        }
+    }
+}
+
+/// What the warp step did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WarpReport {
+    pub mesh: MeshReport,
+    pub subdivide: SubdivideStats,
+    /// Anchor slab thickness, if one was added.
+    pub anchor: Option<f64>,
+    /// Bounding box of the warped part in STL coordinates.
+    pub warped_bbox: Aabb,
+    /// Largest angle between the tool axis and vertical over the mesh's vertices, degrees.
+    pub largest_tilt_deg: f64,
+    /// Triangles written (part + anchor).
+    pub triangles_out: usize,
+}
+
+/// Result of the warp step.
+#[derive(Clone, Debug)]
+pub struct WarpOutput {
+    /// The warped binary STL.
+    pub stl: Vec<u8>,
+    pub job: Job,
+    pub report: WarpReport,
+}
+
+/// Any error of the pipeline, each from its own area.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    Mesh(MeshError),
+    Warp(WarpError),
+    Job(JobError),
+    Gcode(crate::gcode::GcodeError),
+    Register(crate::register::RegisterError),
+    Unwarp(crate::unwarp::UnwarpError),
+    /// A bad option value (name, value, what is allowed).
+    Option { name: &'static str, value: String, allowed: &'static str },
+}
+
+impl std::fmt::Display for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Error::Mesh(e) => write!(f, "STL: {e}"),
+            Error::Warp(e) => e.fmt(f),
+            Error::Job(e) => e.fmt(f),
+            Error::Gcode(e) => e.fmt(f),
+            Error::Register(e) => e.fmt(f),
+            Error::Unwarp(e) => e.fmt(f),
+            Error::Option { name, value, allowed } => write!(f, "option {name} = {value} is not allowed: {allowed}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+macro_rules! from_error {
+    ($($t:ty => $v:ident),*) => {$(
+        impl From<$t> for Error {
+            fn from(e: $t) -> Error { Error::$v(e) }
+        }
+    )*};
+}
+from_error!(MeshError => Mesh, WarpError => Warp, JobError => Job, crate::gcode::GcodeError => Gcode,
+    crate::register::RegisterError => Register, crate::unwarp::UnwarpError => Unwarp);
+
+fn check_positive(name: &'static str, v: f64) -> Result<(), Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Option { name, value: v.to_string(), allowed: "a positive number (mm)" })
+    }
+}
+
+/// The model-frame translation of a mesh: centre of the XY bbox to (0, 0), lowest point to z = 0.
+pub fn input_to_model(bbox: &Aabb) -> DVec3 {
+    let c = bbox.center();
+    DVec3::new(-c.x, -c.y, -bbox.min.z)
+}
+
+/// Warp an STL: read, move to the model frame, subdivide, warp, add the anchor if needed,
+/// lift to z ≥ 0 and write the warped STL and its job.
+pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
+    check_positive("max-edge", opts.max_edge)?;
+    check_positive("tolerance", opts.tolerance)?;
+    check_positive("layer-height", opts.layer_height)?;
+    let (mut model, mesh_report) = mesh::read_stl(stl)?;
+    let t = input_to_model(&mesh_report.bbox);
+    model.translate(t);
+    let model_bbox = model.bbox();
+    let mut params = opts.warp.clone();
+    let warp = params.build(&model_bbox)?;
+
+    let sub = SubdivideOptions { max_edge: opts.max_edge, tolerance: opts.tolerance };
+    let (model, stats) = mesh::subdivide(&model, &sub, &|p| warp.forward(p));
+    let mut warped = Mesh { vertices: model.vertices.iter().map(|&p| warp.forward(p)).collect(), triangles: model.triangles.clone() };
+    let largest_tilt_deg = model
+        .vertices
+        .iter()
+        .map(|&p| crate::num::deg(crate::num::angle_between(warp.tool_axis(p), DVec3::Z)))
+        .fold(0.0, f64::max);
+
+    let part_bbox_t = warped.bbox();
+    let anchor = match opts.anchor {
+        AnchorMode::On => true,
+        AnchorMode::Off => false,
+        AnchorMode::Auto => anchor::needs_anchor(&model, &warped),
+    };
+    let mut anchor_thickness = None;
+    if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, opts.layer_height) {
+        anchor_thickness = Some(opts.layer_height);
+    }
+    let stl_z_offset = -part_bbox_t.min.z + anchor_thickness.unwrap_or(0.0);
+    warped.translate(DVec3::new(0.0, 0.0, stl_z_offset));
+    let warped_bbox = Aabb { min: part_bbox_t.min + DVec3::new(0.0, 0.0, stl_z_offset), max: part_bbox_t.max + DVec3::new(0.0, 0.0, stl_z_offset) };
+
+    let mut job = Job {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        format: JOB_FORMAT,
+        warp: params,
+        input_to_model: t.to_array(),
+        model_bbox,
+        stl_z_offset,
+        warped_bbox,
+        layer_height: opts.layer_height,
+        anchor: anchor_thickness,
+        max_edge: opts.max_edge,
+        tolerance: opts.tolerance,
+        input_hash: format!("{:016x}", fnv1a64(stl)),
+        hash: String::new(),
+    };
+    job.seal();
+    let header = format!("warpslice job {} {}", job.hash, job.warp.spec.name());
+    let out = mesh::write_stl(&warped, &header);
+    let report = WarpReport {
+        mesh: mesh_report,
+        subdivide: stats,
+        anchor: anchor_thickness,
+        warped_bbox,
+        largest_tilt_deg,
+        triangles_out: warped.triangles.len(),
+    };
+    Ok(WarpOutput { stl: out, job, report })
+}

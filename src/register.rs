@@ -1,1 +1,343 @@
-//! STUB: being written.
+//! Registration: where did the slicer put the warped mesh?
+//!
+//! PrusaSlicer, Slic3r and CuraEngine all re-centre the model on their bed. Before unwarping,
+//! warpslice finds the translation (dx, dy) from STL coordinates to G-code coordinates by
+//! matching the bounding box of the object's extrusions to the warped mesh's bounding box
+//! (`job.warped_bbox`): the centres are matched, and the residual is the largest half-difference
+//! of the sizes (x, y) and the difference of the tops (z). Bead centres lie about half a line
+//! width inside the mesh, so a good match has a residual of ~0.2 mm; the G-code of another
+//! model — or of the unwarped model — is off by millimetres and refused
+//! ([`MAX_REGISTRATION_RESIDUAL`]). z is not shifted: the warped STL is written with its lowest
+//! point at z = 0 and every slicer puts it on the bed.
+//!
+//! **Which extrusions are the object's.** Skirt, brim, wipe tower and custom (purge)
+//! extrusions are left out by their `;TYPE:` where the slicer writes it (PrusaSlicer,
+//! CuraEngine). Slic3r writes none: there, on the first layer, an extrusion run (extruding moves
+//! between two travels) whose bounding box holds every other run of that layer with a gap of at
+//! least [`SKIRT_MIN_GAP`] is a skirt loop (repeatedly, for several loops). When the job has an
+//! anchor, the whole first layer is the anchor's and is left out.
+//!
+//! **The warped region** runs from the first object extrusion to the last; the slicer's start
+//! and end G-code (heating, homing, purge line, park) outside it passes through verbatim.
+//! `;WARPSLICE_BEGIN` / `;WARPSLICE_END` lines override that rule.
+//!
+//! This is pass 1 of the two-pass streaming unwarp; pass 2 is [`crate::unwarp`].
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use crate::gcode::{Command, GcodeError, Line, ReadOptions, Reader, State};
+use crate::job::Job;
+use crate::mesh::Aabb;
+use crate::tolerance::MAX_REGISTRATION_RESIDUAL;
+
+/// Smallest gap between a skirt loop and everything else on the first layer, mm (Slic3r's
+/// default skirt distance is 6 mm, PrusaSlicer's 2 mm; a brim touches the object and is not
+/// found this way).
+pub const SKIRT_MIN_GAP: f64 = 1.0;
+
+/// Why registration failed.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum RegisterError {
+    /// The G-code has no object extrusions.
+    NoExtrusions,
+    /// The G-code's object does not match the warped mesh.
+    Mismatch { residual: f64, gcode_size: [f64; 3], mesh_size: [f64; 3] },
+    /// With an anchor, the slicer's first layer must be exactly the anchor's thickness.
+    AnchorLayer { first_layer_z: f64, anchor: f64 },
+    Gcode(GcodeError),
+}
+
+impl From<GcodeError> for RegisterError {
+    fn from(e: GcodeError) -> Self {
+        RegisterError::Gcode(e)
+    }
+}
+
+impl std::fmt::Display for RegisterError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RegisterError::NoExtrusions => write!(f, "the G-code has no object extrusions: slice the warped STL and export plain G-code"),
+            RegisterError::Mismatch { residual, gcode_size, mesh_size } => write!(
+                f,
+                "this G-code does not match the warped model: its object is {:.2} × {:.2} × {:.2} mm but the warped mesh is \
+                 {:.2} × {:.2} × {:.2} mm (residual {:.2} mm > {:.1} mm). Slice the warped STL written with this job (not the \
+                 original model), or give the placement with --offset dx,dy",
+                gcode_size[0], gcode_size[1], gcode_size[2], mesh_size[0], mesh_size[1], mesh_size[2], residual, MAX_REGISTRATION_RESIDUAL
+            ),
+            RegisterError::AnchorLayer { first_layer_z, anchor } => write!(
+                f,
+                "the slicer's first layer is at z = {first_layer_z:.3} mm but the warped STL's anchor is {anchor:.3} mm thick: \
+                 set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3})"
+            ),
+            RegisterError::Gcode(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for RegisterError {}
+
+/// A run of consecutive extruding moves on the first layer (Slic3r skirt detection).
+#[derive(Clone, Debug)]
+struct Run {
+    first_line: u64,
+    last_line: u64,
+    bbox: Aabb,
+}
+
+/// Pass 1 result: the translation and what pass 2 needs to know about the file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Registration {
+    /// STL → G-code translation (dx, dy, 0), mm.
+    pub translation: [f64; 3],
+    /// Residual of the bounding-box match, mm.
+    pub residual: f64,
+    /// Whether the translation was given (`--offset`) rather than found.
+    pub overridden: bool,
+    /// Bounding box of the object's extrusions in G-code coordinates.
+    pub gcode_bbox: Aabb,
+    /// First and last line of the warped region (1-based, inclusive).
+    pub region: [u64; 2],
+    /// Line ranges (inclusive) of first-layer runs found to be skirt by geometry (files
+    /// without `;TYPE:`).
+    pub skirt_runs: Vec<[u64; 2]>,
+    /// Whether the file carries `;TYPE:` comments.
+    pub typed: bool,
+    /// z of the first extrusion of the first layer, mm (G-code frame).
+    pub first_layer_z: f64,
+    /// The slicer's index of the first layer with an object extrusion (the anchor layer when
+    /// the job has an anchor).
+    pub first_layer: u32,
+    /// Lines in the file.
+    pub lines: u64,
+}
+
+impl Registration {
+    /// Whether source line `line` belongs to a skirt run found by geometry.
+    pub fn in_skirt_run(&self, line: u64) -> bool {
+        // runs are few (one per skirt loop); a linear scan is fine
+        self.skirt_runs.iter().any(|r| r[0] <= line && line <= r[1])
+    }
+}
+
+/// Extrusions gathered in pass 1 for one reading of the file (typed or untyped).
+#[derive(Default)]
+struct Acc {
+    /// First extrusion line of any non-custom feature (start of the region).
+    first_any: Option<u64>,
+    /// First and last object-extrusion lines.
+    first_obj: Option<u64>,
+    last_obj: Option<u64>,
+    /// Object extrusions above the first layer.
+    bbox_upper: Aabb,
+    /// Object extrusion runs on the first layer.
+    runs0: Vec<Run>,
+    in_run: bool,
+    first_layer: Option<u32>,
+    first_layer_z: Option<f64>,
+}
+
+impl Acc {
+    fn extrusion(&mut self, line: u64, m: &crate::gcode::Move) {
+        if m.feature == crate::toolpath::Feature::Custom {
+            self.in_run = false;
+            return;
+        }
+        if self.first_any.is_none() {
+            self.first_any = Some(line);
+        }
+        if !m.feature.is_object() {
+            self.in_run = false;
+            return;
+        }
+        if self.first_obj.is_none() {
+            self.first_obj = Some(line);
+        }
+        self.last_obj = Some(line);
+        let first_layer = *self.first_layer.get_or_insert(m.layer);
+        if self.first_layer_z.is_none() {
+            self.first_layer_z = Some(m.to.z);
+        }
+        if m.layer == first_layer {
+            if !self.in_run {
+                self.runs0.push(Run { first_line: line, last_line: line, bbox: Aabb::EMPTY });
+                self.in_run = true;
+            }
+            if let Some(r) = self.runs0.last_mut() {
+                r.last_line = line;
+                r.bbox.include(m.from);
+                r.bbox.include(m.to);
+            }
+        } else {
+            self.in_run = false;
+            self.bbox_upper.include(m.from);
+            self.bbox_upper.include(m.to);
+        }
+    }
+}
+
+/// Pass 1: push the G-code in chunks, then [`Scanner::finish`].
+///
+/// In a file with `;TYPE:` comments, extrusions before the first of them (a purge line in the
+/// start G-code) are not the object's: two readings are gathered side by side, untyped (every
+/// extrusion) and typed (after the first `;TYPE:`), and `finish` keeps the one that applies.
+pub struct Scanner {
+    reader: Reader,
+    anchor: bool,
+    typed: bool,
+    markers: [Option<u64>; 2],
+    untyped: Acc,
+    typed_acc: Acc,
+    lines: u64,
+}
+
+impl Scanner {
+    pub fn new(job: &Job) -> Scanner {
+        Scanner {
+            reader: Reader::new(ReadOptions::default()),
+            anchor: job.anchor.is_some(),
+            typed: false,
+            markers: [None, None],
+            untyped: Acc::default(),
+            typed_acc: Acc::default(),
+            lines: 0,
+        }
+    }
+
+    fn line(&mut self, line: &Line<'_>, _state: &State) {
+        self.lines = line.number;
+        match line.command {
+            Command::FeatureType(_) => self.typed = true,
+            Command::RegionMarker { begin } => {
+                let slot = if begin { 0 } else { 1 };
+                if self.markers[slot].is_none() {
+                    self.markers[slot] = Some(line.number);
+                }
+            }
+            _ => {}
+        }
+        for m in line.moves {
+            if m.is_extrusion() {
+                self.untyped.extrusion(line.number, m);
+                if self.typed {
+                    self.typed_acc.extrusion(line.number, m);
+                }
+            } else if m.from.truncate() != m.to.truncate() {
+                self.untyped.in_run = false;
+                self.typed_acc.in_run = false;
+            }
+        }
+    }
+
+    /// Feed a chunk of G-code.
+    pub fn push(&mut self, chunk: &[u8]) -> Result<(), RegisterError> {
+        let mut reader = std::mem::replace(&mut self.reader, Reader::new(ReadOptions::default()));
+        let r = reader.push::<RegisterError>(chunk, &mut |l, s| {
+            self.line(&l, s);
+            Ok(())
+        });
+        self.reader = reader;
+        r
+    }
+
+    /// End of pass 1: classify the first layer, match bounding boxes, check the residual.
+    pub fn finish(mut self, job: &Job, offset: Option<[f64; 2]>) -> Result<Registration, RegisterError> {
+        let mut reader = std::mem::replace(&mut self.reader, Reader::new(ReadOptions::default()));
+        reader.finish::<RegisterError>(&mut |l, s| {
+            self.line(&l, s);
+            Ok(())
+        })?;
+        let acc = if self.typed { &self.typed_acc } else { &self.untyped };
+        let (Some(first), Some(last)) = (acc.first_any, acc.last_obj) else {
+            return Err(RegisterError::NoExtrusions);
+        };
+        let region = [self.markers[0].unwrap_or(first), self.markers[1].unwrap_or(last)];
+        let first_layer_z = acc.first_layer_z.unwrap_or(0.0);
+        if let Some(a) = job.anchor {
+            if (first_layer_z - a).abs() > ANCHOR_LAYER_TOLERANCE {
+                return Err(RegisterError::AnchorLayer { first_layer_z, anchor: a });
+            }
+        }
+        let skirt = if self.typed { Vec::new() } else { skirt_runs(&acc.runs0) };
+        let mut bbox = acc.bbox_upper;
+        if !self.anchor {
+            for r in &acc.runs0 {
+                if !skirt.iter().any(|s| s[0] == r.first_line) {
+                    bbox.include(r.bbox.min);
+                    bbox.include(r.bbox.max);
+                }
+            }
+        }
+        if bbox.is_empty() {
+            return Err(RegisterError::NoExtrusions);
+        }
+        let mesh = job.warped_bbox;
+        let (dx, dy) = match offset {
+            Some([x, y]) => (x, y),
+            None => {
+                let (gc, mc) = (bbox.center(), mesh.center());
+                (gc.x - mc.x, gc.y - mc.y)
+            }
+        };
+        let (gs, ms) = (bbox.size(), mesh.size());
+        let shifted_min = bbox.min - DVec3::new(dx, dy, 0.0);
+        let shifted_max = bbox.max - DVec3::new(dx, dy, 0.0);
+        let residual = [
+            (shifted_min.x - mesh.min.x).abs(),
+            (shifted_max.x - mesh.max.x).abs(),
+            (shifted_min.y - mesh.min.y).abs(),
+            (shifted_max.y - mesh.max.y).abs(),
+            (bbox.max.z - mesh.max.z).abs(),
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+        if offset.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
+            return Err(RegisterError::Mismatch { residual, gcode_size: gs.to_array(), mesh_size: ms.to_array() });
+        }
+        Ok(Registration {
+            translation: [dx, dy, 0.0],
+            residual,
+            overridden: offset.is_some(),
+            gcode_bbox: bbox,
+            region,
+            skirt_runs: skirt,
+            typed: self.typed,
+            first_layer_z,
+            first_layer: acc.first_layer.unwrap_or(0),
+            lines: self.lines,
+        })
+    }
+}
+
+/// How far the slicer's first layer z may be from the anchor thickness, mm.
+pub const ANCHOR_LAYER_TOLERANCE: f64 = 0.02;
+
+/// Slic3r skirt detection: repeatedly take the run whose bbox holds all other remaining runs
+/// with a gap ≥ [`SKIRT_MIN_GAP`].
+fn skirt_runs(runs: &[Run]) -> Vec<[u64; 2]> {
+    let mut remaining: Vec<&Run> = runs.iter().collect();
+    let mut skirts = Vec::new();
+    loop {
+        if remaining.len() < 2 {
+            break;
+        }
+        let found = remaining.iter().position(|r| {
+            remaining.iter().all(|o| {
+                std::ptr::eq(*o, *r)
+                    || (o.bbox.min.x - r.bbox.min.x >= SKIRT_MIN_GAP
+                        && o.bbox.min.y - r.bbox.min.y >= SKIRT_MIN_GAP
+                        && r.bbox.max.x - o.bbox.max.x >= SKIRT_MIN_GAP
+                        && r.bbox.max.y - o.bbox.max.y >= SKIRT_MIN_GAP)
+            })
+        });
+        match found {
+            Some(i) => {
+                let r = remaining.remove(i);
+                skirts.push([r.first_line, r.last_line]);
+            }
+            None => break,
+        }
+    }
+    skirts
+}

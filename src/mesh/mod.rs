@@ -27,6 +27,12 @@ pub struct Aabb {
     pub max: DVec3,
 }
 
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
 impl Aabb {
     /// The empty box (min = +∞, max = −∞); `include` grows it.
     pub const EMPTY: Aabb = Aabb { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };

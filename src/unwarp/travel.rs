@@ -1,0 +1,130 @@
+//! Travel moves: never map a travel's straight line point by point into the part.
+//!
+//! Seed 000 §4.3.1 (2): retract (if the slicer did not), lift to a safe height, move, descend,
+//! unretract. The safe height is the highest point printed so far within reach of the straight
+//! path plus a clearance, read from a coarse height grid of everything printed so far
+//! ([`HeightGrid`]). A travel whose straight line already clears the grid by the clearance
+//! (cells within [`NEAR_END_RADIUS`] of its ends excepted: that is where the nozzle just
+//! printed or is about to print) goes straight.
+
+use glam::{DVec2, DVec3};
+
+/// Cell size of the height grid, mm.
+pub const CELL: f64 = 1.0;
+/// Cells closer than this to a travel's start or end are not obstacles (the nozzle's own
+/// neighbourhood), mm.
+pub const NEAR_END_RADIUS: f64 = 1.5;
+/// Grid margin around the part, mm.
+pub const MARGIN: f64 = 20.0;
+
+/// The highest printed z per XY cell (output frame).
+#[derive(Clone, Debug)]
+pub struct HeightGrid {
+    origin: DVec2,
+    nx: usize,
+    ny: usize,
+    h: Vec<f64>,
+}
+
+impl HeightGrid {
+    /// A grid over [min, max] (XY, output frame) plus [`MARGIN`].
+    pub fn new(min: DVec2, max: DVec2) -> HeightGrid {
+        let origin = min - DVec2::splat(MARGIN);
+        let size = (max - min) + DVec2::splat(2.0 * MARGIN);
+        let nx = ((size.x / CELL).ceil() as usize).clamp(1, 4096);
+        let ny = ((size.y / CELL).ceil() as usize).clamp(1, 4096);
+        HeightGrid { origin, nx, ny, h: vec![f64::NEG_INFINITY; nx * ny] }
+    }
+
+    fn cell(&self, p: DVec2) -> Option<usize> {
+        let c = (p - self.origin) / CELL;
+        if c.x < 0.0 || c.y < 0.0 {
+            return None;
+        }
+        let (i, j) = (c.x as usize, c.y as usize);
+        (i < self.nx && j < self.ny).then_some(j * self.nx + i)
+    }
+
+    /// Record a printed point.
+    pub fn mark(&mut self, p: DVec3) {
+        if let Some(k) = self.cell(p.truncate()) {
+            if p.z > self.h[k] {
+                self.h[k] = p.z;
+            }
+        }
+    }
+
+    /// Record a printed segment (sampled at half a cell).
+    pub fn mark_segment(&mut self, a: DVec3, b: DVec3) {
+        let n = (((b - a).truncate().length() / (0.5 * CELL)).ceil() as usize).max(1);
+        for k in 0..=n {
+            self.mark(a.lerp(b, k as f64 / n as f64));
+        }
+    }
+
+    /// The highest obstacle above the straight line a → b (how far the grid reaches above
+    /// the line, mm; ≤ 0 when clear), cells near the ends excepted; and the highest cell along
+    /// the XY path, near ends included.
+    pub fn clearance_needed(&self, a: DVec3, b: DVec3) -> (f64, f64) {
+        let len = (b - a).truncate().length();
+        let n = ((len / (0.5 * CELL)).ceil() as usize).max(1);
+        let mut above = f64::NEG_INFINITY;
+        let mut top = f64::NEG_INFINITY;
+        for k in 0..=n {
+            let t = k as f64 / n as f64;
+            let p = a.lerp(b, t);
+            // the cell and its 8 neighbours: the nozzle is wider than a point
+            for dj in -1i32..=1 {
+                for di in -1i32..=1 {
+                    let q = p.truncate() + DVec2::new(di as f64, dj as f64) * CELL;
+                    if let Some(c) = self.cell(q) {
+                        let h = self.h[c];
+                        top = top.max(h);
+                        let near = (q - a.truncate()).length() < NEAR_END_RADIUS || (q - b.truncate()).length() < NEAR_END_RADIUS;
+                        if !near {
+                            above = above.max(h - p.z);
+                        }
+                    }
+                }
+            }
+        }
+        (above, top)
+    }
+}
+
+/// How to travel from `a` to `b`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TravelPlan {
+    /// Straight line.
+    Direct,
+    /// Lift to z, move, descend.
+    Lift(f64),
+}
+
+/// Plan a travel with `clearance` (mm).
+pub fn plan(grid: &HeightGrid, a: DVec3, b: DVec3, clearance: f64) -> TravelPlan {
+    let (above, top) = grid.clearance_needed(a, b);
+    if above + clearance <= 0.0 {
+        TravelPlan::Direct
+    } else {
+        TravelPlan::Lift(top.max(a.z).max(b.z) + clearance)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn travel_over_a_printed_peak_lifts() {
+        let mut g = HeightGrid::new(DVec2::new(-10.0, -10.0), DVec2::new(10.0, 10.0));
+        g.mark_segment(DVec3::new(-1.0, 0.0, 8.0), DVec3::new(1.0, 0.0, 8.0));
+        let a = DVec3::new(-8.0, 0.0, 2.0);
+        let b = DVec3::new(8.0, 0.0, 2.0);
+        assert_eq!(plan(&g, a, b, 1.0), TravelPlan::Lift(9.0));
+        // a travel that passes well beside it goes straight
+        let a2 = DVec3::new(-8.0, 8.0, 2.0);
+        let b2 = DVec3::new(8.0, 8.0, 2.0);
+        assert_eq!(plan(&g, a2, b2, 1.0), TravelPlan::Direct);
+    }
+}
