@@ -1,2 +1,370 @@
-//! The `warpslice` command line. STUB: being written.
+//! The `warpslice` command line: parses arguments, calls the core, prints. Nothing else.
+
+#[cfg(target_arch = "wasm32")]
 fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> std::process::ExitCode {
+    cli::main()
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod cli {
+    use std::fs;
+    use std::io::{IsTerminal, Read, Write};
+    use std::path::{Path, PathBuf};
+    use std::process::ExitCode;
+
+    use clap::{Args, Parser, Subcommand, ValueEnum};
+    use indicatif::{ProgressBar, ProgressStyle};
+    use warpslice::job::Job;
+    use warpslice::pipeline::{self, AnchorMode, WarpOptions, WarpOutput};
+    use warpslice::unwarp::{Flow, UnwarpOptions, UnwarpReport, Unwarper};
+    use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+    /// Non-planar slicing with any planar slicer: warp an STL, slice it, unwarp the G-code.
+    #[derive(Parser)]
+    #[command(name = "warpslice", version, about)]
+    struct Cli {
+        #[command(subcommand)]
+        command: Command,
+    }
+
+    #[derive(Subcommand)]
+    enum Command {
+        /// Warp an STL for slicing; writes WARPED.stl and WARPED.job.json.
+        Warp {
+            /// The model.
+            model: PathBuf,
+            #[command(flatten)]
+            warp: WarpArgs,
+            /// The warped STL to write (the job goes next to it as .job.json).
+            #[arg(short, long)]
+            output: PathBuf,
+        },
+        /// Map a planar slicer's G-code of the warped STL back to the real part.
+        Unwarp {
+            /// The slicer's G-code of the warped STL.
+            gcode: PathBuf,
+            /// The job file written by `warp`.
+            #[arg(long)]
+            job: PathBuf,
+            #[command(flatten)]
+            unwarp: UnwarpArgs,
+            /// The slicer's placement dx,dy (mm) instead of finding it.
+            #[arg(long, value_parser = pair)]
+            offset: Option<[f64; 2]>,
+            /// Chord tolerance, mm.
+            #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_TOLERANCE)]
+            tolerance: f64,
+            #[arg(short, long)]
+            output: PathBuf,
+        },
+        /// Warp, slice with a real slicer installed here, and unwarp: the main job in one command.
+        Run {
+            model: PathBuf,
+            #[arg(long)]
+            slicer: String,
+            /// Relative (M83) or absolute (M82) E in the slicer's G-code.
+            #[arg(long, value_enum, default_value_t = EModeArg::Relative)]
+            e_mode: EModeArg,
+            #[command(flatten)]
+            warp: WarpArgs,
+            #[command(flatten)]
+            unwarp: UnwarpArgs,
+            #[arg(short, long)]
+            output: PathBuf,
+        },
+        /// Write one of the generated example parts as STL (cube, cylinder, sphere, overhang).
+        Example {
+            name: String,
+            #[arg(short, long)]
+            output: PathBuf,
+        },
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum EModeArg {
+        Relative,
+        Absolute,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum WarpKind {
+        Curved,
+        Tilted,
+        Conic,
+        Belt,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum AnchorArg {
+        Auto,
+        On,
+        Off,
+    }
+
+    #[derive(Args)]
+    struct WarpArgs {
+        /// The warp.
+        #[arg(long, value_enum)]
+        warp: WarpKind,
+        /// curved/tilted: strength s (seed 000 Eqs. 1–2).
+        #[arg(long, default_value_t = 0.3)]
+        strength: f64,
+        /// outward (layers fall away from the centre, tool tilts outward) or inward.
+        #[arg(long, default_value = "outward")]
+        direction: String,
+        /// curved/tilted: offset a of the vertex/crease, mm (the crease is at x = −a).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        offset: f64,
+        /// conic/belt: angle α in degrees (0 < α < 90).
+        #[arg(long, default_value_t = 30.0)]
+        angle: f64,
+        /// conic: axis position cx,cy in the model frame, mm.
+        #[arg(long, value_parser = pair, default_value = "0,0", allow_negative_numbers = true)]
+        center: [f64; 2],
+        /// belt: direction dx,dy the layers fall toward.
+        #[arg(long, value_parser = pair, default_value = "0,1", allow_negative_numbers = true)]
+        toward: [f64; 2],
+        /// Keep the layers flat below z0 and blend in the warp up to z1 (mm): --base z0,z1.
+        #[arg(long, value_parser = pair)]
+        base: Option<[f64; 2]>,
+        /// Split triangle edges longer than this, mm.
+        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_MAX_EDGE)]
+        max_edge: f64,
+        /// Layer height you will slice with, mm (the anchor's thickness and first layer).
+        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_LAYER_HEIGHT)]
+        layer_height: f64,
+        /// The removable flat anchor under a non-flat warped bottom.
+        #[arg(long, value_enum, default_value_t = AnchorArg::Auto)]
+        anchor: AnchorArg,
+    }
+
+    #[derive(Args)]
+    struct UnwarpArgs {
+        /// Longest extruding segment after unwarping, mm.
+        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_MAX_SEGMENT)]
+        max_segment: f64,
+        /// Flow factor.
+        #[arg(long, default_value_t = 1.0)]
+        flow: f64,
+        /// Flow ramp f0,z_ramp: from f0 at z = 0 to 1 at z_ramp (seed 000: 0.8,1.2).
+        #[arg(long, value_parser = pair)]
+        ramp: Option<[f64; 2]>,
+        /// Added to every output z, mm.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        z_offset: f64,
+        /// Drop skirt and brim instead of printing them flat.
+        #[arg(long)]
+        drop_skirt: bool,
+    }
+
+    fn pair(s: &str) -> Result<[f64; 2], String> {
+        let mut it = s.split(',').map(|p| p.trim().parse::<f64>());
+        match (it.next(), it.next(), it.next()) {
+            (Some(Ok(a)), Some(Ok(b)), None) if a.is_finite() && b.is_finite() => Ok([a, b]),
+            _ => Err(format!("expected two numbers a,b but got '{s}'")),
+        }
+    }
+
+    impl WarpArgs {
+        fn options(&self, tolerance: f64) -> Result<WarpOptions, String> {
+            let direction: Direction = self.direction.parse().map_err(|e: warpslice::warp::WarpError| e.to_string())?;
+            let spec = match self.warp {
+                WarpKind::Curved => WarpSpec::Curved { strength: self.strength, direction, offset: self.offset, width: 0.0 },
+                WarpKind::Tilted => WarpSpec::Tilted { strength: self.strength, direction, offset: self.offset },
+                WarpKind::Conic => WarpSpec::Conic { angle: self.angle, direction, center: self.center },
+                WarpKind::Belt => WarpSpec::Belt { angle: self.angle, toward: self.toward },
+            };
+            let mut o = WarpOptions::new(WarpParams { spec, base: self.base });
+            o.max_edge = self.max_edge;
+            o.tolerance = tolerance;
+            o.layer_height = self.layer_height;
+            o.anchor = match self.anchor {
+                AnchorArg::Auto => AnchorMode::Auto,
+                AnchorArg::On => AnchorMode::On,
+                AnchorArg::Off => AnchorMode::Off,
+            };
+            Ok(o)
+        }
+    }
+
+    impl UnwarpArgs {
+        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> UnwarpOptions {
+            UnwarpOptions {
+                tolerance,
+                max_segment: self.max_segment,
+                flow: Flow { factor: self.flow, ramp: self.ramp },
+                z_offset: self.z_offset,
+                drop_skirt: self.drop_skirt,
+                offset,
+                ..UnwarpOptions::default()
+            }
+        }
+    }
+
+    fn job_path(stl: &Path) -> PathBuf {
+        stl.with_extension("job.json")
+    }
+
+    fn read(path: &Path) -> Result<Vec<u8>, String> {
+        fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+        fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    fn spinner(msg: &str) -> Option<ProgressBar> {
+        std::io::stderr().is_terminal().then(|| {
+            let pb = ProgressBar::new_spinner();
+            pb.set_message(msg.to_string());
+            pb.enable_steady_tick(std::time::Duration::from_millis(100));
+            pb
+        })
+    }
+
+    fn do_warp(model: &Path, opts: &WarpOptions, output: &Path) -> Result<WarpOutput, String> {
+        let bytes = read(model)?;
+        let sp = spinner("warping");
+        let out = pipeline::warp_model(&bytes, opts).map_err(|e| format!("{}: {e}", model.display()))?;
+        if let Some(sp) = sp {
+            sp.finish_and_clear();
+        }
+        write(output, &out.stl)?;
+        write(&job_path(output), out.job.to_json_pretty().as_bytes())?;
+        let r = &out.report;
+        println!("model: {} ({} triangles, {} vertices)", model.display(), r.mesh.triangles, r.mesh.vertices);
+        if r.mesh.degenerate + r.mesh.open_edges + r.mesh.nonmanifold_edges > 0 {
+            println!(
+                "defects: {} degenerate triangles, {} open edges, {} non-manifold edges (reported, not repaired)",
+                r.mesh.degenerate, r.mesh.open_edges, r.mesh.nonmanifold_edges
+            );
+        }
+        println!("subdivided: {} → {} triangles", r.subdivide.triangles_before, r.subdivide.triangles_after);
+        match r.anchor {
+            Some(t) => println!("anchor: {t} mm slab under the warped bottom (slice with a first layer of {t} mm; unwarp drops it)"),
+            None => println!("anchor: none (the warped bottom is flat)"),
+        }
+        let s = r.warped_bbox.size();
+        println!("warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°", s.x, s.y, s.z, r.largest_tilt_deg);
+        println!("wrote {} and {} (job {})", output.display(), job_path(output).display(), out.job.hash);
+        Ok(out)
+    }
+
+    /// Two streaming passes over the file, output written as it is produced.
+    fn do_unwarp(gcode: &Path, job: &Job, opts: &UnwarpOptions, output: &Path) -> Result<UnwarpReport, String> {
+        const CHUNK: usize = 1 << 20;
+        let len = fs::metadata(gcode).map_err(|e| format!("{}: {e}", gcode.display()))?.len();
+        let pb = std::io::stderr().is_terminal().then(|| {
+            let pb = ProgressBar::new(2 * len);
+            pb.set_style(ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+            pb.set_message("unwarping");
+            pb
+        });
+        let ctx = |e: warpslice::pipeline::Error| format!("{}: {e}", gcode.display());
+        let mut u = Unwarper::new(job, opts).map_err(ctx)?;
+        let mut buf = vec![0u8; CHUNK];
+        let open = || fs::File::open(gcode).map_err(|e| format!("{}: {e}", gcode.display()));
+        let mut f = open()?;
+        loop {
+            let n = f.read(&mut buf).map_err(|e| e.to_string())?;
+            if n == 0 {
+                break;
+            }
+            u.scan(&buf[..n]).map_err(ctx)?;
+            if let Some(pb) = &pb {
+                pb.inc(n as u64);
+            }
+        }
+        u.end_scan().map_err(ctx)?;
+        let mut out = std::io::BufWriter::new(fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?);
+        let mut f = open()?;
+        loop {
+            let n = f.read(&mut buf).map_err(|e| e.to_string())?;
+            if n == 0 {
+                break;
+            }
+            u.push(&buf[..n]).map_err(ctx)?;
+            out.write_all(&u.take_output()).map_err(|e| e.to_string())?;
+            if let Some(pb) = &pb {
+                pb.inc(n as u64);
+            }
+        }
+        let report = u.finish().map_err(ctx)?;
+        out.write_all(&u.take_output()).map_err(|e| e.to_string())?;
+        out.flush().map_err(|e| e.to_string())?;
+        if let Some(pb) = pb {
+            pb.finish_and_clear();
+        }
+        print_report(&report, output);
+        Ok(report)
+    }
+
+    fn print_report(r: &UnwarpReport, output: &Path) {
+        println!(
+            "registration: translation {:.3} {:.3} {:.3} mm, residual {:.3} mm",
+            r.translation[0], r.translation[1], r.translation[2], r.residual
+        );
+        println!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
+        println!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
+        println!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
+        println!("wrote {}", output.display());
+    }
+
+    fn run() -> Result<(), String> {
+        let cli = Cli::parse();
+        match cli.command {
+            Command::Warp { model, warp, output } => {
+                let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
+                do_warp(&model, &opts, &output)?;
+            }
+            Command::Unwarp { gcode, job, unwarp, offset, tolerance, output } => {
+                let text = fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
+                let job = Job::from_json(&text).map_err(|e| format!("{}: {e}", job.display()))?;
+                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset), &output)?;
+            }
+            Command::Run { model, slicer, e_mode, warp, unwarp, output } => {
+                let kind: warpslice::slicer::SlicerKind = slicer.parse().map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
+                let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
+                let warped = output.with_extension("warped.stl");
+                let w = do_warp(&model, &opts, &warped)?;
+                let sliced = output.with_extension("sliced.gcode");
+                let so = warpslice::slicer::SliceOptions {
+                    slicer: kind,
+                    e_mode: match e_mode {
+                        EModeArg::Relative => warpslice::slicer::EMode::Relative,
+                        EModeArg::Absolute => warpslice::slicer::EMode::Absolute,
+                    },
+                    layer_height: opts.layer_height,
+                    extra_args: Vec::new(),
+                };
+                let sp = spinner("slicing");
+                warpslice::slicer::slice(&warped, &sliced, &so).map_err(|e| e.to_string())?;
+                if let Some(sp) = sp {
+                    sp.finish_and_clear();
+                }
+                println!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
+                do_unwarp(&sliced, &w.job, &unwarp.options(opts.tolerance, None), &output)?;
+            }
+            Command::Example { name, output } => {
+                let m = warpslice::shapes::example(&name)
+                    .ok_or_else(|| format!("unknown example '{name}': one of {}", warpslice::shapes::EXAMPLES.join(", ")))?;
+                write(&output, &warpslice::mesh::write_stl(&m, &format!("warpslice example {name}")))?;
+                println!("wrote {} ({} triangles)", output.display(), m.triangles.len());
+            }
+        }
+        Ok(())
+    }
+
+    pub fn main() -> ExitCode {
+        match run() {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        }
+    }
+}

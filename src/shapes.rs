@@ -91,7 +91,7 @@ fn union_stacked(lower: &Mesh, upper: &Mesh) -> Mesh {
     let ub = upper.bbox();
     let z = lb.max.z;
     let mut m = Mesh::default();
-    let mut add = |p: DVec3, m: &mut Mesh| {
+    let add = |p: DVec3, m: &mut Mesh| {
         m.vertices.push(p);
         (m.vertices.len() - 1) as u32
     };
