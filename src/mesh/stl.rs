@@ -193,6 +193,15 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
     w.finish(StlFormat::Ascii, warnings)
 }
 
+/// The warning for a binary whose header starts with `solid`.
+fn solid_header_note(format: StlFormat) -> Vec<String> {
+    if format == StlFormat::BinarySolidHeader {
+        vec!["binary STL whose header starts with `solid` (read as binary by its length; some programs misread such files as ASCII)".to_string()]
+    } else {
+        Vec::new()
+    }
+}
+
 /// Read an STL (input frame). Defects are counted in the report, not refused; what cannot be
 /// read at all is a [`MeshError`] that names the problem (and the line, for ASCII).
 pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
@@ -211,7 +220,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
                 return Ok(r);
             }
         }
-        return read_binary(bytes, n, binary_format, Vec::new());
+        return read_binary(bytes, n, binary_format, solid_header_note(binary_format));
     }
     if solid || !looks_binary(bytes) {
         match read_ascii(bytes) {
@@ -225,7 +234,8 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
         let expected = binary_len(n);
         if actual > expected && actual - expected < BINARY_FACET_BYTES as u64 {
             let extra = actual - expected;
-            let w = vec![format!("{extra} bytes after the last binary facet were ignored")];
+            let mut w = solid_header_note(binary_format);
+            w.push(format!("{extra} bytes after the last binary facet were ignored"));
             return read_binary(bytes, n, binary_format, w);
         }
     }
