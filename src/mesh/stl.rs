@@ -9,9 +9,11 @@
 //! errors are reported with line numbers, unless it is clearly binary bytes, in which case
 //! the size error is reported).
 //!
-//! Both formats are parsed here directly (stl_io 0.11 decides by the first word only, so it
-//! misreads binaries whose header starts with `solid `, and its ASCII reader gives no line
-//! numbers). stl_io serves as an independent oracle in the tests.
+//! Both formats are parsed here directly: stl_io 0.11 decides by the first line alone (ASCII
+//! if it is valid UTF-8 starting with `solid `), so it misreads binaries whose header starts
+//! with `solid ` and whose bytes up to the first 0x0A happen to be valid UTF-8 (zero normals
+//! and round coordinates do that), and its ASCII reader gives no line numbers. stl_io serves
+//! as an independent oracle in the tests.
 //!
 //! ## Welding
 //! STL stores every triangle's three corners separately. Corners with bit-identical f32

@@ -136,7 +136,7 @@ pub(crate) fn parse(
         Some((t, line)) => {
             return Err(syntax(line, format!("an ASCII STL must start with `solid`, found `{}`", show(t))))
         }
-        None => return Err(MeshError::Empty),
+        None => return Err(MeshError::NoTriangles),
     }
     lx.skip_line();
     notes.solids = 1;
