@@ -5,13 +5,17 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+mod edges;
+mod fxhash;
 pub mod report;
+pub mod shapes;
 pub mod stl;
+mod stl_ascii;
 pub mod subdivide;
 
 pub use report::MeshReport;
 pub use stl::{read_stl, write_stl, StlFormat};
-pub use subdivide::{subdivide, SubdivideOptions, SubdivideStats};
+pub use subdivide::{subdivide, subdivide_warped, SubdivideLimit, SubdivideOptions, SubdivideStats};
 
 /// An indexed triangle mesh (counter-clockwise triangles seen from outside).
 #[derive(Clone, Debug, Default, PartialEq)]

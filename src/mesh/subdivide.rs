@@ -1,9 +1,56 @@
-//! Subdivision before warping. STUB: being written.
+//! Subdivision before warping.
+//!
+//! A warp `W` moves vertices only; a straight edge `ab` stays straight after warping while
+//! the exact image `W(ab)` bends. So, before warping, every edge is split at its midpoint
+//! `m = (a + b)/2` while
+//!
+//! - it is longer than `max_edge`: `|b − a| > max_edge`, or
+//! - its warped chord misses the warped midpoint by more than `tolerance`:
+//!   `|W(m) − (W(a) + W(b))/2| > tolerance`,
+//!
+//! whichever is reached first, repeated pass after pass until no edge needs a split. An
+//! affine warp keeps every chord exact (deviation = rounding noise), so it refines only to
+//! `max_edge`. Units: mm; the frame is whatever the mesh and the warp share (the model frame
+//! in the pipeline).
+//!
+//! ## One pass (red–green refinement, conforming)
+//! Edges are collected once per pass ([`EdgeTable`]), so an edge shared by any number of
+//! triangles is split at ONE new vertex: a closed mesh stays closed, no T-junctions. Each
+//! triangle `(a, b, c)` (counter-clockwise) is then replaced according to how many of its
+//! edges were split, keeping its orientation:
+//!
+//! - 0: `(a, b, c)`;
+//! - 1 (`ab` at `m`): `(a, m, c)`, `(m, b, c)`;
+//! - 2 (`ab` at `p`, `bc` at `q`): `(p, b, q)` plus the quad `a p q c` cut along its shorter
+//!   diagonal: `(a, p, q)`, `(a, q, c)` if `|a − q| ≤ |p − c|`, else `(a, p, c)`, `(p, q, c)`;
+//! - 3 (`ab`, `bc`, `ca` at `p`, `q`, `r`): `(a, p, r)`, `(p, b, q)`, `(r, q, c)`, `(p, q, r)`.
+//!
+//! Every new edge has a new vertex as an endpoint, so an edge whose two ends are both older
+//! than the last pass was already tested and kept: it is not tested again. Each vertex is
+//! warped exactly once ([`subdivide_warped`] returns those warped positions).
+//!
+//! ## Runaway guard
+//! A pass that would exceed [`MAX_TRIANGLES`] triangles, or a pass beyond [`MAX_PASSES`], is
+//! not made: the mesh of the last completed pass is returned and
+//! [`SubdivideStats::limit_hit`] says which cap stopped it (edges may then still exceed the
+//! bounds). Non-positive `max_edge`/`tolerance` ask for refinement without end and hit a cap;
+//! NaN disables the criterion. Triangles with an out-of-range vertex index are passed
+//! through unchanged.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use super::edges::EdgeTable;
 use super::Mesh;
+use crate::tolerance::{DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
+
+/// Most refinement passes. Each pass halves every edge it splits, so 40 passes shrink an
+/// edge by 2⁴⁰ ≈ 10¹²: a 1 km edge down to 1 nm. Reaching it means the bounds cannot be met
+/// (e.g. a warp that is not continuous).
+pub const MAX_PASSES: usize = 40;
+/// Most triangles subdivision may produce (≈ 240 MB of triangles + vertices + warped
+/// vertices; the wasm32 heap is at most 4 GiB).
+pub const MAX_TRIANGLES: usize = 20_000_000;
 
 /// When to split an edge.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -15,16 +62,151 @@ pub struct SubdivideOptions {
     pub tolerance: f64,
 }
 
+impl Default for SubdivideOptions {
+    /// [`DEFAULT_MAX_EDGE`] (1 mm) and [`DEFAULT_TOLERANCE`] (0.01 mm).
+    fn default() -> Self {
+        SubdivideOptions { max_edge: DEFAULT_MAX_EDGE, tolerance: DEFAULT_TOLERANCE }
+    }
+}
+
+/// Which runaway guard stopped a subdivision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SubdivideLimit {
+    /// [`MAX_PASSES`] passes were made and edges still needed splitting.
+    Passes,
+    /// The next pass would have produced more than [`MAX_TRIANGLES`] triangles.
+    Triangles,
+}
+
 /// Counts before and after.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub struct SubdivideStats {
     pub triangles_before: usize,
     pub triangles_after: usize,
+    /// Passes that split at least one edge.
     pub passes: usize,
+    /// Edges split, over all passes (= vertices added).
+    #[serde(default)]
+    pub edges_split: usize,
+    /// `Some` when a runaway guard stopped refinement before the bounds were met.
+    #[serde(default)]
+    pub limit_hit: Option<SubdivideLimit>,
 }
 
 /// Split edges until none is longer than `max_edge` and none deviates more than `tolerance`
 /// under `warp`. Shared edges are split at one shared vertex, so a closed mesh stays closed.
-pub fn subdivide(mesh: &Mesh, _opts: &SubdivideOptions, _warp: &dyn Fn(DVec3) -> DVec3) -> (Mesh, SubdivideStats) {
-    (mesh.clone(), SubdivideStats::default())
+/// See the module documentation for the rules.
+pub fn subdivide(mesh: &Mesh, opts: &SubdivideOptions, warp: &dyn Fn(DVec3) -> DVec3) -> (Mesh, SubdivideStats) {
+    let (m, _, s) = subdivide_warped(mesh, opts, warp);
+    (m, s)
+}
+
+/// [`subdivide`], also returning `warp(v)` for every output vertex (computed once each during
+/// subdivision), so the caller need not warp the result again.
+pub fn subdivide_warped(
+    mesh: &Mesh,
+    opts: &SubdivideOptions,
+    warp: &dyn Fn(DVec3) -> DVec3,
+) -> (Mesh, Vec<DVec3>, SubdivideStats) {
+    const NONE: u32 = u32::MAX;
+    // Signed squares: a negative bound gives a negative square, which every length exceeds.
+    let max2 = opts.max_edge * opts.max_edge.abs();
+    let tol2 = opts.tolerance * opts.tolerance.abs();
+
+    let mut verts = mesh.vertices.clone();
+    let mut warped: Vec<DVec3> = verts.iter().map(|&p| warp(p)).collect();
+    let mut tris = mesh.triangles.clone();
+    let mut next: Vec<[u32; 3]> = Vec::new();
+    let mut table = EdgeTable::default();
+    let mut mid_of: Vec<u32> = Vec::new();
+    let mut stats = SubdivideStats { triangles_before: tris.len(), ..SubdivideStats::default() };
+    // Edges whose both ends are below `tested` were tested in an earlier pass and kept.
+    let mut tested: u32 = 0;
+
+    loop {
+        table.rebuild(verts.len(), &tris);
+        mid_of.clear();
+        mid_of.resize(table.slots(), NONE);
+        let base = verts.len();
+        let mut extra = 0usize;
+        table.for_each(|e| {
+            if e.hi < tested {
+                return;
+            }
+            let (lo, hi) = (e.lo as usize, e.hi as usize);
+            let (a, b) = (verts[lo], verts[hi]);
+            let m = (a + b) * 0.5;
+            let wm = warp(m);
+            let split = (b - a).length_squared() > max2
+                || (wm - (warped[lo] + warped[hi]) * 0.5).length_squared() > tol2;
+            if split {
+                mid_of[e.id as usize] = verts.len() as u32;
+                verts.push(m);
+                warped.push(wm);
+                extra += e.uses as usize;
+            }
+        });
+        let added = verts.len() - base;
+        if added == 0 {
+            break;
+        }
+        let limit = if stats.passes >= MAX_PASSES {
+            Some(SubdivideLimit::Passes)
+        } else if tris.len().saturating_add(extra) > MAX_TRIANGLES || verts.len() >= NONE as usize {
+            Some(SubdivideLimit::Triangles)
+        } else {
+            None
+        };
+        if limit.is_some() {
+            verts.truncate(base);
+            warped.truncate(base);
+            stats.limit_hit = limit;
+            break;
+        }
+
+        next.clear();
+        next.reserve(tris.len() + extra);
+        let mid = |h: usize| mid_of.get(table.edge_of(h) as usize).copied().unwrap_or(NONE);
+        let len2 = |i: u32, j: u32| (verts[i as usize] - verts[j as usize]).length_squared();
+        for (t, &[a, b, c]) in tris.iter().enumerate() {
+            let m = [mid(3 * t), mid(3 * t + 1), mid(3 * t + 2)];
+            let mask = (m[0] != NONE) as u8 | ((m[1] != NONE) as u8) << 1 | ((m[2] != NONE) as u8) << 2;
+            // one split: edge ab of (a, b, c) at p
+            let mut one = |a: u32, b: u32, c: u32, p: u32| {
+                next.push([a, p, c]);
+                next.push([p, b, c]);
+            };
+            match mask {
+                0 => next.push([a, b, c]),
+                1 => one(a, b, c, m[0]),
+                2 => one(b, c, a, m[1]),
+                4 => one(c, a, b, m[2]),
+                7 => {
+                    let (p, q, r) = (m[0], m[1], m[2]);
+                    next.extend_from_slice(&[[a, p, r], [p, b, q], [r, q, c], [p, q, r]]);
+                }
+                _ => {
+                    // two splits: rotate so that ab (at p) and bc (at q) are split, ca is not
+                    let (a, b, c, p, q) = match mask {
+                        3 => (a, b, c, m[0], m[1]),
+                        6 => (b, c, a, m[1], m[2]),
+                        _ => (c, a, b, m[2], m[0]),
+                    };
+                    next.push([p, b, q]);
+                    if len2(a, q) <= len2(p, c) {
+                        next.extend_from_slice(&[[a, p, q], [a, q, c]]);
+                    } else {
+                        next.extend_from_slice(&[[a, p, c], [p, q, c]]);
+                    }
+                }
+            }
+        }
+        std::mem::swap(&mut tris, &mut next);
+        tested = base as u32;
+        stats.passes += 1;
+        stats.edges_split += added;
+    }
+    stats.triangles_after = tris.len();
+    (Mesh { vertices: verts, triangles: tris }, warped, stats)
 }
