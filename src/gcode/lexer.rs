@@ -27,7 +27,7 @@ pub struct Word {
 /// The parts of a line: where the code ends, the `;` comment, the checksum.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Split<'a> {
-    /// The code part: the line up to the first `;` or `*` (may contain `( )` comments).
+    /// The code part: the line up to the first `;` or checksum `*` (may contain `( )` comments).
     pub code: &'a [u8],
     /// The text after the first `;` outside parentheses, if any.
     pub comment: Option<&'a [u8]>,
@@ -50,7 +50,8 @@ pub fn split(line: &[u8]) -> Split<'_> {
         } else if b == b';' {
             return Split { code: &line[..i], comment: Some(&line[i + 1..]), checksum: None };
         } else if b == b'*' {
-            let xor = line[..i].iter().fold(0u8, |a, &c| a ^ c);
+            // A checksum is '*' and digits, then only blanks or a comment; otherwise the '*' is
+            // part of the code (free text of M117, or a bad word the command will report).
             let rest = &line[i + 1..];
             let mut j = 0;
             while j < rest.len() && rest[j] == b' ' {
@@ -61,8 +62,14 @@ pub fn split(line: &[u8]) -> Split<'_> {
                 j += 1;
             }
             let digits = &rest[start..j];
-            let comment = rest[j..].iter().position(|&c| c == b';').map(|p| &rest[j + p + 1..]);
-            return Split { code: &line[..i], comment, checksum: Some((xor, digits)) };
+            while j < rest.len() && matches!(rest[j], b' ' | b'\t') {
+                j += 1;
+            }
+            if !digits.is_empty() && (j == rest.len() || rest[j] == b';') {
+                let xor = line[..i].iter().fold(0u8, |a, &c| a ^ c);
+                let comment = rest.get(j + 1..).filter(|_| j < rest.len());
+                return Split { code: &line[..i], comment, checksum: Some((xor, digits)) };
+            }
         }
         i += 1;
     }
