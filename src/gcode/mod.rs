@@ -9,11 +9,13 @@ use glam::DVec3;
 
 use crate::toolpath::Feature;
 
+pub mod arc;
 pub mod lexer;
 pub mod reader;
 pub mod write;
 
-pub use reader::{ReadOptions, Reader, State};
+pub use reader::{ReadOptions, Reader, State, MAX_LINE_BYTES};
+pub use write::MoveWriter;
 
 /// What one source line did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,6 +78,9 @@ pub struct Line<'a> {
     pub command: Command,
     /// The straight pieces of a move (one for G0/G1, several for an arc, none otherwise).
     pub moves: &'a [Move],
+    /// This line starts a layer: an explicit marker (`command == LayerStart`) or, in files with
+    /// no markers, the move whose extrusion starts a new, higher layer (see [`reader`]).
+    pub layer_start: bool,
 }
 
 /// Why G-code could not be read. Messages name the line and what to do.
@@ -90,7 +95,7 @@ pub enum GcodeError {
     Checksum { line: u64, expected: u8, found: u8 },
     /// An arc that cannot be expanded (radius too small for the chord, zero radius, no centre).
     BadArc { line: u64, reason: String },
-    /// A line longer than the reader accepts (bytes).
+    /// A line longer than the reader accepts; `bytes` is the limit it exceeds.
     LineTooLong { line: u64, bytes: usize },
 }
 
@@ -113,7 +118,7 @@ impl std::fmt::Display for GcodeError {
                 "G-code line {line}: cannot expand the arc ({reason}); turn off arc fitting in the slicer"
             ),
             GcodeError::LineTooLong { line, bytes } => {
-                write!(f, "G-code line {line} is {bytes} bytes long; is this really G-code?")
+                write!(f, "G-code line {line} is longer than {bytes} bytes; is this really G-code?")
             }
         }
     }

@@ -1,7 +1,72 @@
-//! The streaming G-code reader: modal state over lines. STUB: being written.
+//! The streaming G-code reader: byte chunks → lines → modal state and straight move pieces.
+//!
+//! # Streaming
+//! [`Reader::push`] takes chunks of any size; complete lines are interpreted straight from the
+//! chunk, and only the unfinished tail of a chunk is copied into a reused buffer (bounded by
+//! [`MAX_LINE_BYTES`]). The same bytes give the same lines, states and errors however they are
+//! cut into chunks. Lines end at `\n`; one `\r` before it (CRLF) is not part of the line.
+//! After an error the reader stays failed and returns the same error again.
+//!
+//! # Modal state (Marlin semantics, what slicers target)
+//! - G0/G1: one straight piece; G2/G3: arcs in the XY plane (G17), see [`super::arc`].
+//!   G18/G19 arcs are refused. Every G0–G3 line yields at least one piece, even `G1 F1800`
+//!   (a piece with `from == to`, `e == 0`).
+//! - G90/G91 set X Y Z **and E** absolute/relative; M82/M83 set E only. Whichever of the four
+//!   came last decides the E mode (Marlin 2 `set_relative_mode` clears the M82/M83 bits; RRF
+//!   behaves the same). So `M83` then `G91 … G90` leaves E absolute, as the printer would.
+//! - I/J are always offsets from the arc's start (not affected by G90/G91).
+//! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
+//!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
+//! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
+//!   machine's home; slicers move absolutely after homing.
+//! - G20/G21: inch values (X Y Z E I J R F) are converted to mm; positions are always mm.
+//! - F is modal, mm/min; F ≤ 0 is ignored (as Marlin does).
+//! - [`super::Move::e`] is always the filament delta of the piece, mm, whatever the E mode.
+//!   On an arc, E (and Z) is spread over the pieces proportionally to their length.
+//! - The first word after an optional `N` word is the command; only one command per line is
+//!   interpreted (slicers write one). Lines that do not start with a recognised command
+//!   (`M104 S200`, `T0`, `M117 any text`, garbage) are [`Command::Other`] and are not lexed
+//!   further, so they can never fail. A `*` checksum is verified on every line that has one.
+//!
+//! # Layers
+//! `state.layer` is 0-based and is 0 before the first layer start too (start G-code, purge
+//! lines). Explicit markers: `;LAYER_CHANGE` (PrusaSlicer, SuperSlicer, Orca; followed by
+//! `;Z:<z>`, which sets `state.layer_z`) and `;LAYER:<n>` (Cura; `n` may be negative with a raft:
+//! the reader counts markers and ignores `n`). The first explicit marker starts layer 0 even
+//! if layers were inferred before it (purge lines in the start G-code); each later marker adds
+//! one. Two markers with no move line between them are one layer start (the second is a plain
+//! [`Command::Comment`]).
+//! Files with no explicit marker so far (Slic3r without layer G-code): the first extruding
+//! G0–G3 line whose end Z is above the previous layer's Z by more than [`LAYER_Z_EPSILON`]
+//! starts a layer; that line has [`Line::layer_start`] set (its command stays `Move`) and its
+//! pieces carry the new index, while the travels before it (the Z move, the approach) carry the
+//! previous one. Spiral-vase files without markers would start a layer on every line; printing
+//! objects one after another without markers keeps the highest index.
+//!
+//! # Cost
+//! No heap allocation per line in the steady state: the tail buffer, the move pieces and the
+//! `;TYPE:` label cache are reused. Errors allocate their message.
 
-use super::{GcodeError, Line};
+use glam::{DVec2, DVec3};
+
+use super::arc::{self, Centre};
+use super::lexer::{self, BadWord, Word, Words};
+use super::{Command, GcodeError, Line, Move};
 use crate::toolpath::Feature;
+
+/// Longest accepted line, bytes (without its terminator). G-code lines are under 100 bytes;
+/// a longer one means the input is not G-code (or has no line breaks), and refusing it bounds
+/// the reader's memory.
+pub const MAX_LINE_BYTES: usize = 64 * 1024;
+/// Millimetres per inch (G20).
+pub const MM_PER_INCH: f64 = 25.4;
+/// A marker-less file starts a new layer at an extrusion whose Z is above the previous layer's
+/// by more than this, mm (slicers write Z with 3 decimals; layers are ≥ 0.02 mm apart).
+pub const LAYER_Z_EPSILON: f64 = 1e-4;
+/// First bytes of binary G-code (.bgcode).
+const BGCODE_MAGIC: &[u8; 4] = b"GCDE";
+/// Most distinct `;TYPE:` labels remembered (slicers use about a dozen).
+const TYPE_CACHE_SIZE: usize = 32;
 
 /// Reader settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,32 +89,537 @@ pub struct State {
     pub e_relative: bool,
     pub positioning_relative: bool,
     pub inch: bool,
+    /// Feed rate, mm/min (0 until the file sets one).
     pub feed: f64,
     pub layer: u32,
     pub feature: Feature,
     /// Whether an explicit layer marker (`;LAYER_CHANGE`, `;LAYER:`) has been seen.
     pub layer_markers: bool,
+    /// The E axis value in the file's coordinates, mm (after G92 E; exact as written in
+    /// absolute mode).
+    pub e: f64,
+    /// The current layer's Z, mm: from PrusaSlicer's `;Z:` after the marker, otherwise the end Z
+    /// of the layer's first extruding line. `None` until known.
+    pub layer_z: Option<f64>,
+}
+
+impl Default for State {
+    fn default() -> Self {
+        State {
+            position: DVec3::ZERO,
+            e_relative: false,
+            positioning_relative: false,
+            inch: false,
+            feed: 0.0,
+            layer: 0,
+            feature: Feature::Unknown,
+            layer_markers: false,
+            e: 0.0,
+            layer_z: None,
+        }
+    }
 }
 
 /// Streaming reader: push byte chunks, get one [`Line`] per complete source line.
 pub struct Reader {
-    _opts: ReadOptions,
+    /// The unfinished last line of the previous chunks.
+    pending: Vec<u8>,
+    core: Core,
 }
+
+/// Everything but the tail buffer (so a line borrowed from it can be interpreted).
+struct Core {
+    opts: ReadOptions,
+    state: State,
+    /// Number of the next line (1-based).
+    line_no: u64,
+    moves: Vec<Move>,
+    magic_checked: bool,
+    failed: Option<GcodeError>,
+    /// G17 (XY plane) in force; G18/G19 clear it.
+    plane_xy: bool,
+    /// Whether any layer start (explicit or inferred) happened.
+    layer_started: bool,
+    /// A G0–G3 line since the last explicit marker.
+    moved_since_marker: bool,
+    /// Z of the last inferred layer start.
+    inferred_z: f64,
+    type_cache: Vec<(Vec<u8>, Feature)>,
+}
+
+type Sink<'s, E> = dyn FnMut(Line<'_>, &State) -> Result<(), E> + 's;
 
 impl Reader {
     pub fn new(opts: ReadOptions) -> Reader {
-        Reader { _opts: opts }
+        Reader {
+            pending: Vec::new(),
+            core: Core {
+                opts,
+                state: State::default(),
+                line_no: 1,
+                moves: Vec::new(),
+                magic_checked: false,
+                failed: None,
+                plane_xy: true,
+                layer_started: false,
+                moved_since_marker: false,
+                inferred_z: f64::NEG_INFINITY,
+                type_cache: Vec::new(),
+            },
+        }
     }
+
+    /// The modal state after the last line delivered.
+    pub fn state(&self) -> &State {
+        &self.core.state
+    }
+
     /// Feed a chunk; `sink` is called for every complete line, in order.
     pub fn push<E: From<GcodeError>>(
         &mut self,
-        _chunk: &[u8],
-        _sink: &mut dyn FnMut(Line<'_>, &State) -> Result<(), E>,
+        chunk: &[u8],
+        sink: &mut dyn FnMut(Line<'_>, &State) -> Result<(), E>,
     ) -> Result<(), E> {
-        Ok(())
+        if let Some(e) = &self.core.failed {
+            return Err(e.clone().into());
+        }
+        let mut chunk = chunk;
+        if !self.core.magic_checked {
+            let have = self.pending.len();
+            let take = (BGCODE_MAGIC.len() - have).min(chunk.len());
+            let prefix_matches = self.pending[..] == BGCODE_MAGIC[..have]
+                && chunk[..take] == BGCODE_MAGIC[have..have + take];
+            if !prefix_matches {
+                self.core.magic_checked = true;
+            } else if have + take == BGCODE_MAGIC.len() {
+                return Err(self.core.fail(GcodeError::Binary).into());
+            } else {
+                self.pending.extend_from_slice(chunk);
+                return Ok(());
+            }
+        }
+        if !self.pending.is_empty() {
+            match find_newline(chunk) {
+                None => {
+                    self.pending.extend_from_slice(chunk);
+                    return self.check_pending();
+                }
+                Some(p) => {
+                    self.pending.extend_from_slice(&chunk[..p]);
+                    self.check_pending::<E>()?;
+                    self.core.line(&self.pending, sink)?;
+                    self.pending.clear();
+                    chunk = &chunk[p + 1..];
+                }
+            }
+        }
+        while let Some(p) = find_newline(chunk) {
+            self.core.line(&chunk[..p], sink)?;
+            chunk = &chunk[p + 1..];
+        }
+        self.pending.extend_from_slice(chunk);
+        self.check_pending()
     }
+
     /// End of input: flush a last line without terminator.
-    pub fn finish<E: From<GcodeError>>(&mut self, _sink: &mut dyn FnMut(Line<'_>, &State) -> Result<(), E>) -> Result<(), E> {
+    pub fn finish<E: From<GcodeError>>(
+        &mut self,
+        sink: &mut dyn FnMut(Line<'_>, &State) -> Result<(), E>,
+    ) -> Result<(), E> {
+        if let Some(e) = &self.core.failed {
+            return Err(e.clone().into());
+        }
+        self.core.magic_checked = true;
+        if !self.pending.is_empty() {
+            let r = self.core.line(&self.pending, sink);
+            self.pending.clear();
+            r?;
+        }
         Ok(())
     }
+
+    /// Refuse an unfinished line that is already too long (an `\r` may still be dropped).
+    fn check_pending<E: From<GcodeError>>(&mut self) -> Result<(), E> {
+        let n = self.pending.len();
+        if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && self.pending.last() != Some(&b'\r'))
+        {
+            let line = self.core.line_no;
+            return Err(self.core.fail(GcodeError::LineTooLong { line, bytes: MAX_LINE_BYTES }).into());
+        }
+        Ok(())
+    }
+}
+
+impl Default for Reader {
+    fn default() -> Self {
+        Reader::new(ReadOptions::default())
+    }
+}
+
+/// Position of the first `\n`.
+#[inline]
+fn find_newline(s: &[u8]) -> Option<usize> {
+    s.iter().position(|&b| b == b'\n')
+}
+
+/// Integer G/M code number, if the value is a whole number below 10000.
+#[inline]
+fn code_number(v: f64) -> Option<u32> {
+    if (0.0..10000.0).contains(&v) && v == (v as u32) as f64 {
+        Some(v as u32)
+    } else {
+        None
+    }
+}
+
+/// The words of a G0–G3 or G92 line (already in the file's units).
+#[derive(Default)]
+struct MoveWords {
+    axes: [Option<f64>; 3],
+    e: Option<f64>,
+    f: Option<f64>,
+    i: Option<f64>,
+    j: Option<f64>,
+    r: Option<f64>,
+    /// Whether any letter of X Y Z appeared (even without a value).
+    any_axis_letter: bool,
+}
+
+impl Core {
+    fn fail(&mut self, e: GcodeError) -> GcodeError {
+        self.failed = Some(e.clone());
+        e
+    }
+
+    /// Interpret one line (terminator removed except a possible `\r`) and hand it to the sink.
+    fn line<E: From<GcodeError>>(&mut self, raw: &[u8], sink: &mut Sink<'_, E>) -> Result<(), E> {
+        let number = self.line_no;
+        self.line_no += 1;
+        let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+        if raw.len() > MAX_LINE_BYTES {
+            return Err(self.fail(GcodeError::LineTooLong { line: number, bytes: MAX_LINE_BYTES }).into());
+        }
+        self.moves.clear();
+        let mut text = raw;
+        if number == 1 {
+            text = text.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(text);
+        }
+        let (command, layer_start) = match self.interpret(text, number) {
+            Ok(c) => c,
+            Err(e) => return Err(self.fail(e).into()),
+        };
+        sink(Line { raw, number, command, moves: &self.moves, layer_start }, &self.state)
+    }
+
+    /// What the line does; updates the state and fills `self.moves`.
+    fn interpret(&mut self, text: &[u8], line: u64) -> Result<(Command, bool), GcodeError> {
+        let split = lexer::split(text);
+        if let Some((xor, digits)) = split.checksum {
+            let found = lexer::parse_checksum(digits).ok_or_else(|| GcodeError::BadNumber {
+                line,
+                word: format!("*{}", String::from_utf8_lossy(digits)),
+            })?;
+            if found != xor {
+                return Err(GcodeError::Checksum { line, expected: xor, found });
+            }
+        }
+        let mut words = Words::new(split.code);
+        let first = loop {
+            match words.next() {
+                None => break None,
+                Some(Ok(Word { letter: b'N', .. })) => continue,
+                Some(Ok(w)) => break Some(w),
+                Some(Err(_)) => return Ok((Command::Other, false)),
+            }
+        };
+        let Some(first) = first else {
+            let c = self.comment(split.comment);
+            return Ok((c, c == Command::LayerStart));
+        };
+        let code = match first.value.and_then(code_number) {
+            Some(c) => c,
+            None => return Ok((Command::Other, false)),
+        };
+        let s = &mut self.state;
+        let command = match (first.letter, code) {
+            (b'G', 0..=3) => return self.motion(code, &mut words, split.code, line),
+            (b'G', 17) => {
+                self.plane_xy = true;
+                Command::Other
+            }
+            (b'G', 18 | 19) => {
+                self.plane_xy = false;
+                Command::Other
+            }
+            (b'G', 20 | 21) => {
+                s.inch = code == 20;
+                Command::Units { inch: s.inch }
+            }
+            (b'G', 28) => {
+                let w = read_words(&mut words, split.code, line)?;
+                for (k, v) in w.axes.iter().enumerate() {
+                    if v.is_some() || !w.any_axis_letter {
+                        s.position[k] = 0.0;
+                    }
+                }
+                Command::Other
+            }
+            (b'G', 90 | 91) => {
+                let relative = code == 91;
+                s.positioning_relative = relative;
+                s.e_relative = relative;
+                Command::Positioning { relative }
+            }
+            (b'G', 92) => {
+                let w = read_words(&mut words, split.code, line)?;
+                let u = if s.inch { MM_PER_INCH } else { 1.0 };
+                let mut xyz = false;
+                for (k, v) in w.axes.iter().enumerate() {
+                    if let Some(v) = v {
+                        s.position[k] = v * u;
+                        xyz = true;
+                    }
+                }
+                let e = w.e.map(|v| v * u);
+                if let Some(e) = e {
+                    s.e = e;
+                }
+                Command::SetPosition { e, xyz }
+            }
+            (b'M', 82 | 83) => {
+                s.e_relative = code == 83;
+                Command::ExtrusionMode { relative: s.e_relative }
+            }
+            _ => Command::Other,
+        };
+        Ok((command, false))
+    }
+
+    /// A line with no code: markers in its `;` comment.
+    fn comment(&mut self, comment: Option<&[u8]>) -> Command {
+        let Some(c) = comment else { return Command::Comment };
+        let c = trim_end(c);
+        if let Some(label) = c.strip_prefix(b"TYPE:") {
+            let f = self.feature_of(label);
+            self.state.feature = f;
+            return Command::FeatureType(f);
+        }
+        if c == b"LAYER_CHANGE" {
+            return self.explicit_layer_start();
+        }
+        if let Some(n) = c.strip_prefix(b"LAYER:") {
+            let n = n.strip_prefix(b"-").unwrap_or(n);
+            if !n.is_empty() && n.iter().all(u8::is_ascii_digit) {
+                return self.explicit_layer_start();
+            }
+            return Command::Comment;
+        }
+        if let Some(rest) = c.strip_prefix(b"WARPSLICE_") {
+            for (word, begin) in [(&b"BEGIN"[..], true), (&b"END"[..], false)] {
+                if let Some(after) = rest.strip_prefix(word) {
+                    if after.is_empty() || after[0] == b' ' || after[0] == b'\t' {
+                        return Command::RegionMarker { begin };
+                    }
+                }
+            }
+            return Command::Comment;
+        }
+        if let Some(z) = c.strip_prefix(b"Z:") {
+            if self.state.layer_markers && !self.moved_since_marker {
+                if let Some(v) = lexer::parse_value(trim_start(z)) {
+                    self.state.layer_z = Some(v);
+                }
+            }
+            return Command::Comment;
+        }
+        Command::Comment
+    }
+
+    fn explicit_layer_start(&mut self) -> Command {
+        if !self.state.layer_markers {
+            self.state.layer_markers = true;
+            self.state.layer = 0;
+        } else if !self.moved_since_marker {
+            return Command::Comment;
+        } else {
+            self.state.layer = self.state.layer.saturating_add(1);
+        }
+        self.layer_started = true;
+        self.moved_since_marker = false;
+        self.state.layer_z = None;
+        Command::LayerStart
+    }
+
+    /// Feature of a `;TYPE:` label, through a small cache (labels repeat every layer).
+    fn feature_of(&mut self, label: &[u8]) -> Feature {
+        if let Some((_, f)) = self.type_cache.iter().find(|(l, _)| l == label) {
+            return *f;
+        }
+        let f = match core::str::from_utf8(label) {
+            Ok(s) => Feature::from_type_label(s),
+            Err(_) => Feature::Unknown,
+        };
+        if self.type_cache.len() < TYPE_CACHE_SIZE {
+            self.type_cache.push((label.to_vec(), f));
+        }
+        f
+    }
+
+    /// G0–G3.
+    fn motion(
+        &mut self,
+        code: u32,
+        words: &mut Words<'_>,
+        text: &[u8],
+        line: u64,
+    ) -> Result<(Command, bool), GcodeError> {
+        let w = read_words(words, text, line)?;
+        let s = &mut self.state;
+        let u = if s.inch { MM_PER_INCH } else { 1.0 };
+        let from = s.position;
+        let mut to = from;
+        for (k, v) in w.axes.iter().enumerate() {
+            if let Some(v) = v {
+                to[k] = if s.positioning_relative { to[k] + v * u } else { v * u };
+            }
+        }
+        let mut e = 0.0;
+        if let Some(v) = w.e {
+            let v = v * u;
+            if s.e_relative {
+                e = v;
+                s.e += v;
+            } else {
+                e = v - s.e;
+                s.e = v;
+            }
+        }
+        if let Some(f) = w.f {
+            if f > 0.0 {
+                s.feed = f * u;
+            }
+        }
+        self.moved_since_marker = true;
+        let mut layer_start = false;
+        if !s.layer_markers && e > 0.0 && to != from && to.z > self.inferred_z + LAYER_Z_EPSILON {
+            if self.layer_started {
+                s.layer = s.layer.saturating_add(1);
+            } else {
+                s.layer = 0;
+                self.layer_started = true;
+            }
+            self.inferred_z = to.z;
+            s.layer_z = Some(to.z);
+            layer_start = true;
+        }
+        if e > 0.0 && to != from && s.layer_z.is_none() {
+            s.layer_z = Some(to.z);
+        }
+        let template = Move {
+            from,
+            to,
+            e,
+            f: s.feed,
+            layer: s.layer,
+            feature: s.feature,
+            rapid: code == 0,
+        };
+        let arc = code >= 2;
+        if !arc {
+            self.moves.push(template);
+        } else {
+            if !self.plane_xy {
+                return Err(GcodeError::BadArc {
+                    line,
+                    reason: "only arcs in the XY plane (G17) are supported".into(),
+                });
+            }
+            let centre = match (w.r, w.i, w.j) {
+                (Some(r), _, _) => Centre::Radius(r * u),
+                (None, None, None) => {
+                    return Err(GcodeError::BadArc {
+                        line,
+                        reason: "no centre: give I and J, or R".into(),
+                    })
+                }
+                (None, i, j) => Centre::Offset(DVec2::new(i.unwrap_or(0.0) * u, j.unwrap_or(0.0) * u)),
+            };
+            let moves = &mut self.moves;
+            let mut prev = from;
+            arc::linearise(from, to, centre, code == 2, self.opts.arc_chord_tolerance, |p| {
+                moves.push(Move { from: prev, to: p, e: 0.0, ..template });
+                prev = p;
+            })
+            .map_err(|reason| GcodeError::BadArc { line, reason })?;
+            spread_e(moves, e);
+        }
+        self.state.position = to;
+        Ok((Command::Move { rapid: code == 0, arc }, layer_start))
+    }
+}
+
+/// Spread `e` over the pieces proportionally to their length (equally if all are points);
+/// the last piece takes the remainder so the sum is `e` up to one rounding.
+fn spread_e(moves: &mut [Move], e: f64) {
+    let n = moves.len();
+    if n == 0 || e == 0.0 {
+        return;
+    }
+    let total: f64 = moves.iter().map(|m| (m.to - m.from).length()).sum();
+    let mut given = 0.0;
+    for (k, m) in moves.iter_mut().enumerate() {
+        if k + 1 == n {
+            m.e = e - given;
+        } else {
+            let share = if total > 0.0 { (m.to - m.from).length() / total } else { 1.0 / n as f64 };
+            m.e = e * share;
+            given += m.e;
+        }
+    }
+}
+
+/// Read the remaining words of a G0–G3/G28/G92 line; other letters are ignored.
+fn read_words(words: &mut Words<'_>, text: &[u8], line: u64) -> Result<MoveWords, GcodeError> {
+    let mut w = MoveWords::default();
+    for r in words {
+        let word = r.map_err(|BadWord { start, end }| GcodeError::BadNumber {
+            line,
+            word: String::from_utf8_lossy(&text[start..end.min(text.len())]).into_owned(),
+        })?;
+        let v = word.value;
+        match word.letter {
+            b'X' => {
+                w.axes[0] = v;
+                w.any_axis_letter = true;
+            }
+            b'Y' => {
+                w.axes[1] = v;
+                w.any_axis_letter = true;
+            }
+            b'Z' => {
+                w.axes[2] = v;
+                w.any_axis_letter = true;
+            }
+            b'E' => w.e = v,
+            b'F' => w.f = v,
+            b'I' => w.i = v,
+            b'J' => w.j = v,
+            b'R' => w.r = v,
+            _ => {}
+        }
+    }
+    Ok(w)
+}
+
+fn trim_start(s: &[u8]) -> &[u8] {
+    let n = s.iter().take_while(|&&b| b == b' ' || b == b'\t').count();
+    &s[n..]
+}
+
+fn trim_end(s: &[u8]) -> &[u8] {
+    let mut n = s.len();
+    while n > 0 && matches!(s[n - 1], b' ' | b'\t' | b'\r') {
+        n -= 1;
+    }
+    &s[..n]
 }
