@@ -1,23 +1,12 @@
 //! Generated test parts (our own geometry, no licence strings attached): the meshes the tests,
-//! the benchmark, the CLI demo and the web app's "try an example" use.
+//! the benchmark, the CLI demo and the web app's "try an example" use (built on
+//! [`crate::mesh::shapes`]).
 
 use glam::DVec3;
 
 use crate::mesh::Mesh;
 
-/// An axis-aligned box from `min` to `max` (12 triangles, closed, outward normals).
-pub fn cuboid(min: DVec3, max: DVec3) -> Mesh {
-    let v = |i: u32| DVec3::new(if i & 1 == 0 { min.x } else { max.x }, if i & 2 == 0 { min.y } else { max.y }, if i & 4 == 0 { min.z } else { max.z });
-    let vertices = (0..8).map(v).collect();
-    // faces as quads (counter-clockwise seen from outside)
-    let quads = [[0u32, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
-    let mut triangles = Vec::with_capacity(12);
-    for q in quads {
-        triangles.push([q[0], q[1], q[2]]);
-        triangles.push([q[0], q[2], q[3]]);
-    }
-    Mesh { vertices, triangles }
-}
+pub use crate::mesh::shapes::cuboid;
 
 /// A cube of side `s` standing on z = 0, centred on the z axis.
 pub fn cube(s: f64) -> Mesh {
@@ -46,32 +35,9 @@ pub fn cylinder(r: f64, h: f64, n: u32) -> Mesh {
     Mesh { vertices, triangles }
 }
 
-/// A UV sphere of radius `r` resting on z = 0 (`stacks` ≥ 2, `slices` ≥ 3), closed.
-pub fn sphere(r: f64, stacks: u32, slices: u32) -> Mesh {
-    let (stacks, slices) = (stacks.max(2), slices.max(3));
-    let mut vertices = vec![DVec3::new(0.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 2.0 * r)];
-    for i in 1..stacks {
-        let th = core::f64::consts::PI * i as f64 / stacks as f64;
-        for j in 0..slices {
-            let ph = 2.0 * core::f64::consts::PI * j as f64 / slices as f64;
-            let s = crate::num::sin(th);
-            vertices.push(DVec3::new(r * s * crate::num::cos(ph), r * s * crate::num::sin(ph), r - r * crate::num::cos(th)));
-        }
-    }
-    let ring = |i: u32, j: u32| 2 + (i - 1) * slices + (j % slices);
-    let mut triangles = Vec::new();
-    for j in 0..slices {
-        triangles.push([0, ring(1, j + 1), ring(1, j)]);
-        triangles.push([1, ring(stacks - 1, j), ring(stacks - 1, j + 1)]);
-    }
-    for i in 1..stacks - 1 {
-        for j in 0..slices {
-            let (a, b, c, d) = (ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i + 1, j));
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
-    Mesh { vertices, triangles }
+/// A UV sphere of radius `r` resting on z = 0.
+pub fn sphere(r: f64, rings: u32, segments: u32) -> Mesh {
+    crate::mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, r), r, rings, segments)
 }
 
 /// An overhang block: a 10 × 14 mm pillar 20 mm tall carrying a 30 × 20 × 5 mm slab that
