@@ -499,7 +499,9 @@ impl Core {
                 self.report.e_skirt += m.e;
                 let (end, n1) = self.map_point(kind, m.to);
                 let e = m.e * self.opts.flow.at(end.z);
-                self.write_extrusion(end, n1, e, m, relative, false);
+                // a skirt found by geometry (no ;TYPE:) is named as such in the toolpath
+                let feature = if m.feature.is_object() { Feature::Skirt } else { m.feature };
+                self.write_extrusion(end, n1, e, m, feature, relative, false);
             }
             Kind::Object => self.object_piece(m, relative),
             Kind::Dropped => {}
@@ -532,7 +534,7 @@ impl Core {
             }
             let n = self.warp.tool_axis(b);
             let out = self.model_to_output(DVec3::new(b.x, b.y, b.z.max(0.0)));
-            self.write_extrusion(out, n, e, m, relative, true);
+            self.write_extrusion(out, n, e, m, m.feature, relative, true);
             t0 = t1;
             a = b;
         }
@@ -570,7 +572,8 @@ impl Core {
         push_mm(&mut self.out, p.z);
     }
 
-    fn write_extrusion(&mut self, p: DVec3, n: DVec3, e: f64, m: &Move, relative: bool, object: bool) {
+    #[allow(clippy::too_many_arguments)]
+    fn write_extrusion(&mut self, p: DVec3, n: DVec3, e: f64, m: &Move, feature: Feature, relative: bool, object: bool) {
         let v = self.ew.advance(e, relative);
         self.out.extend_from_slice(b"G1");
         self.write_xyz(p);
@@ -591,7 +594,7 @@ impl Core {
         }
         self.cur = Some((p, n));
         if self.opts.collect_toolpath {
-            self.toolpath.push(ToolPoint { p, n, e, f: m.f, layer: m.layer, feature: m.feature, travel: false });
+            self.toolpath.push(ToolPoint { p, n, e, f: m.f, layer: m.layer, feature, travel: false });
         }
     }
 

@@ -16,6 +16,10 @@ pub const CELL: f64 = 1.0;
 pub const NEAR_END_RADIUS: f64 = 1.5;
 /// Grid margin around the part, mm.
 pub const MARGIN: f64 = 20.0;
+/// A straight travel may pass this little below the top of printed material, mm: the grid
+/// holds nozzle-tip heights (bead tops), and a planar printer's travels graze the layer just
+/// printed all the time.
+pub const DIRECT_TRAVEL_SLACK: f64 = 0.05;
 
 /// The highest printed z per XY cell (output frame).
 #[derive(Clone, Debug)]
@@ -104,7 +108,7 @@ pub enum TravelPlan {
 /// Plan a travel with `clearance` (mm).
 pub fn plan(grid: &HeightGrid, a: DVec3, b: DVec3, clearance: f64) -> TravelPlan {
     let (above, top) = grid.clearance_needed(a, b);
-    if above + clearance <= 0.0 {
+    if above <= DIRECT_TRAVEL_SLACK {
         TravelPlan::Direct
     } else {
         TravelPlan::Lift(top.max(a.z).max(b.z) + clearance)
@@ -126,5 +130,9 @@ mod tests {
         let a2 = DVec3::new(-8.0, 8.0, 2.0);
         let b2 = DVec3::new(8.0, 8.0, 2.0);
         assert_eq!(plan(&g, a2, b2, 1.0), TravelPlan::Direct);
+        // and so does one over it at the height of its top (a planar layer's travel)
+        let a3 = DVec3::new(-8.0, 0.0, 8.0);
+        let b3 = DVec3::new(8.0, 0.0, 8.0);
+        assert_eq!(plan(&g, a3, b3, 1.0), TravelPlan::Direct);
     }
 }

@@ -1,0 +1,116 @@
+//! The core issue's acceptance matrix with the real slicers installed on this machine
+//! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them): for each slicer ×
+//! {relative E, absolute E} × the five acceptance warps, on the generated parts and on every
+//! corpus model marked `accept`: warp → slice → unwarp, then checks a–e (tests/common).
+//!
+//! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
+//! how many cases it skipped and why.
+#![cfg(not(target_arch = "wasm32"))]
+
+mod common;
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use warpslice::pipeline::warp_model;
+use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
+use warpslice::unwarp::{unwarp, UnwarpOptions};
+
+/// Threads per test function (the tests themselves run in parallel too).
+const THREADS: usize = 1;
+
+fn tmpdir(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("warpslice-it-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Run every case; return (passed, failures).
+fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &str) {
+    if let Err(e) = slicer::locate(kind) {
+        let n = models.len() * common::acceptance_warps().len();
+        if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
+            println!("SKIPPED {n} cases of {kind:?}: {e}");
+            return;
+        }
+        panic!("{kind:?} is needed for this test: {e}");
+    }
+    let dir = tmpdir(tag);
+    let cases: Vec<(usize, usize)> = (0..models.len()).flat_map(|m| (0..common::acceptance_warps().len()).map(move |w| (m, w))).collect();
+    let next = AtomicUsize::new(0);
+    let failures = Mutex::new(Vec::new());
+    let table = Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..THREADS {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&(mi, wi)) = cases.get(i) else { break };
+                let (name, bytes) = &models[mi];
+                let (wname, params) = &common::acceptance_warps()[wi];
+                let r = run_case(kind, e_mode, name, bytes, params, &dir.join(format!("{i}")));
+                match r {
+                    Ok(st) => table.lock().unwrap().push(format!(
+                        "{name:40} {wname:15} pts {:7} layer-dev {:.4} outside {:.3} E {:.1}/{:.1} (anchor {:.1}) min-z {:.3} clamped {}",
+                        st.points, st.worst_layer_distance, st.worst_outside, st.e_out, st.e_in, st.e_anchor, st.min_z, st.clamped
+                    )),
+                    Err(e) => failures.lock().unwrap().push(format!("{name} × {wname}: {e}")),
+                }
+            });
+        }
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut table = table.into_inner().unwrap();
+    table.sort();
+    println!("{kind:?} {e_mode:?}: {} cases passed", table.len());
+    for l in &table {
+        println!("  {l}");
+    }
+    let failures = failures.into_inner().unwrap();
+    assert!(failures.is_empty(), "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}", failures.len(), cases.len(), failures.join("\n"));
+}
+
+fn run_case(
+    kind: SlicerKind,
+    e_mode: EMode,
+    name: &str,
+    bytes: &[u8],
+    params: &warpslice::warp::WarpParams,
+    stem: &std::path::Path,
+) -> Result<common::CaseStats, String> {
+    let w = warp_model(bytes, &common::warp_options(params)).map_err(|e| format!("warp: {e}"))?;
+    let stl = stem.with_extension("stl");
+    let gcode = stem.with_extension("gcode");
+    std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
+    let so = SliceOptions::new(kind, e_mode);
+    slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
+    let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
+    let out = unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }).map_err(|e| format!("unwarp: {e}"))?;
+    let (model, _) = warpslice::mesh::read_stl(bytes).map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(&stl);
+    let _ = std::fs::remove_file(&gcode);
+    common::check_unwarp(&model, &w.job, &input, &out)
+}
+
+macro_rules! matrix_tests {
+    ($($name:ident: $kind:expr, $mode:expr, $models:expr;)*) => {$(
+        #[test]
+        fn $name() {
+            matrix($kind, $mode, &$models, stringify!($name));
+        }
+    )*};
+}
+
+matrix_tests! {
+    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, common::generated_models();
+    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, common::generated_models();
+    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, common::generated_models();
+    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, common::generated_models();
+    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, common::generated_models();
+    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, common::generated_models();
+    prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, common::corpus_accept();
+    prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, common::corpus_accept();
+    slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, common::corpus_accept();
+    slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, common::corpus_accept();
+    curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, common::corpus_accept();
+    curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, common::corpus_accept();
+}
