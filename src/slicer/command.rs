@@ -74,7 +74,11 @@ pub fn build(
             a.extend(strs(&["--gcode-flavor", "marlin2"]));
             if relative {
                 // PrusaSlicer refuses relative E unless every layer resets E.
-                a.extend(strs(&["--use-relative-e-distances", "--layer-gcode", "G92 E0"]));
+                a.extend(strs(&[
+                    "--use-relative-e-distances",
+                    "--layer-gcode",
+                    "G92 E0",
+                ]));
             }
             a.extend(opts.extra_args.iter().cloned());
             a.extend(["--output".to_string(), path_arg(gcode_out)]);
@@ -201,7 +205,12 @@ mod tests {
     fn layer_height_is_passed_for_first_layer_too() {
         let mut o = opts(SlicerKind::CuraEngine, EMode::Relative);
         o.layer_height = 0.25;
-        let inv = build(Path::new("a.stl"), Path::new("b.gcode"), &o, Some(Path::new("/r")));
+        let inv = build(
+            Path::new("a.stl"),
+            Path::new("b.gcode"),
+            &o,
+            Some(Path::new("/r")),
+        );
         let joined = inv.args.join(" ");
         assert!(joined.contains("layer_height=0.25"));
         assert!(joined.contains("layer_height_0=0.25"));

@@ -133,7 +133,10 @@ impl fmt::Display for SlicerError {
                 slicer,
                 message,
                 advice,
-            } => write!(f, "{slicer} refused the model: {message}\n  what to do: {advice}"),
+            } => write!(
+                f,
+                "{slicer} refused the model: {message}\n  what to do: {advice}"
+            ),
             SlicerError::Failed {
                 slicer,
                 status,
@@ -359,7 +362,10 @@ mod tests {
         let text = "Print warning: Empty layer between 5 and 8.2.\n\nObject name: gap.stl\n";
         let w = recognise_warnings(SlicerKind::PrusaSlicer, text);
         assert_eq!(w.len(), 1);
-        assert_eq!(w[0].message, "Print warning: Empty layer between 5 and 8.2.");
+        assert_eq!(
+            w[0].message,
+            "Print warning: Empty layer between 5 and 8.2."
+        );
         assert!(recognise_refusal(SlicerKind::PrusaSlicer, text).is_none());
     }
 

@@ -11,6 +11,8 @@ use std::time::{Duration, Instant};
 pub const OUTPUT_KEEP_BYTES: usize = 256 * 1024;
 /// How often the child is polled while waiting for it.
 const POLL_INTERVAL: Duration = Duration::from_millis(10);
+/// Extra attempts to start an executable that is busy being written (ETXTBSY).
+const SPAWN_RETRIES: u32 = 5;
 
 /// A finished run.
 #[derive(Debug)]
@@ -88,6 +90,23 @@ fn wait(child: &mut Child, timeout: Option<Duration>) -> Result<ExitStatus, RunE
     }
 }
 
+/// Spawns, retrying a few times on ETXTBSY: a freshly written executable can be briefly
+/// "busy" while another thread of this process forks.
+fn spawn(cmd: &mut Command) -> Result<Child, RunError> {
+    const TEXT_FILE_BUSY: i32 = 26;
+    let mut attempt = 0;
+    loop {
+        match cmd.spawn() {
+            Ok(child) => return Ok(child),
+            Err(e) if e.raw_os_error() == Some(TEXT_FILE_BUSY) && attempt < SPAWN_RETRIES => {
+                attempt += 1;
+                std::thread::sleep(POLL_INTERVAL * 5);
+            }
+            Err(e) => return Err(RunError::Spawn(e)),
+        }
+    }
+}
+
 /// Runs `exe` with `inv`, stdin closed, both output streams captured.
 pub fn run(exe: &Path, inv: &Invocation, timeout: Option<Duration>) -> Result<Outcome, RunError> {
     let mut cmd = Command::new(exe);
@@ -98,7 +117,7 @@ pub fn run(exe: &Path, inv: &Invocation, timeout: Option<Duration>) -> Result<Ou
     for (k, v) in &inv.env {
         cmd.env(k, v);
     }
-    let mut child = cmd.spawn().map_err(RunError::Spawn)?;
+    let mut child = spawn(&mut cmd)?;
     let out = drain(child.stdout.take());
     let err = drain(child.stderr.take());
     // On a timeout the reader threads are left to finish on their own: a grandchild may still
