@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The main job: installs what is missing (Rust, PrusaSlicer), builds warpslice, and runs it on
+# the bundled 20 mm cube: conic warp (30°, outward), sliced by PrusaSlicer, unwarped to G-code.
+#
+#   bash scripts/run.sh
+#
+# Output: examples/out/ (ignored by git). CARGO_TARGET_DIR is honoured.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+ROOT=$(pwd)
+
+echo "==== setup ===="
+# shellcheck source=setup.sh
+source scripts/setup.sh core
+
+echo "==== build ===="
+cargo build --release
+BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/warpslice"
+[[ -x "$BIN" ]] || { echo "run: the build produced no $BIN" >&2; exit 1; }
+
+echo "==== run: conic 30° outward on examples/cube20.stl with PrusaSlicer ===="
+OUT_DIR="$ROOT/examples/out"
+mkdir -p "$OUT_DIR"
+IN="$ROOT/examples/cube20.stl"
+OUT="$OUT_DIR/cube20-conic30.gcode"
+rm -f "$OUT"
+# TODO(lead): once the CLI has it, generate the example instead of using the bundled STL:
+#   "$BIN" example cube --out "$OUT_DIR/cube.stl" && IN="$OUT_DIR/cube.stl"
+# TODO(lead): adjust these flags to the final CLI.
+"$BIN" run "$IN" --slicer prusaslicer --warp conic --angle 30 --direction outward -o "$OUT"
+
+if [[ ! -s "$OUT" ]]; then
+  echo "run: warpslice finished but wrote no $OUT (is the CLI implemented yet?)" >&2
+  exit 1
+fi
+echo
+echo "run: input   $IN"
+echo "run: output  $OUT ($(wc -l <"$OUT") lines)"
+ls -l "$OUT_DIR"
+
+# TODO(lead): serve the web app here, e.g.
+#   source scripts/setup.sh wasm
+#   wasm-pack build --release --target web --out-dir www/pkg
+#   echo "run: web app at http://localhost:8080/ (Ctrl-C to stop)"
+#   exec python3 -m http.server --directory www 8080
