@@ -338,7 +338,7 @@ mod cli {
                         EModeArg::Absolute => warpslice::slicer::EMode::Absolute,
                     },
                     layer_height: opts.layer_height,
-                    extra_args: Vec::new(),
+                    ..Default::default()
                 };
                 let sp = spinner("slicing");
                 warpslice::slicer::slice(&warped, &sliced, &so).map_err(|e| e.to_string())?;

@@ -27,7 +27,7 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
 
 /// Run every case; return (passed, failures).
 fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &str) {
-    if let Err(e) = slicer::locate(kind) {
+    if let Err(e) = slicer::available(kind) {
         let n = models.len() * common::acceptance_warps().len();
         if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
             println!("SKIPPED {n} cases of {kind:?}: {e}");
@@ -81,7 +81,7 @@ fn run_case(
     let stl = stem.with_extension("stl");
     let gcode = stem.with_extension("gcode");
     std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
-    let so = SliceOptions::new(kind, e_mode);
+    let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
     slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
     let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
     let out = unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }).map_err(|e| format!("unwarp: {e}"))?;
