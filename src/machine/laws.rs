@@ -12,7 +12,8 @@
 //!    trip still holds (orientation within `branch_freedom`), and every rotary axis moves by at
 //!    most [`MAX_ROTARY_STEP_DEG`] per step (a single-revolution axis may instead wrap by
 //!    exactly 360°), except where the realised axis itself jumps (a fixed-tilt nozzle passing
-//!    over the vertical).
+//!    over the vertical) and next to a hold zone (`branch_freedom > 0`: on leaving it a held
+//!    axis may have to catch up; the interpolation splits such moves).
 
 use glam::DVec3;
 
@@ -132,7 +133,8 @@ fn walk(m: &dyn Machine, p: DVec3, path: &[DVec3], step_deg: f64, rep: &mut LawR
         let a = check_one(m, p, n, prev.as_ref().map(|(_, a)| a.as_slice()), rep)?;
         if let Some((pn, pa)) = &prev {
             let jump = num::angle_between(m.realised_axis(p, *pn), m.realised_axis(p, n));
-            if jump <= num::rad(10.0 * step_deg) {
+            let held = m.branch_freedom(p, *pn) > 0.0 || m.branch_freedom(p, n) > 0.0;
+            if jump <= num::rad(10.0 * step_deg) && !held {
                 for (k, l) in limits.iter().enumerate() {
                     if !l.rotary {
                         continue;
@@ -160,7 +162,8 @@ fn walk(m: &dyn Machine, p: DVec3, path: &[DVec3], step_deg: f64, rep: &mut LawR
 /// Law 2: continuity along azimuth sweeps and a meridian through the vertical.
 pub fn check_paths(m: &dyn Machine) -> Result<LawReport, String> {
     let ws = m.workspace();
-    let p = (ws.min + ws.max) * 0.5;
+    // Off-centre, so polar machines are away from their centre singularity.
+    let p = ws.min + (ws.max - ws.min) * 0.7;
     let mut rep = LawReport::default();
     for t in [0.3, 20.0, ws.max_tilt_deg.min(60.0)] {
         if t > ws.max_tilt_deg {
