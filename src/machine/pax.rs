@@ -78,7 +78,8 @@ impl Machine for Pax {
         let prev_a = previous.and_then(|a| a.get(3).copied());
         let t = num::deg(tilt(n));
         let (a, b) = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
-            (prev_a.unwrap_or(0.0), 0.0)
+            // Straight up (B = 0) or straight down (B = 180°, refused by the limit).
+            (prev_a.unwrap_or(0.0), t)
         } else {
             let a1 = num::deg(num::atan2(n.y, n.x)) + self.params.rot_offset_deg;
             match prev_a {
