@@ -8,7 +8,15 @@ fn input_for(max_tilt: f64) -> String {
     for i in 0..40 {
         let t = (i as f64 * 3.7) % max_tilt.min(60.0);
         let n = laws::axis(t, -170.0 + 23.0 * i as f64);
-        s.push_str(&format!("{},{},{},{},{},{}\n", 10.0 + 0.5 * i as f64, 20.0 - 0.3 * i as f64, 5.0 + 0.1 * i as f64, n.x, n.y, n.z));
+        s.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            10.0 + 0.5 * i as f64,
+            20.0 - 0.3 * i as f64,
+            5.0 + 0.1 * i as f64,
+            n.x,
+            n.y,
+            n.z
+        ));
     }
     s
 }
@@ -30,14 +38,24 @@ fn inverse_then_forward_round_trips_for_every_preset() {
             }
         }
         let back = batch::forward_csv(m.as_ref(), &axes).unwrap();
-        for (want, got) in input.lines().filter(|l| !l.is_empty() && !l.starts_with('#')).zip(back.lines()) {
+        for (want, got) in input
+            .lines()
+            .filter(|l| !l.is_empty() && !l.starts_with('#'))
+            .zip(back.lines())
+        {
             let w: Vec<f64> = want.split(',').map(|f| f.parse().unwrap()).collect();
             let g: Vec<f64> = got.split(',').map(|f| f.parse().unwrap()).collect();
             let p = glam::DVec3::new(w[0], w[1], w[2]);
             let n = glam::DVec3::new(w[3], w[4], w[5]);
             let realised = m.realised_axis(p, n);
-            assert!((glam::DVec3::new(g[0], g[1], g[2]) - p).length() < 1e-9, "{name}: {want} -> {got}");
-            assert!((glam::DVec3::new(g[3], g[4], g[5]) - realised).length() < 1e-9, "{name}: {want} -> {got}");
+            assert!(
+                (glam::DVec3::new(g[0], g[1], g[2]) - p).length() < 1e-9,
+                "{name}: {want} -> {got}"
+            );
+            assert!(
+                (glam::DVec3::new(g[3], g[4], g[5]) - realised).length() < 1e-9,
+                "{name}: {want} -> {got}"
+            );
         }
     }
 }
@@ -51,15 +69,24 @@ fn rotbot_unwraps_across_180_degrees_in_a_batch() {
         input.push_str(&format!("0,0,1,{},{},{}\n", n.x, n.y, n.z));
     }
     let out = batch::inverse_csv(m.as_ref(), &input).unwrap();
-    let u: Vec<f64> = out.lines().map(|l| l.split(',').nth(3).unwrap().parse().unwrap()).collect();
+    let u: Vec<f64> = out
+        .lines()
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
     for w in u.windows(2) {
         assert!((w[1] - w[0] - 5.0).abs() < 1e-9, "{u:?}");
     }
-    assert!(u.last().copied().unwrap() > 180.0, "unlimited rotation goes past 180: {u:?}");
+    assert!(
+        u.last().copied().unwrap() > 180.0,
+        "unlimited rotation goes past 180: {u:?}"
+    );
     // Slicer4RTN (single revolution) wraps instead, and says a rotate-around is needed.
     let s = preset("rtn-slicer4rtn").and_then(|s| s.build()).unwrap();
     let out = batch::inverse_csv(s.as_ref(), &input).unwrap();
-    let a: Vec<f64> = out.lines().map(|l| l.split(',').nth(3).unwrap().parse().unwrap()).collect();
+    let a: Vec<f64> = out
+        .lines()
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
     assert!(a.iter().all(|v| (-180.0..=180.0).contains(v)), "{a:?}");
     assert!(a.windows(2).any(|w| (w[1] - w[0]).abs() > 180.0));
 }
@@ -77,7 +104,9 @@ fn bad_lines_are_named_errors_with_their_line_number() {
     for (input, line, what) in cases {
         match batch::inverse_csv(m.as_ref(), input) {
             Err(e @ MachineError::BadCsv { .. }) => {
-                let MachineError::BadCsv { line: l, .. } = &e else { unreachable!() };
+                let MachineError::BadCsv { line: l, .. } = &e else {
+                    unreachable!()
+                };
                 assert_eq!(*l, line, "{e}");
                 assert!(e.to_string().contains(what), "{e}");
                 assert!(e.to_string().contains(&format!("line {line}")), "{e}");
@@ -95,7 +124,9 @@ fn bad_lines_are_named_errors_with_their_line_number() {
 fn unreachable_orientations_are_named() {
     let m = preset("open5x-ab").and_then(|s| s.build()).unwrap();
     match batch::inverse_csv(m.as_ref(), "0,0,0,0,0,1\n0,0,0,0.6,0,-0.8\n") {
-        Err(MachineError::BadCsv { line: 2, message }) => assert!(message.contains("cannot be reached"), "{message}"),
+        Err(MachineError::BadCsv { line: 2, message }) => {
+            assert!(message.contains("cannot be reached"), "{message}")
+        }
         other => panic!("{other:?}"),
     }
 }
@@ -118,10 +149,16 @@ fn bad_json_and_bad_specs_are_named() {
     for (json, what) in [
         ("{\"kind\": \"b-head\", \"pivot_to_tip_mm\": }", "invalid"),
         ("{\"kind\": \"warp-drive\"}", "unknown variant"),
-        ("{\"kind\": \"pax\", \"pivot_to_tip_mm\": \"long\"}", "invalid"),
+        (
+            "{\"kind\": \"pax\", \"pivot_to_tip_mm\": \"long\"}",
+            "invalid",
+        ),
     ] {
         match MachineSpec::from_json(json, "my.json") {
-            Err(e @ MachineError::BadJson { .. }) => assert!(e.to_string().contains(what) && e.to_string().contains("my.json"), "{e}"),
+            Err(e @ MachineError::BadJson { .. }) => assert!(
+                e.to_string().contains(what) && e.to_string().contains("my.json"),
+                "{e}"
+            ),
             other => panic!("{json}: {other:?}"),
         }
     }
@@ -133,7 +170,9 @@ fn bad_json_and_bad_specs_are_named() {
     ] {
         let spec = MachineSpec::from_json(json, "my.json").unwrap();
         match spec.build() {
-            Err(e @ MachineError::BadSpec { .. }) => assert!(e.to_string().contains("fix the machine JSON"), "{e}"),
+            Err(e @ MachineError::BadSpec { .. }) => {
+                assert!(e.to_string().contains("fix the machine JSON"), "{e}")
+            }
             other => panic!("{json}: {other:?}"),
         }
     }

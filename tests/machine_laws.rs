@@ -21,13 +21,17 @@ fn check(m: &dyn Machine) {
 }
 
 fn spec(json: &str) -> Box<dyn Machine> {
-    MachineSpec::from_json(json, "test").and_then(|s| s.build()).unwrap_or_else(|e| panic!("{e}"))
+    MachineSpec::from_json(json, "test")
+        .and_then(|s| s.build())
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 #[test]
 fn every_preset_obeys_the_laws() {
     for name in preset_names() {
-        let m = preset(name).and_then(|s| s.build()).unwrap_or_else(|e| panic!("{e}"));
+        let m = preset(name)
+            .and_then(|s| s.build())
+            .unwrap_or_else(|e| panic!("{e}"));
         check(m.as_ref());
     }
 }

@@ -70,12 +70,15 @@ fn generic_forward(axes: &[f64]) -> (DVec3, DVec3) {
         }
         // Gaussian elimination with partial pivoting.
         for col in 0..6 {
-            let piv = (col..6).max_by(|&a, &b| j[a][col].abs().total_cmp(&j[b][col].abs())).unwrap();
+            let piv = (col..6)
+                .max_by(|&a, &b| j[a][col].abs().total_cmp(&j[b][col].abs()))
+                .unwrap();
             j.swap(col, piv);
-            for row in col + 1..6 {
-                let f = j[row][col] / j[col][col];
-                for k in col..7 {
-                    j[row][k] -= f * j[col][k];
+            let pivot_row = j[col];
+            for row in j.iter_mut().skip(col + 1) {
+                let f = row[col] / pivot_row[col];
+                for (v, pv) in row.iter_mut().zip(pivot_row.iter()).skip(col) {
+                    *v -= f * pv;
                 }
             }
         }
@@ -99,7 +102,12 @@ fn generic_forward(axes: &[f64]) -> (DVec3, DVec3) {
 #[test]
 fn planar_poses_are_eq_2() {
     let m = machine();
-    for p in [DVec3::new(0.0, 0.0, 0.0), DVec3::new(150.0, 146.5, 0.2), DVec3::new(300.0, 293.0, 205.0), DVec3::new(12.5, 280.0, 33.3)] {
+    for p in [
+        DVec3::new(0.0, 0.0, 0.0),
+        DVec3::new(150.0, 146.5, 0.2),
+        DVec3::new(300.0, 293.0, 205.0),
+        DVec3::new(12.5, 280.0, 33.3),
+    ] {
         let a = m.inverse(p, DVec3::Z, None).unwrap();
         let want = [p.x, p.y, p.z, p.z, p.z];
         for k in 0..5 {
@@ -121,8 +129,14 @@ fn tilted_poses_satisfy_the_physical_constraints() {
     for (p, n) in poses {
         let a = m.inverse(p, n, None).unwrap();
         let (q, nq) = generic_forward(&a);
-        assert!((q - p).length() < 1e-8, "{p} {n}: generic solve gives {q} from {a:?}");
-        assert!((nq - n).length() < 1e-9, "{p} {n}: generic solve gives {nq}");
+        assert!(
+            (q - p).length() < 1e-8,
+            "{p} {n}: generic solve gives {q} from {a:?}"
+        );
+        assert!(
+            (nq - n).length() < 1e-9,
+            "{p} {n}: generic solve gives {nq}"
+        );
         let (q2, n2) = m.forward(&a).unwrap();
         assert!((q2 - p).length() < 1e-12 && (n2 - n).length() < 1e-12);
     }
@@ -153,7 +167,11 @@ fn round_trip_over_the_build_volume_is_below_1e_12_mm() {
     for i in 0..=6 {
         for j in 0..=6 {
             for k in 0..=4 {
-                let p = DVec3::new(300.0 * i as f64 / 6.0, 293.0 * j as f64 / 6.0, 205.0 * k as f64 / 4.0);
+                let p = DVec3::new(
+                    300.0 * i as f64 / 6.0,
+                    293.0 * j as f64 / 6.0,
+                    205.0 * k as f64 / 4.0,
+                );
                 for t in [0.0, 1e-6, 0.1, 5.0, 10.0, 15.0, 20.0, 25.0, 29.0, 30.0] {
                     for az in 0..24 {
                         let n = laws::axis(t, 15.0 * az as f64);
@@ -174,7 +192,9 @@ fn round_trip_over_the_build_volume_is_below_1e_12_mm() {
 fn tilt_beyond_30_degrees_is_a_named_error() {
     let m = machine();
     match m.inverse(DVec3::new(100.0, 100.0, 10.0), laws::axis(31.0, 45.0), None) {
-        Err(e @ MachineError::UnreachableOrientation { .. }) => assert!(e.to_string().contains("max_tilt_deg")),
+        Err(e @ MachineError::UnreachableOrientation { .. }) => {
+            assert!(e.to_string().contains("max_tilt_deg"))
+        }
         other => panic!("{other:?}"),
     }
 }

@@ -42,7 +42,6 @@ use super::angles::{rotate, unwrap_near, wrap180};
 use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
 use crate::num;
 
-
 /// Parameters of [`AbTable`] (JSON `"kind": "ab-table"`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -92,9 +91,20 @@ pub struct AbTable {
 impl AbTable {
     /// Build with axis letters `names` (X Y Z A B). Moves the origin to the closest approach of
     /// the two lines (seed 004 §5.4.2).
-    pub fn new(name: &str, names: &[String], mut params: AbTableParams) -> Result<AbTable, MachineError> {
-        let bad = |m: &str| MachineError::BadSpec { machine: name.to_string(), message: m.to_string() };
-        if !(params.a_dir.is_finite() && params.b_dir.is_finite() && params.a_pos.is_finite() && params.b_pos.is_finite()) {
+    pub fn new(
+        name: &str,
+        names: &[String],
+        mut params: AbTableParams,
+    ) -> Result<AbTable, MachineError> {
+        let bad = |m: &str| MachineError::BadSpec {
+            machine: name.to_string(),
+            message: m.to_string(),
+        };
+        if !(params.a_dir.is_finite()
+            && params.b_dir.is_finite()
+            && params.a_pos.is_finite()
+            && params.b_pos.is_finite())
+        {
             return Err(bad("a_pos, a_dir, b_pos, b_dir must be finite"));
         }
         if params.a_dir.length() < 1e-9 || params.b_dir.length() < 1e-9 {
@@ -118,9 +128,21 @@ impl AbTable {
             return Err(bad("pole_hold_deg must be ≥ 0 and a_limit_deg > 0"));
         }
         let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(&names[3], -params.a_limit_deg, params.a_limit_deg));
-        limits.push(AxisLimit::rotary(&names[4], f64::NEG_INFINITY, f64::INFINITY));
-        Ok(AbTable { name: name.to_string(), limits, params })
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            -params.a_limit_deg,
+            params.a_limit_deg,
+        ));
+        limits.push(AxisLimit::rotary(
+            &names[4],
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ));
+        Ok(AbTable {
+            name: name.to_string(),
+            limits,
+            params,
+        })
     }
 
     /// Eq. 5.1: the Z correction at A (degrees), mm.
@@ -179,7 +201,11 @@ impl AbTable {
         let cb = n.dot(b);
         let sb = (1.0 - cb * cb).max(0.0).sqrt();
         let e = (a - b * a.dot(b)).normalize();
-        let sgn = if a.z - cb * a.dot(b) >= 0.0 { 1.0 } else { -1.0 };
+        let sgn = if a.z - cb * a.dot(b) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
         let v = b * cb + e * (sb * sgn);
         let bb = AbTable::angle_about(b, n, v);
         (self.hold_a(n, bb), bb)
@@ -204,7 +230,11 @@ impl AbTable {
         });
         match prev_b {
             None => {
-                let (a, b) = if cand[0].0 >= cand[1].0 { cand[0] } else { cand[1] };
+                let (a, b) = if cand[0].0 >= cand[1].0 {
+                    cand[0]
+                } else {
+                    cand[1]
+                };
                 (a, wrap180(b))
             }
             Some(pb) => {
@@ -240,7 +270,12 @@ impl Machine for AbTable {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let prev_b = previous.and_then(|a| a.get(4).copied());
         let off_pole = n.cross(self.params.b_dir).length();
@@ -276,7 +311,11 @@ impl Machine for AbTable {
         let q = DVec3::new(axes[0], axes[1], axes[2] - self.z_wobble(a));
         let (ar, br) = (num::rad(a), num::rad(b));
         let p = self.untransform(q, ar, br) - self.params.part_offset;
-        let n = rotate(rotate(DVec3::Z, self.params.a_dir, -ar), self.params.b_dir, -br);
+        let n = rotate(
+            rotate(DVec3::Z, self.params.a_dir, -ar),
+            self.params.b_dir,
+            -br,
+        );
         Ok((p, n))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
@@ -285,7 +324,11 @@ impl Machine for AbTable {
             Some(_) => n,
             None => {
                 let (a, b) = self.nearest(n);
-                rotate(rotate(DVec3::Z, self.params.a_dir, -a), self.params.b_dir, -b)
+                rotate(
+                    rotate(DVec3::Z, self.params.a_dir, -a),
+                    self.params.b_dir,
+                    -b,
+                )
             }
         }
     }
@@ -299,7 +342,10 @@ impl Machine for AbTable {
     }
     fn workspace(&self) -> Workspace {
         // Calibrated axes reach a little less (or more) than A's limit in some directions.
-        let misalign = num::deg(num::angle_between(self.params.a_dir, DVec3::X) + num::angle_between(self.params.b_dir, DVec3::Z));
+        let misalign = num::deg(
+            num::angle_between(self.params.a_dir, DVec3::X)
+                + num::angle_between(self.params.b_dir, DVec3::Z),
+        );
         Workspace {
             min: DVec3::new(-50.0, -50.0, 0.0),
             max: DVec3::new(50.0, 50.0, 80.0),

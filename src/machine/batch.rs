@@ -14,7 +14,11 @@ use glam::DVec3;
 
 use super::{Machine, MachineError};
 
-fn parse_line(line: &str, lineno: usize, expected: usize) -> Result<Option<Vec<f64>>, MachineError> {
+fn parse_line(
+    line: &str,
+    lineno: usize,
+    expected: usize,
+) -> Result<Option<Vec<f64>>, MachineError> {
     let t = line.trim();
     if t.is_empty() || t.starts_with('#') {
         return Ok(None);
@@ -25,24 +29,40 @@ fn parse_line(line: &str, lineno: usize, expected: usize) -> Result<Option<Vec<f
         match f.parse::<f64>() {
             Ok(x) if x.is_finite() => v.push(x),
             _ => {
-                return Err(MachineError::BadCsv { line: lineno, message: format!("field {} '{f}' is not a finite number", i + 1) })
+                return Err(MachineError::BadCsv {
+                    line: lineno,
+                    message: format!("field {} '{f}' is not a finite number", i + 1),
+                })
             }
         }
     }
     if v.len() != expected {
-        return Err(MachineError::BadCsv { line: lineno, message: format!("expected {expected} comma-separated numbers, got {}", v.len()) });
+        return Err(MachineError::BadCsv {
+            line: lineno,
+            message: format!(
+                "expected {expected} comma-separated numbers, got {}",
+                v.len()
+            ),
+        });
     }
     Ok(Some(v))
 }
 
 fn join(values: &[f64]) -> String {
-    values.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(",")
+    values
+        .iter()
+        .map(|v| format!("{v}"))
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 fn at_line(lineno: usize, e: MachineError) -> MachineError {
     match e {
         MachineError::BadCsv { .. } => e,
-        other => MachineError::BadCsv { line: lineno, message: other.to_string() },
+        other => MachineError::BadCsv {
+            line: lineno,
+            message: other.to_string(),
+        },
     }
 }
 
@@ -51,13 +71,26 @@ pub fn inverse_csv(machine: &dyn Machine, input: &str) -> Result<String, Machine
     let mut out = String::new();
     let mut prev: Option<Vec<f64>> = None;
     for (i, line) in input.lines().enumerate() {
-        let Some(v) = parse_line(line, i + 1, 6)? else { continue };
+        let Some(v) = parse_line(line, i + 1, 6)? else {
+            continue;
+        };
         let p = DVec3::new(v[0], v[1], v[2]);
         let n = DVec3::new(v[3], v[4], v[5]);
         if (n.length() - 1.0).abs() > super::UNIT_SLACK {
-            return Err(MachineError::BadCsv { line: i + 1, message: format!("tool axis ({}, {}, {}) is not a unit vector (length {})", n.x, n.y, n.z, n.length()) });
+            return Err(MachineError::BadCsv {
+                line: i + 1,
+                message: format!(
+                    "tool axis ({}, {}, {}) is not a unit vector (length {})",
+                    n.x,
+                    n.y,
+                    n.z,
+                    n.length()
+                ),
+            });
         }
-        let axes = machine.inverse(p, n, prev.as_deref()).map_err(|e| at_line(i + 1, e))?;
+        let axes = machine
+            .inverse(p, n, prev.as_deref())
+            .map_err(|e| at_line(i + 1, e))?;
         out.push_str(&join(&axes));
         out.push('\n');
         prev = Some(axes);
@@ -70,7 +103,9 @@ pub fn forward_csv(machine: &dyn Machine, input: &str) -> Result<String, Machine
     let count = machine.limits().len();
     let mut out = String::new();
     for (i, line) in input.lines().enumerate() {
-        let Some(v) = parse_line(line, i + 1, count)? else { continue };
+        let Some(v) = parse_line(line, i + 1, count)? else {
+            continue;
+        };
         let (p, n) = machine.forward(&v).map_err(|e| at_line(i + 1, e))?;
         out.push_str(&join(&[p.x, p.y, p.z, n.x, n.y, n.z]));
         out.push('\n');

@@ -23,7 +23,10 @@
 
 use glam::DVec3;
 
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
 use crate::num;
 
 /// Parameters of [`BHead`] (JSON `"kind": "b-head"`).
@@ -44,7 +47,13 @@ pub struct BHeadParams {
 
 impl Default for BHeadParams {
     fn default() -> Self {
-        BHeadParams { pivot_to_tip_mm: 46.0, clip: true, clip_b0_deg: 18.0, clip_z_mm: 50.0, b_limit_deg: 90.0 }
+        BHeadParams {
+            pivot_to_tip_mm: 46.0,
+            clip: true,
+            clip_b0_deg: 18.0,
+            clip_z_mm: 50.0,
+            b_limit_deg: 90.0,
+        }
     }
 }
 
@@ -59,15 +68,27 @@ pub struct BHead {
 impl BHead {
     /// Build with axis letters `names` (X Y Z B).
     pub fn new(name: &str, names: &[String], params: BHeadParams) -> Result<BHead, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite() && params.clip_z_mm > 0.0 && params.b_limit_deg > 0.0) {
+        if !(params.pivot_to_tip_mm.is_finite()
+            && params.clip_z_mm > 0.0
+            && params.b_limit_deg > 0.0)
+        {
             return Err(MachineError::BadSpec {
                 machine: name.to_string(),
-                message: "pivot_to_tip_mm must be finite, clip_z_mm and b_limit_deg positive".into(),
+                message: "pivot_to_tip_mm must be finite, clip_z_mm and b_limit_deg positive"
+                    .into(),
             });
         }
         let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(&names[3], -params.b_limit_deg, params.b_limit_deg));
-        Ok(BHead { name: name.to_string(), limits, params })
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            -params.b_limit_deg,
+            params.b_limit_deg,
+        ));
+        Ok(BHead {
+            name: name.to_string(),
+            limits,
+            params,
+        })
     }
 
     /// The largest |B| allowed at tip height `z` (degrees), seed 000 §4.3.1.
@@ -79,7 +100,11 @@ impl BHead {
     /// B (degrees) for `n` at tip height `z`, holding `held` when n has no XZ component.
     fn b_of(&self, n: DVec3, z: f64, held: f64) -> f64 {
         let len = (n.x * n.x + n.z * n.z).sqrt();
-        let mut b = if len < POLE_EPSILON { held } else { num::deg(num::atan2(n.x, n.z)) };
+        let mut b = if len < POLE_EPSILON {
+            held
+        } else {
+            num::deg(num::atan2(n.x, n.z))
+        };
         if self.params.clip {
             let lim = self.clip_limit_deg(z);
             b = b.clamp(-lim, lim);
@@ -95,7 +120,12 @@ impl Machine for BHead {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let held = previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0);
         let b = self.b_of(n, p.z, held);
@@ -110,7 +140,10 @@ impl Machine for BHead {
         let r = self.params.pivot_to_tip_mm;
         let br = num::rad(axes[3]);
         let (s, c) = (num::sin(br), num::cos(br));
-        Ok((DVec3::new(axes[0] - r * s, axes[1], axes[2] - r * c + r), DVec3::new(s, 0.0, c)))
+        Ok((
+            DVec3::new(axes[0] - r * s, axes[1], axes[2] - r * c + r),
+            DVec3::new(s, 0.0, c),
+        ))
     }
     fn realised_axis(&self, p: DVec3, n: DVec3) -> DVec3 {
         let br = num::rad(self.b_of(n, p.z, 0.0));
@@ -124,6 +157,14 @@ impl Machine for BHead {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace { min: DVec3::new(-100.0, -100.0, 0.0), max: DVec3::new(100.0, 100.0, 200.0), max_tilt_deg: if self.params.clip { 180.0 } else { self.params.b_limit_deg.min(180.0) } }
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg: if self.params.clip {
+                180.0
+            } else {
+                self.params.b_limit_deg.min(180.0)
+            },
+        }
     }
 }

@@ -10,17 +10,11 @@ use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineE
 use crate::num;
 
 /// Parameters of [`Cartesian`] (JSON `"kind": "cartesian"`).
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct CartesianParams {
     /// Refuse tool axes tilted more than this from vertical (degrees); `None` accepts all.
     pub max_tilt_deg: Option<f64>,
-}
-
-impl Default for CartesianParams {
-    fn default() -> Self {
-        CartesianParams { max_tilt_deg: None }
-    }
 }
 
 /// The 3-axis machine.
@@ -34,7 +28,11 @@ pub struct Cartesian {
 impl Cartesian {
     /// Build with axis letters `names` (3 of them).
     pub fn new(name: &str, names: &[String], params: CartesianParams) -> Cartesian {
-        Cartesian { name: name.to_string(), limits: names.iter().map(|n| AxisLimit::linear(n)).collect(), params }
+        Cartesian {
+            name: name.to_string(),
+            limits: names.iter().map(|n| AxisLimit::linear(n)).collect(),
+            params,
+        }
     }
 }
 
@@ -45,7 +43,12 @@ impl Machine for Cartesian {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        _previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         if let Some(max) = self.params.max_tilt_deg {
             let t = num::deg(super::angles::tilt(n));
@@ -54,7 +57,9 @@ impl Machine for Cartesian {
                     machine: self.name.clone(),
                     p,
                     n,
-                    reason: format!("the slope {t:.3}° exceeds max_tilt_deg = {max}° of this 3-axis machine"),
+                    reason: format!(
+                        "the slope {t:.3}° exceeds max_tilt_deg = {max}° of this 3-axis machine"
+                    ),
                 });
             }
         }

@@ -18,7 +18,10 @@
 use glam::DVec3;
 
 use super::angles::{rot_x, unwrap_near, wrap180};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
 use crate::num;
 
 /// Parameters of [`Lathe`] (JSON `"kind": "lathe-a"`).
@@ -33,7 +36,10 @@ pub struct LatheParams {
 
 impl Default for LatheParams {
     fn default() -> Self {
-        LatheParams { axis_y_mm: 0.0, axis_z_mm: 0.0 }
+        LatheParams {
+            axis_y_mm: 0.0,
+            axis_z_mm: 0.0,
+        }
     }
 }
 
@@ -50,11 +56,22 @@ impl Lathe {
     pub fn new(name: &str, names: &[String], params: LatheParams) -> Result<Lathe, MachineError> {
         let c = DVec3::new(0.0, params.axis_y_mm, params.axis_z_mm);
         if !c.is_finite() {
-            return Err(MachineError::BadSpec { machine: name.to_string(), message: "axis_y_mm/axis_z_mm must be finite".into() });
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "axis_y_mm/axis_z_mm must be finite".into(),
+            });
         }
         let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(&names[3], f64::NEG_INFINITY, f64::INFINITY));
-        Ok(Lathe { name: name.to_string(), limits, c })
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ));
+        Ok(Lathe {
+            name: name.to_string(),
+            limits,
+            c,
+        })
     }
 }
 
@@ -65,7 +82,12 @@ impl Machine for Lathe {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let prev = previous.and_then(|a| a.get(3).copied());
         let a = if (n.y * n.y + n.z * n.z).sqrt() < POLE_EPSILON {

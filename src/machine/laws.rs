@@ -15,6 +15,9 @@
 //!    over the vertical) and next to a hold zone (`branch_freedom > 0`: on leaving it a held
 //!    axis may have to catch up; the interpolation splits such moves).
 
+// `!(x <= tol)` on purpose: a NaN error must fail the law.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use glam::DVec3;
 
 use super::{Machine, Workspace};
@@ -48,7 +51,11 @@ pub struct LawReport {
 /// The unit vector of tilt `t` and azimuth `a` (degrees).
 pub fn axis(tilt_deg: f64, azimuth_deg: f64) -> DVec3 {
     let (t, a) = (num::rad(tilt_deg), num::rad(azimuth_deg));
-    DVec3::new(num::sin(t) * num::cos(a), num::sin(t) * num::sin(a), num::cos(t))
+    DVec3::new(
+        num::sin(t) * num::cos(a),
+        num::sin(t) * num::sin(a),
+        num::cos(t),
+    )
 }
 
 /// The sample positions of a workspace: 3 × 3 × 3 (min, middle, max per axis).
@@ -58,7 +65,11 @@ pub fn positions(ws: &Workspace) -> Vec<DVec3> {
         for j in 0..3 {
             for k in 0..3 {
                 let f = |lo: f64, hi: f64, s: usize| lo + (hi - lo) * s as f64 / 2.0;
-                v.push(DVec3::new(f(ws.min.x, ws.max.x, i), f(ws.min.y, ws.max.y, j), f(ws.min.z, ws.max.z, k)));
+                v.push(DVec3::new(
+                    f(ws.min.x, ws.max.x, i),
+                    f(ws.min.y, ws.max.y, j),
+                    f(ws.min.z, ws.max.z, k),
+                ));
             }
         }
     }
@@ -72,7 +83,19 @@ pub fn axes(ws: &Workspace) -> Vec<DVec3> {
         .filter(|t| *t <= ws.max_tilt_deg)
         .collect();
     tilts.push(ws.max_tilt_deg);
-    let azimuths = [0.0, 30.0, 45.0, 90.0, 135.0, 180.0 - 1e-4, 180.0, -180.0 + 1e-4, -90.0, -45.0, -120.0];
+    let azimuths = [
+        0.0,
+        30.0,
+        45.0,
+        90.0,
+        135.0,
+        180.0 - 1e-4,
+        180.0,
+        -180.0 + 1e-4,
+        -90.0,
+        -45.0,
+        -120.0,
+    ];
     let mut v = Vec::new();
     for &t in &tilts {
         if t == 0.0 || t == 180.0 {
@@ -86,20 +109,42 @@ pub fn axes(ws: &Workspace) -> Vec<DVec3> {
     v
 }
 
-fn check_one(m: &dyn Machine, p: DVec3, n: DVec3, previous: Option<&[f64]>, rep: &mut LawReport) -> Result<Vec<f64>, String> {
-    let a = m.inverse(p, n, previous).map_err(|e| format!("{}: inverse({p}, {n}) failed: {e}", m.name()))?;
+fn check_one(
+    m: &dyn Machine,
+    p: DVec3,
+    n: DVec3,
+    previous: Option<&[f64]>,
+    rep: &mut LawReport,
+) -> Result<Vec<f64>, String> {
+    let a = m
+        .inverse(p, n, previous)
+        .map_err(|e| format!("{}: inverse({p}, {n}) failed: {e}", m.name()))?;
     if a.len() != m.limits().len() {
-        return Err(format!("{}: inverse gave {} axes, limits has {}", m.name(), a.len(), m.limits().len()));
+        return Err(format!(
+            "{}: inverse gave {} axes, limits has {}",
+            m.name(),
+            a.len(),
+            m.limits().len()
+        ));
     }
-    let (q, nq) = m.forward(&a).map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
+    let (q, nq) = m
+        .forward(&a)
+        .map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
     let dp = (q - p).length();
     let want = m.realised_axis(p, n);
-    let freedom = if previous.is_some() { m.branch_freedom(p, n) } else { 0.0 };
+    let freedom = if previous.is_some() {
+        m.branch_freedom(p, n)
+    } else {
+        0.0
+    };
     let da = (num::angle_between(nq, want) - freedom).max(0.0);
     rep.points += 1;
     rep.worst_position_mm = rep.worst_position_mm.max(dp);
     rep.worst_angle_rad = rep.worst_angle_rad.max(da);
-    if !(dp <= POSITION_TOLERANCE) || !(da <= ANGLE_TOLERANCE) || !((nq.length() - 1.0).abs() <= 1e-12) {
+    if !(dp <= POSITION_TOLERANCE)
+        || !(da <= ANGLE_TOLERANCE)
+        || !((nq.length() - 1.0).abs() <= 1e-12)
+    {
         return Err(format!(
             "{}: forward(inverse({p}, {n}, {previous:?})) = ({q}, {nq}) via axes {a:?}: position error {dp:e} mm, axis error {da:e} rad against realised {want}",
             m.name()
@@ -119,14 +164,24 @@ pub fn check_round_trip(m: &dyn Machine) -> Result<LawReport, String> {
         if ws.max_tilt_deg < 180.0 - BEYOND_MARGIN_DEG {
             let n = axis(ws.max_tilt_deg + BEYOND_MARGIN_DEG, 60.0);
             if let Ok(a) = m.inverse(p, n, None) {
-                return Err(format!("{}: tilt {}° beyond the workspace was accepted: {a:?}", m.name(), ws.max_tilt_deg + BEYOND_MARGIN_DEG));
+                return Err(format!(
+                    "{}: tilt {}° beyond the workspace was accepted: {a:?}",
+                    m.name(),
+                    ws.max_tilt_deg + BEYOND_MARGIN_DEG
+                ));
             }
         }
     }
     Ok(rep)
 }
 
-fn walk(m: &dyn Machine, p: DVec3, path: &[DVec3], step_deg: f64, rep: &mut LawReport) -> Result<(), String> {
+fn walk(
+    m: &dyn Machine,
+    p: DVec3,
+    path: &[DVec3],
+    step_deg: f64,
+    rep: &mut LawReport,
+) -> Result<(), String> {
     let limits = m.limits();
     let mut prev: Option<(DVec3, Vec<f64>)> = None;
     for &n in path {
@@ -169,7 +224,9 @@ pub fn check_paths(m: &dyn Machine) -> Result<LawReport, String> {
         if t > ws.max_tilt_deg {
             continue;
         }
-        let path: Vec<DVec3> = (0..=1440).map(|i| axis(t, -170.0 + 0.5 * i as f64)).collect();
+        let path: Vec<DVec3> = (0..=1440)
+            .map(|i| axis(t, -170.0 + 0.5 * i as f64))
+            .collect();
         walk(m, p, &path, 0.5, &mut rep)?;
     }
     let top = ws.max_tilt_deg.min(20.0);

@@ -66,11 +66,21 @@ pub struct AxisLimit {
 impl AxisLimit {
     /// A linear axis without travel limits.
     pub fn linear(name: &str) -> AxisLimit {
-        AxisLimit { name: name.to_string(), rotary: false, min: f64::NEG_INFINITY, max: f64::INFINITY }
+        AxisLimit {
+            name: name.to_string(),
+            rotary: false,
+            min: f64::NEG_INFINITY,
+            max: f64::INFINITY,
+        }
     }
     /// A rotary axis limited to `[min, max]` degrees.
     pub fn rotary(name: &str, min: f64, max: f64) -> AxisLimit {
-        AxisLimit { name: name.to_string(), rotary: true, min, max }
+        AxisLimit {
+            name: name.to_string(),
+            rotary: true,
+            min,
+            max,
+        }
     }
 }
 
@@ -98,7 +108,12 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn limits(&self) -> &[AxisLimit];
     /// Inverse kinematics: axes that put the tip at `p` with (the realisable part of) tool axis
     /// `n`. `previous` picks the branch and keeps rotary axes continuous.
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError>;
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError>;
     /// Forward kinematics: `(tip, unit tool axis)` in the output frame.
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError>;
     /// The tool axis the machine realises for `n` at `p` when no previous pose is given.
@@ -119,13 +134,29 @@ pub trait Machine: Send + Sync + fmt::Debug {
 #[non_exhaustive]
 pub enum MachineError {
     /// The machine cannot give this tool axis at this point.
-    UnreachableOrientation { machine: String, p: DVec3, n: DVec3, reason: String },
+    UnreachableOrientation {
+        machine: String,
+        p: DVec3,
+        n: DVec3,
+        reason: String,
+    },
     /// An axis would leave its travel.
-    AxisLimit { machine: String, axis: String, value: f64, min: f64, max: f64, p: DVec3 },
+    AxisLimit {
+        machine: String,
+        axis: String,
+        value: f64,
+        min: f64,
+        max: f64,
+        p: DVec3,
+    },
     /// A zero or non-finite tool axis or position.
     InvalidInput { machine: String, p: DVec3, n: DVec3 },
     /// `forward` got the wrong number of axis values.
-    WrongAxisCount { machine: String, expected: usize, got: usize },
+    WrongAxisCount {
+        machine: String,
+        expected: usize,
+        got: usize,
+    },
     /// No preset with this name.
     UnknownPreset { name: String, known: Vec<String> },
     /// The machine JSON could not be parsed.
@@ -183,15 +214,28 @@ impl std::error::Error for MachineError {}
 pub(crate) fn check_input(machine: &str, p: DVec3, n: DVec3) -> Result<DVec3, MachineError> {
     let len = n.length();
     if !(p.is_finite() && n.is_finite() && len > POLE_EPSILON) {
-        return Err(MachineError::InvalidInput { machine: machine.to_string(), p, n });
+        return Err(MachineError::InvalidInput {
+            machine: machine.to_string(),
+            p,
+            n,
+        });
     }
     Ok(n / len)
 }
 
 /// Check `axes` against `limits`; the first violation is the error.
-pub(crate) fn check_limits(machine: &str, limits: &[AxisLimit], axes: &[f64], p: DVec3) -> Result<(), MachineError> {
+pub(crate) fn check_limits(
+    machine: &str,
+    limits: &[AxisLimit],
+    axes: &[f64],
+    p: DVec3,
+) -> Result<(), MachineError> {
     for (l, &v) in limits.iter().zip(axes) {
-        let slack = if l.rotary { LIMIT_SLACK_DEG } else { crate::tolerance::LENGTH_EPSILON };
+        let slack = if l.rotary {
+            LIMIT_SLACK_DEG
+        } else {
+            crate::tolerance::LENGTH_EPSILON
+        };
         if !(v >= l.min - slack && v <= l.max + slack) {
             return Err(MachineError::AxisLimit {
                 machine: machine.to_string(),
@@ -207,9 +251,17 @@ pub(crate) fn check_limits(machine: &str, limits: &[AxisLimit], axes: &[f64], p:
 }
 
 /// Check the number of axis values given to `forward`.
-pub(crate) fn check_count(machine: &str, expected: usize, axes: &[f64]) -> Result<(), MachineError> {
+pub(crate) fn check_count(
+    machine: &str,
+    expected: usize,
+    axes: &[f64],
+) -> Result<(), MachineError> {
     if axes.len() != expected || axes.iter().any(|v| !v.is_finite()) {
-        return Err(MachineError::WrongAxisCount { machine: machine.to_string(), expected, got: axes.len() });
+        return Err(MachineError::WrongAxisCount {
+            machine: machine.to_string(),
+            expected,
+            got: axes.len(),
+        });
     }
     Ok(())
 }

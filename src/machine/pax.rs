@@ -15,7 +15,10 @@
 use glam::DVec3;
 
 use super::angles::{tilt, unwrap_near, wrap180};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
 use crate::num;
 
 /// Parameters of [`Pax`] (JSON `"kind": "pax"`).
@@ -32,7 +35,11 @@ pub struct PaxParams {
 
 impl Default for PaxParams {
     fn default() -> Self {
-        PaxParams { pivot_to_tip_mm: 0.0, rot_offset_deg: 0.0, max_tilt_deg: 90.0 }
+        PaxParams {
+            pivot_to_tip_mm: 0.0,
+            rot_offset_deg: 0.0,
+            max_tilt_deg: 90.0,
+        }
     }
 }
 
@@ -47,22 +54,41 @@ pub struct Pax {
 impl Pax {
     /// Build with axis letters `names` (X Y Z A B).
     pub fn new(name: &str, names: &[String], params: PaxParams) -> Result<Pax, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite() && params.max_tilt_deg > 0.0 && params.max_tilt_deg <= 180.0) {
+        if !(params.pivot_to_tip_mm.is_finite()
+            && params.max_tilt_deg > 0.0
+            && params.max_tilt_deg <= 180.0)
+        {
             return Err(MachineError::BadSpec {
                 machine: name.to_string(),
                 message: "pivot_to_tip_mm must be finite and max_tilt_deg in (0, 180]".into(),
             });
         }
         let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(&names[3], f64::NEG_INFINITY, f64::INFINITY));
-        limits.push(AxisLimit::rotary(&names[4], -params.max_tilt_deg, params.max_tilt_deg));
-        Ok(Pax { name: name.to_string(), limits, params })
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ));
+        limits.push(AxisLimit::rotary(
+            &names[4],
+            -params.max_tilt_deg,
+            params.max_tilt_deg,
+        ));
+        Ok(Pax {
+            name: name.to_string(),
+            limits,
+            params,
+        })
     }
 
     fn axis_of(&self, a: f64, b: f64) -> DVec3 {
         let phi = num::rad(a - self.params.rot_offset_deg);
         let b = num::rad(b);
-        DVec3::new(num::sin(b) * num::cos(phi), num::sin(b) * num::sin(phi), num::cos(b))
+        DVec3::new(
+            num::sin(b) * num::cos(phi),
+            num::sin(b) * num::sin(phi),
+            num::cos(b),
+        )
     }
 }
 
@@ -73,7 +99,12 @@ impl Machine for Pax {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let prev_a = previous.and_then(|a| a.get(3).copied());
         let t = num::deg(tilt(n));
@@ -105,7 +136,10 @@ impl Machine for Pax {
         check_count(&self.name, 5, axes)?;
         let n = self.axis_of(axes[3], axes[4]);
         let l = self.params.pivot_to_tip_mm;
-        Ok((DVec3::new(axes[0], axes[1], axes[2]) + DVec3::Z * l - n * l, n))
+        Ok((
+            DVec3::new(axes[0], axes[1], axes[2]) + DVec3::Z * l - n * l,
+            n,
+        ))
     }
     fn workspace(&self) -> Workspace {
         Workspace {

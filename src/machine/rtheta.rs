@@ -22,7 +22,10 @@
 use glam::DVec3;
 
 use super::angles::{rot_z, unwrap_near, wrap180};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
 use crate::num;
 
 /// Parameters of [`RTheta`] (JSON `"kind": "r-theta"`).
@@ -39,7 +42,11 @@ pub struct RThetaParams {
 
 impl Default for RThetaParams {
     fn default() -> Self {
-        RThetaParams { pivot_to_tip_mm: 43.0, max_tilt_deg: 90.0, max_radius_mm: f64::INFINITY }
+        RThetaParams {
+            pivot_to_tip_mm: 43.0,
+            max_tilt_deg: 90.0,
+            max_radius_mm: f64::INFINITY,
+        }
     }
 }
 
@@ -54,20 +61,33 @@ pub struct RTheta {
 impl RTheta {
     /// Build with axis letters `names` (X C Z B).
     pub fn new(name: &str, names: &[String], params: RThetaParams) -> Result<RTheta, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite() && params.max_tilt_deg > 0.0 && params.max_radius_mm > 0.0) {
+        if !(params.pivot_to_tip_mm.is_finite()
+            && params.max_tilt_deg > 0.0
+            && params.max_radius_mm > 0.0)
+        {
             return Err(MachineError::BadSpec {
                 machine: name.to_string(),
-                message: "pivot_to_tip_mm must be finite, max_tilt_deg and max_radius_mm positive".into(),
+                message: "pivot_to_tip_mm must be finite, max_tilt_deg and max_radius_mm positive"
+                    .into(),
             });
         }
         let r = params.max_radius_mm;
         let limits = vec![
-            AxisLimit { name: names[0].clone(), rotary: false, min: -r, max: r },
+            AxisLimit {
+                name: names[0].clone(),
+                rotary: false,
+                min: -r,
+                max: r,
+            },
             AxisLimit::rotary(&names[1], f64::NEG_INFINITY, f64::INFINITY),
             AxisLimit::linear(&names[2]),
             AxisLimit::rotary(&names[3], -params.max_tilt_deg, params.max_tilt_deg),
         ];
-        Ok(RTheta { name: name.to_string(), limits, params })
+        Ok(RTheta {
+            name: name.to_string(),
+            limits,
+            params,
+        })
     }
 
     /// (C degrees, q_x) for `p`, branch chosen next to `prev_c`.
@@ -109,10 +129,19 @@ impl Machine for RTheta {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let (c, qx) = RTheta::c_of(p, previous.and_then(|a| a.get(1).copied()));
-        let b = RTheta::b_of(n, c, previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0));
+        let b = RTheta::b_of(
+            n,
+            c,
+            previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0),
+        );
         let l = self.params.pivot_to_tip_mm;
         let br = num::rad(b);
         let axes = vec![qx + l * num::sin(br), c, p.z + l * num::cos(br) - l, b];
@@ -136,7 +165,9 @@ impl Machine for RTheta {
     fn branch_freedom(&self, p: DVec3, n: DVec3) -> f64 {
         let (c, _) = RTheta::c_of(p, None);
         let m = rot_z(n / n.length(), num::rad(c));
-        if (p.x * p.x + p.y * p.y).sqrt() < POLE_EPSILON || (m.x * m.x + m.z * m.z).sqrt() < POLE_EPSILON {
+        if (p.x * p.x + p.y * p.y).sqrt() < POLE_EPSILON
+            || (m.x * m.x + m.z * m.z).sqrt() < POLE_EPSILON
+        {
             core::f64::consts::PI
         } else {
             0.0
@@ -144,7 +175,8 @@ impl Machine for RTheta {
     }
     fn workspace(&self) -> Workspace {
         // A square inside the reach: |p_xy| + L ≤ max_radius.
-        let h = ((self.params.max_radius_mm - self.params.pivot_to_tip_mm.abs()) / 2f64.sqrt()).clamp(1.0, 100.0);
+        let h = ((self.params.max_radius_mm - self.params.pivot_to_tip_mm.abs()) / 2f64.sqrt())
+            .clamp(1.0, 100.0);
         Workspace {
             min: DVec3::new(-h, -h, 0.0),
             max: DVec3::new(h, h, 200.0),

@@ -24,7 +24,10 @@
 use glam::DVec3;
 
 use super::angles::{rot_z, unwrap_near, wrap180};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
 use crate::num;
 
 /// How far the rotation may turn.
@@ -87,7 +90,11 @@ impl Rtn {
             Revolution::Single => AxisLimit::rotary(&names[3], -180.0, 180.0),
             Revolution::Unlimited => AxisLimit::rotary(&names[3], f64::NEG_INFINITY, f64::INFINITY),
         });
-        Ok(Rtn { name: name.to_string(), limits, params })
+        Ok(Rtn {
+            name: name.to_string(),
+            limits,
+            params,
+        })
     }
 
     /// The parameters.
@@ -104,11 +111,22 @@ impl Rtn {
 
     fn axis_of(&self, phi: f64) -> DVec3 {
         let t = num::rad(self.params.tilt_deg);
-        DVec3::new(num::sin(t) * num::cos(phi), num::sin(t) * num::sin(phi), num::cos(t))
+        DVec3::new(
+            num::sin(t) * num::cos(phi),
+            num::sin(t) * num::sin(phi),
+            num::cos(t),
+        )
     }
 
     fn offset(&self, phi: f64) -> DVec3 {
-        rot_z(DVec3::new(self.params.e_parallel_mm, self.params.e_perpendicular_mm, 0.0), phi)
+        rot_z(
+            DVec3::new(
+                self.params.e_parallel_mm,
+                self.params.e_perpendicular_mm,
+                0.0,
+            ),
+            phi,
+        )
     }
 }
 
@@ -119,7 +137,12 @@ impl Machine for Rtn {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n = check_input(&self.name, p, n)?;
         let prev = previous.and_then(|a| a.get(3).copied());
         let target = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
@@ -149,10 +172,17 @@ impl Machine for Rtn {
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
         check_count(&self.name, 4, axes)?;
         let phi = num::rad(axes[3] - self.params.rot_offset_deg);
-        Ok((DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi), self.axis_of(phi)))
+        Ok((
+            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
+            self.axis_of(phi),
+        ))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
-        let phi = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() { 0.0 } else { num::atan2(n.y, n.x) };
+        let phi = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() {
+            0.0
+        } else {
+            num::atan2(n.y, n.x)
+        };
         self.axis_of(phi)
     }
     fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
@@ -163,6 +193,10 @@ impl Machine for Rtn {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace { min: DVec3::new(-100.0, -100.0, 0.0), max: DVec3::new(100.0, 100.0, 200.0), max_tilt_deg: 180.0 }
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg: 180.0,
+        }
     }
 }

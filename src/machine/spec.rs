@@ -74,13 +74,25 @@ pub struct MachineSpec {
 /// The presets shipped in `presets/` (name, JSON text).
 const PRESETS: &[(&str, &str)] = &[
     ("cartesian", include_str!("../../presets/cartesian.json")),
-    ("fullcontrol-prusa-b", include_str!("../../presets/fullcontrol-prusa-b.json")),
-    ("rtn-slicer4rtn", include_str!("../../presets/rtn-slicer4rtn.json")),
+    (
+        "fullcontrol-prusa-b",
+        include_str!("../../presets/fullcontrol-prusa-b.json"),
+    ),
+    (
+        "rtn-slicer4rtn",
+        include_str!("../../presets/rtn-slicer4rtn.json"),
+    ),
     ("rotbot", include_str!("../../presets/rotbot.json")),
     ("pax-5axis", include_str!("../../presets/pax-5axis.json")),
     ("open5x-ab", include_str!("../../presets/open5x-ab.json")),
-    ("ratrig-vcore3-3z", include_str!("../../presets/ratrig-vcore3-3z.json")),
-    ("core-r-theta", include_str!("../../presets/core-r-theta.json")),
+    (
+        "ratrig-vcore3-3z",
+        include_str!("../../presets/ratrig-vcore3-3z.json"),
+    ),
+    (
+        "core-r-theta",
+        include_str!("../../presets/core-r-theta.json"),
+    ),
     ("lathe-a", include_str!("../../presets/lathe-a.json")),
 ];
 
@@ -103,8 +115,11 @@ pub fn preset(name: &str) -> Result<MachineSpec, MachineError> {
 impl MachineSpec {
     /// Parse a machine JSON; `source` names it in errors (file path or preset).
     pub fn from_json(text: &str, source: &str) -> Result<MachineSpec, MachineError> {
-        let mut spec: MachineSpec = serde_json::from_str(text)
-            .map_err(|e| MachineError::BadJson { source: source.to_string(), message: e.to_string() })?;
+        let mut spec: MachineSpec =
+            serde_json::from_str(text).map_err(|e| MachineError::BadJson {
+                source: source.to_string(),
+                message: e.to_string(),
+            })?;
         if spec.name.is_empty() {
             spec.name = source.to_string();
         }
@@ -121,10 +136,18 @@ impl MachineSpec {
         let defaults = self.kinematics.default_axis_names();
         match &self.axis_names {
             None => Ok(defaults.iter().map(|s| s.to_string()).collect()),
-            Some(v) if v.len() == defaults.len() && v.iter().all(|s| !s.trim().is_empty()) => Ok(v.clone()),
+            Some(v) if v.len() == defaults.len() && v.iter().all(|s| !s.trim().is_empty()) => {
+                Ok(v.clone())
+            }
             Some(v) => Err(MachineError::BadSpec {
                 machine: self.name.clone(),
-                message: format!("axis_names has {} non-empty letters {:?}, expected {} (like {:?})", v.len(), v, defaults.len(), defaults),
+                message: format!(
+                    "axis_names has {} non-empty letters {:?}, expected {} (like {:?})",
+                    v.len(),
+                    v,
+                    defaults.len(),
+                    defaults
+                ),
             }),
         }
     }

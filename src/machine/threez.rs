@@ -130,22 +130,46 @@ impl ThreeZ {
                 message: "balls_xy, ball_z_mm, slot_angles_deg must be finite and max_tilt_deg in (0, 90)".into(),
             });
         }
-        let b_hat = params.balls_xy.map(|[x, y]| DVec3::new(x, y, params.ball_z_mm));
+        let b_hat = params
+            .balls_xy
+            .map(|[x, y]| DVec3::new(x, y, params.ball_z_mm));
         let l = b_hat.map(|b| b - b_hat[0]);
-        let d = params.slot_angles_deg.map(|s| DVec2::new(num::cos(num::rad(s)), num::sin(num::rad(s))));
+        let d = params
+            .slot_angles_deg
+            .map(|s| DVec2::new(num::cos(num::rad(s)), num::sin(num::rad(s))));
         let nrm = d.map(perp);
         let k = [0, 1, 2].map(|i| -nrm[i].dot(l[i].truncate()));
         let tri = l[1].truncate().perp_dot(l[2].truncate());
         if tri.abs() < 1e-6 || nrm[0].dot(d[0]).abs() > 1e-12 {
-            return Err(MachineError::BadSpec { machine: name.to_string(), message: "the three balls are collinear".into() });
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "the three balls are collinear".into(),
+            });
         }
         let limits = names.iter().map(|n| AxisLimit::linear(n)).collect();
-        Ok(ThreeZ { name: name.to_string(), limits, params, b_hat, l, d, nrm, k })
+        Ok(ThreeZ {
+            name: name.to_string(),
+            limits,
+            params,
+            b_hat,
+            l,
+            d,
+            nrm,
+            k,
+        })
     }
 
     /// Solve the 2-D rigid-triangle problem (Eqs. 8–11 / 21–22): ball offsets `l1, l2` (xy),
     /// ball-0 line direction `d0`, rail normals `n1, n2`, offsets `k1, k2` → (t, θ).
-    fn solve_triangle(l1: DVec2, l2: DVec2, d0: DVec2, n1: DVec2, n2: DVec2, k1: f64, k2: f64) -> Option<(f64, f64)> {
+    fn solve_triangle(
+        l1: DVec2,
+        l2: DVec2,
+        d0: DVec2,
+        n1: DVec2,
+        n2: DVec2,
+        k1: f64,
+        k2: f64,
+    ) -> Option<(f64, f64)> {
         let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
         let (c1, s1) = (l1.dot(n1), perp(l1).dot(n1));
         let (c2, s2) = (l2.dot(n2), perp(l2).dot(n2));
@@ -161,7 +185,12 @@ impl ThreeZ {
     }
 
     fn unreachable(&self, p: DVec3, n: DVec3, reason: String) -> MachineError {
-        MachineError::UnreachableOrientation { machine: self.name.clone(), p, n, reason }
+        MachineError::UnreachableOrientation {
+            machine: self.name.clone(),
+            p,
+            n,
+            reason,
+        }
     }
 }
 
@@ -188,11 +217,23 @@ impl Machine for ThreeZ {
     fn limits(&self) -> &[AxisLimit] {
         &self.limits
     }
-    fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> Result<Vec<f64>, MachineError> {
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        _previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
         let n_hat = check_input(&self.name, p, n)?;
         let tilt_deg = num::deg(tilt(n_hat));
         if tilt_deg > self.params.max_tilt_deg + super::LIMIT_SLACK_DEG {
-            return Err(self.unreachable(p, n_hat, format!("the bed would tilt {tilt_deg:.3}°, beyond max_tilt_deg = {}°", self.params.max_tilt_deg)));
+            return Err(self.unreachable(
+                p,
+                n_hat,
+                format!(
+                    "the bed would tilt {tilt_deg:.3}°, beyond max_tilt_deg = {}°",
+                    self.params.max_tilt_deg
+                ),
+            ));
         }
         // Eq. 4.
         let np = DVec3::new(-n_hat.x, -n_hat.y, n_hat.z);
@@ -202,8 +243,22 @@ impl Machine for ThreeZ {
         // Eq. 5.
         let nt = self.nrm.map(|v| m.apply(v.extend(0.0)).truncate());
         let d0 = perp(nt[0]) / nt[0].length();
-        let (tt, theta) = ThreeZ::solve_triangle(self.l[1].truncate(), self.l[2].truncate(), d0, nt[1], nt[2], self.k[1], self.k[2])
-            .ok_or_else(|| self.unreachable(p, n_hat, "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into()))?;
+        let (tt, theta) = ThreeZ::solve_triangle(
+            self.l[1].truncate(),
+            self.l[2].truncate(),
+            d0,
+            nt[1],
+            nt[2],
+            self.k[1],
+            self.k[2],
+        )
+        .ok_or_else(|| {
+            self.unreachable(
+                p,
+                n_hat,
+                "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into(),
+            )
+        })?;
         // Eq. 12/14.
         let b0w = m.apply_t((d0 * tt).extend(0.0));
         let rot = |v: DVec3| m.apply_t(rot_z(v, theta));
@@ -221,7 +276,9 @@ impl Machine for ThreeZ {
             machine: self.name.clone(),
             p: DVec3::new(x, y, z0),
             n: DVec3::Z,
-            reason: format!("the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"),
+            reason: format!(
+                "the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"
+            ),
         };
         // Eqs. 16–19: rotation of v about a so that its z becomes zt.
         let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
@@ -256,6 +313,10 @@ impl Machine for ThreeZ {
     }
     fn workspace(&self) -> Workspace {
         let v = self.params.build_volume_mm;
-        Workspace { min: DVec3::ZERO, max: DVec3::new(v[0], v[1], v[2]), max_tilt_deg: self.params.max_tilt_deg }
+        Workspace {
+            min: DVec3::ZERO,
+            max: DVec3::new(v[0], v[1], v[2]),
+            max_tilt_deg: self.params.max_tilt_deg,
+        }
     }
 }
