@@ -31,12 +31,14 @@ pub mod angles;
 pub mod batch;
 pub mod bhead;
 pub mod cartesian;
+pub mod feed;
 pub mod lathe;
 pub mod laws;
 pub mod pax;
 pub mod rtheta;
 pub mod rtn;
 pub mod spec;
+pub mod tessellate;
 pub mod threez;
 
 pub use spec::{preset, preset_names, MachineSpec};
