@@ -106,10 +106,13 @@ pub struct TessellationReport {
     pub rotate_arounds: usize,
 }
 
+/// Below this angle from parallel or antiparallel (radians) slerp falls back to a normalised lerp.
+pub const SLERP_EPSILON: f64 = 1e-9;
+
 /// Spherical interpolation of unit vectors (normalised lerp when nearly parallel or opposite).
 pub fn slerp(a: DVec3, b: DVec3, s: f64) -> DVec3 {
     let w = num::angle_between(a, b);
-    let v = if w < 1e-9 || w > core::f64::consts::PI - 1e-9 {
+    let v = if !(SLERP_EPSILON..=core::f64::consts::PI - SLERP_EPSILON).contains(&w) {
         a * (1.0 - s) + b * s
     } else {
         (a * num::sin((1.0 - s) * w) + b * num::sin(s * w)) / num::sin(w)
