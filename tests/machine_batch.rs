@@ -153,6 +153,10 @@ fn bad_json_and_bad_specs_are_named() {
             "{\"kind\": \"pax\", \"pivot_to_tip_mm\": \"long\"}",
             "invalid",
         ),
+        (
+            "{\"kind\": \"pax\", \"pivot_to_tip\": 40}",
+            "unknown field 'pivot_to_tip' for kind 'pax'",
+        ),
     ] {
         match MachineSpec::from_json(json, "my.json") {
             Err(e @ MachineError::BadJson { .. }) => assert!(
@@ -185,5 +189,22 @@ fn presets_round_trip_through_json() {
         assert_eq!(spec.name, name);
         let again = MachineSpec::from_json(&spec.to_json(), "again").unwrap();
         assert_eq!(again, spec);
+    }
+}
+
+#[test]
+fn non_finite_axes_are_named_in_forward() {
+    let m = preset("lathe-a").and_then(|s| s.build()).unwrap();
+    match m.forward(&[0.0, f64::NAN, 0.0, 0.0]) {
+        Err(e @ MachineError::InvalidAxes { .. }) => assert!(e.to_string().contains("finite")),
+        other => panic!("{other:?}"),
+    }
+    match m.forward(&[0.0, 0.0, 0.0]) {
+        Err(MachineError::WrongAxisCount {
+            expected: 4,
+            got: 3,
+            ..
+        }) => {}
+        other => panic!("{other:?}"),
     }
 }

@@ -198,3 +198,45 @@ fn tilt_beyond_30_degrees_is_a_named_error() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Seed 001 §4.1: the original carriages give the balls ±5 mm of rail (the paper reports about
+/// 5° of tilt for the original machine, which also had shorter standoffs); the extended rails
+/// (69 mm inward, 19 mm outward) allow 30°. Measured here: ±5 mm allows every azimuth up to
+/// 10° at the bed centre and refuses 15°.
+#[test]
+fn rail_travel_limits_the_tilt() {
+    let mut spec = preset("ratrig-vcore3-3z").unwrap();
+    let warpslice::machine::spec::Kinematics::ThreeZ(params) = &mut spec.kinematics else {
+        panic!()
+    };
+    params.rail_travel_mm = Some([5.0, 5.0]);
+    let short = spec.build().unwrap();
+    let p = DVec3::new(150.0, 140.0, 20.0);
+    let mut worst_ok: f64 = 0.0;
+    for t in [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 15.0] {
+        let all = (0..36).all(|k| {
+            short
+                .inverse(p, laws::axis(t, 10.0 * k as f64), None)
+                .is_ok()
+        });
+        if all {
+            worst_ok = t;
+        }
+    }
+    assert!(
+        (2.0..=10.0).contains(&worst_ok),
+        "±5 mm rails allow all azimuths up to {worst_ok}°"
+    );
+    match short.inverse(p, laws::axis(15.0, 0.0), None) {
+        Err(e @ MachineError::UnreachableOrientation { .. }) => {
+            assert!(e.to_string().contains("rail"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+    // The preset's extended rails take every 30° orientation.
+    let m = machine();
+    for k in 0..72 {
+        m.inverse(p, laws::axis(30.0, 5.0 * k as f64), None)
+            .unwrap();
+    }
+}

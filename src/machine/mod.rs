@@ -20,7 +20,15 @@
 //! [`cartesian`], [`bhead`] (FullControl Prusa B), [`rtn`] (Slicer4RTN, RotBot), [`pax`]
 //! (5-axis head), [`abtable`] (Open5x A/B table), [`threez`] (RatRig triple-Z bed),
 //! [`rtheta`] (Core R-Theta), [`lathe`] (rotating mandrel). Presets are JSON files in
-//! `presets/`, compiled in with `include_str!` (so they work in wasm), see [`spec`].
+//! `presets/`, compiled in with `include_str!` (so they work in wasm), see [`spec`]; a user's
+//! file is read by the caller and parsed with [`MachineSpec::from_json`] (no filesystem here).
+//!
+//! ## Around the kinematics
+//! - [`laws`]: the law tests every machine passes (round trip, continuity), callable from wasm.
+//! - [`batch`]: CSV in, CSV out (`warpslice kinematics inverse|forward`).
+//! - [`tessellate`]: split moves until the firmware's linear axis interpolation stays within
+//!   0.02 mm / 0.1° of the intended path (seed 001 §4.5); reports the worst error.
+//! - [`feed`]: output F for `xyz`, `all-axes` and `inverse-time` (G93) feed modes.
 
 use core::fmt;
 
@@ -159,6 +167,8 @@ pub enum MachineError {
         expected: usize,
         got: usize,
     },
+    /// `forward` got a non-finite axis value.
+    InvalidAxes { machine: String, axes: Vec<f64> },
     /// No preset with this name.
     UnknownPreset { name: String, known: Vec<String> },
     /// The machine JSON could not be parsed.
@@ -190,6 +200,10 @@ impl fmt::Display for MachineError {
             MachineError::WrongAxisCount { machine, expected, got } => write!(
                 f,
                 "machine {machine}: expected {expected} axis values, got {got}"
+            ),
+            MachineError::InvalidAxes { machine, axes } => write!(
+                f,
+                "machine {machine}: axis values {axes:?} must all be finite numbers"
             ),
             MachineError::UnknownPreset { name, known } => write!(
                 f,
@@ -258,11 +272,17 @@ pub(crate) fn check_count(
     expected: usize,
     axes: &[f64],
 ) -> Result<(), MachineError> {
-    if axes.len() != expected || axes.iter().any(|v| !v.is_finite()) {
+    if axes.len() != expected {
         return Err(MachineError::WrongAxisCount {
             machine: machine.to_string(),
             expected,
             got: axes.len(),
+        });
+    }
+    if axes.iter().any(|v| !v.is_finite()) {
+        return Err(MachineError::InvalidAxes {
+            machine: machine.to_string(),
+            axes: axes.to_vec(),
         });
     }
     Ok(())

@@ -115,11 +115,32 @@ pub fn preset(name: &str) -> Result<MachineSpec, MachineError> {
 impl MachineSpec {
     /// Parse a machine JSON; `source` names it in errors (file path or preset).
     pub fn from_json(text: &str, source: &str) -> Result<MachineSpec, MachineError> {
+        let bad = |message: String| MachineError::BadJson {
+            source: source.to_string(),
+            message,
+        };
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
         let mut spec: MachineSpec =
-            serde_json::from_str(text).map_err(|e| MachineError::BadJson {
-                source: source.to_string(),
-                message: e.to_string(),
-            })?;
+            serde_json::from_value(value.clone()).map_err(|e| bad(e.to_string()))?;
+        // A misspelt parameter would silently take its default: refuse fields the kind does not
+        // have (serde's deny_unknown_fields does not work through `flatten`).
+        let known = serde_json::to_value(&spec).map_err(|e| bad(e.to_string()))?;
+        if let (Some(given), Some(known)) = (value.as_object(), known.as_object()) {
+            if let Some(k) = given.keys().find(|k| !known.contains_key(*k)) {
+                let mut names: Vec<&String> = known.keys().collect();
+                names.sort();
+                return Err(bad(format!(
+                    "unknown field '{k}' for kind '{}'; known fields: {}",
+                    given.get("kind").and_then(|v| v.as_str()).unwrap_or("?"),
+                    names
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
+            }
+        }
         if spec.name.is_empty() {
             spec.name = source.to_string();
         }

@@ -56,6 +56,9 @@ pub struct ThreeZParams {
     pub max_tilt_deg: f64,
     /// Planar build volume (x, y, z), mm — where the law tests sample.
     pub build_volume_mm: [f64; 3],
+    /// Rail travel of each ball from its planar position (inward towards the balls' centroid,
+    /// outward), mm; `None` does not check. Seed 001 §4.1: 69 mm inward, 19 mm outward.
+    pub rail_travel_mm: Option<[f64; 2]>,
 }
 
 impl Default for ThreeZParams {
@@ -66,6 +69,7 @@ impl Default for ThreeZParams {
             slot_angles_deg: [29.89, 150.11, -90.0],
             max_tilt_deg: 30.0,
             build_volume_mm: [300.0, 293.0, 205.0],
+            rail_travel_mm: None,
         }
     }
 }
@@ -265,6 +269,29 @@ impl Machine for ThreeZ {
         let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + DVec3::new(b0w.x, b0w.y, 0.0);
         let z0 = pp.z;
         // Eq. 15.
+        if let Some([inward, outward]) = self.params.rail_travel_mm {
+            // Ball i is at b₀ʷ + Mᵀ R_θ l̂ᵢ (xy); planar it is at l̂ᵢ. Its slide along the rail,
+            // signed towards the centroid of the balls, must stay within the rail.
+            let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
+            for i in 0..3 {
+                let now = DVec2::new(b0w.x, b0w.y) + rot(self.l[i]).truncate();
+                let into = if self.d[i].dot((centroid - self.l[i]).truncate()) >= 0.0 {
+                    self.d[i]
+                } else {
+                    -self.d[i]
+                };
+                let slide = into.dot(now - self.l[i].truncate());
+                if slide > inward + crate::tolerance::LENGTH_EPSILON
+                    || -slide > outward + crate::tolerance::LENGTH_EPSILON
+                {
+                    return Err(self.unreachable(
+                        p,
+                        n_hat,
+                        format!("ball {i} would slide {slide:.3} mm inward along its rail, beyond the rail travel [-{outward}, {inward}] mm"),
+                    ));
+                }
+            }
+        }
         let axes = vec![pp.x, pp.y, z0, z0 - rot(self.l[1]).z, z0 - rot(self.l[2]).z];
         check_limits(&self.name, &self.limits, &axes, p)?;
         Ok(axes)
