@@ -53,3 +53,64 @@ fn variants_obey_the_laws() {
         check(spec(json).as_ref());
     }
 }
+
+/// xorshift64*: a fixed pseudo-random sequence (no dependency, same on every run).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Any previous pose (far away, other branch, rotary axes several turns away where unlimited)
+/// still gives the exact pose: the branch choice never breaks the round trip.
+#[test]
+fn any_previous_pose_keeps_the_round_trip() {
+    use glam::DVec3;
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    for name in preset_names() {
+        let m = preset(name).and_then(|s| s.build()).unwrap();
+        let ws = m.workspace();
+        let mut pose = |rng: &mut Rng| {
+            let p = ws.min + (ws.max - ws.min) * DVec3::new(rng.next(), rng.next(), rng.next());
+            let t = ws.max_tilt_deg.min(180.0) * rng.next();
+            (p, laws::axis(t, 360.0 * rng.next() - 180.0))
+        };
+        for _ in 0..2000 {
+            let (p0, n0) = pose(&mut rng);
+            let mut prev = m.inverse(p0, n0, None).unwrap();
+            for (k, l) in m.limits().iter().enumerate() {
+                if l.rotary && l.max.is_infinite() {
+                    prev[k] += 360.0 * ((rng.next() * 7.0).floor() - 3.0);
+                }
+            }
+            let (p, n) = pose(&mut rng);
+            let a = m.inverse(p, n, Some(&prev)).unwrap();
+            let (q, nq) = m.forward(&a).unwrap();
+            let want = m.realised_axis(p, n);
+            let err = warpslice::num::angle_between(nq, want) - m.branch_freedom(p, n);
+            assert!(
+                (q - p).length() < 1e-9,
+                "{name}: {p} {n} prev {prev:?} → {a:?} gives {q}"
+            );
+            assert!(
+                err < 1e-9,
+                "{name}: {p} {n} prev {prev:?} → {a:?} gives axis {nq}, want {want}"
+            );
+            for (k, l) in m.limits().iter().enumerate() {
+                if l.rotary && l.max.is_infinite() {
+                    assert!(
+                        (a[k] - prev[k]).abs() <= 180.0 + 1e-9,
+                        "{name}: axis {} not unwrapped next to {}: {}",
+                        l.name,
+                        prev[k],
+                        a[k]
+                    );
+                }
+            }
+        }
+    }
+}
