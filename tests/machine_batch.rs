@@ -195,14 +195,14 @@ fn presets_round_trip_through_json() {
 #[test]
 fn non_finite_axes_are_named_in_forward() {
     let m = preset("lathe-a").and_then(|s| s.build()).unwrap();
-    match m.forward(&[0.0, f64::NAN, 0.0, 0.0]) {
+    match m.forward(&[0.0, f64::NAN, 0.0]) {
         Err(e @ MachineError::InvalidAxes { .. }) => assert!(e.to_string().contains("finite")),
         other => panic!("{other:?}"),
     }
-    match m.forward(&[0.0, 0.0, 0.0]) {
+    match m.forward(&[0.0, 0.0]) {
         Err(MachineError::WrongAxisCount {
-            expected: 4,
-            got: 3,
+            expected: 3,
+            got: 2,
             ..
         }) => {}
         other => panic!("{other:?}"),

@@ -144,11 +144,15 @@ fn open5x_closed_form_and_wobble_eq_5_1() {
 
 #[test]
 fn lathe_and_r_theta_conventions() {
+    // X Z A: A is set by the position (the tip on the top line), n realised radially.
     let m = build(r#"{"kind":"lathe-a","axis_z_mm":50}"#);
     let n = DVec3::new(0.0, 20f64.to_radians().sin(), 20f64.to_radians().cos());
     let p = DVec3::new(3.0, 0.0, 50.0) + n * 10.0; // 10 mm from the mandrel axis
-    let a = m.inverse(p, n, None).unwrap();
-    close(&a, &[3.0, 0.0, 60.0, 20.0]);
+    close(&m.inverse(p, DVec3::Z, None).unwrap(), &[3.0, 60.0, 20.0]);
+    assert!((m.realised_axis(p, DVec3::Z) - n).length() < 1e-12);
+    // X Y Z A: A is set by the tool axis.
+    let m = build(r#"{"kind":"lathe-a","axis_z_mm":50,"with_y":true}"#);
+    close(&m.inverse(p, n, None).unwrap(), &[3.0, 0.0, 60.0, 20.0]);
 
     let r = preset("core-r-theta").and_then(|s| s.build()).unwrap();
     let a = r

@@ -48,6 +48,7 @@ fn variants_obey_the_laws() {
         r#"{"name":"open5x-wobble","kind":"ab-table","z_wobble_mm":-0.13,"b_pos":[0,0,5],"a_pos":[0,0,-30]}"#,
         r#"{"name":"r-theta-0","kind":"r-theta","pivot_to_tip_mm":0}"#,
         r#"{"name":"lathe-offset","kind":"lathe-a","axis_y_mm":10,"axis_z_mm":60}"#,
+        r#"{"name":"lathe-y","kind":"lathe-a","axis_y_mm":-5,"axis_z_mm":40,"with_y":true}"#,
         r#"{"name":"three-z-small","kind":"three-z","balls_xy":[[0,0],[200,0],[100,180]],"ball_z_mm":-20,"slot_angles_deg":[30,150,-90],"max_tilt_deg":20,"build_volume_mm":[200,180,100]}"#,
     ] {
         check(spec(json).as_ref());

@@ -44,6 +44,13 @@ pub enum Kinematics {
 impl Kinematics {
     /// Default axis letters.
     pub fn default_axis_names(&self) -> &'static [&'static str] {
+        if let Kinematics::LatheA(p) = self {
+            return if p.with_y {
+                &["X", "Y", "Z", "A"]
+            } else {
+                &["X", "Z", "A"]
+            };
+        }
         match self {
             Kinematics::Cartesian(_) => &["X", "Y", "Z"],
             Kinematics::BHead(_) => &["X", "Y", "Z", "B"],
