@@ -104,6 +104,9 @@ pub struct TessellationReport {
     pub depth_limited: usize,
     /// Moves marked rotate-around.
     pub rotate_arounds: usize,
+    /// Largest angle between a requested tool axis and the one the machine realises (the
+    /// dropped component: Y for the B head, the tilt for a fixed-tilt nozzle, the clip), degrees.
+    pub worst_dropped_deg: f64,
 }
 
 /// Below this angle from parallel or antiparallel (radians) slerp falls back to a normalised lerp.
@@ -264,6 +267,8 @@ pub fn tessellate(
             None => start,
         };
         let a1 = machine.inverse(tp.p, tp.n, seed)?;
+        let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
+        rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
         ends.clear();
         match &prev {
             None => ends.push((a1, tp.p, tp.n, false)),
