@@ -75,7 +75,7 @@ fn any_previous_pose_keeps_the_round_trip() {
     for name in preset_names() {
         let m = preset(name).and_then(|s| s.build()).unwrap();
         let ws = m.workspace();
-        let mut pose = |rng: &mut Rng| {
+        let pose = |rng: &mut Rng| {
             let p = ws.min + (ws.max - ws.min) * DVec3::new(rng.next(), rng.next(), rng.next());
             let t = ws.max_tilt_deg.min(180.0) * rng.next();
             (p, laws::axis(t, 360.0 * rng.next() - 180.0))
