@@ -208,3 +208,25 @@ fn non_finite_axes_are_named_in_forward() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn machine_arguments_are_presets_or_files() {
+    let spec = MachineSpec::from_arg("rotbot", |_| Err("no files".into())).unwrap();
+    assert_eq!(spec.name, "rotbot");
+    let spec = MachineSpec::from_arg("my/pax.json", |p| {
+        assert_eq!(p, "my/pax.json");
+        Ok(r#"{"kind":"pax","pivot_to_tip_mm":12}"#.into())
+    })
+    .unwrap();
+    assert_eq!(spec.name, "my/pax.json");
+    match MachineSpec::from_arg("gone.json", |_| Err("No such file or directory".into())) {
+        Err(e @ MachineError::BadJson { .. }) => {
+            assert!(e.to_string().contains("gone.json") && e.to_string().contains("No such file"))
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        MachineSpec::from_arg("nonesuch", |_| unreachable!()),
+        Err(MachineError::UnknownPreset { .. })
+    ));
+}

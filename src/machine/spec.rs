@@ -154,6 +154,23 @@ impl MachineSpec {
         Ok(spec)
     }
 
+    /// Resolve a `--machine` argument: a preset name, or (when it ends in `.json` or contains a
+    /// path separator) a file read with `read` (the caller's filesystem access; none in wasm).
+    pub fn from_arg(
+        arg: &str,
+        read: impl FnOnce(&str) -> Result<String, String>,
+    ) -> Result<MachineSpec, MachineError> {
+        if arg.ends_with(".json") || arg.contains('/') || arg.contains('\\') {
+            let text = read(arg).map_err(|message| MachineError::BadJson {
+                source: arg.to_string(),
+                message: format!("cannot read the file: {message}"),
+            })?;
+            MachineSpec::from_json(&text, arg)
+        } else {
+            preset(arg)
+        }
+    }
+
     /// The JSON text of this spec.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
