@@ -1,2 +1,289 @@
-//! Machines: turn the toolpath (tip p, tool axis n) into the axes of a real printer.
-//! STUB: being written (issue: machines).
+//! Machines: turn the toolpath (tip `p`, tool axis `n`, output frame) into the axes of a real
+//! printer, and back.
+//!
+//! ## The seam
+//! Every machine implements [`Machine`]:
+//! - [`Machine::inverse`]`(p, n, previous)` → axis values in the order of
+//!   [`Machine::axis_names`]. `previous` (the axes of the previous output point) picks the
+//!   branch and keeps rotary axes continuous (unwrapped across ±180°, held near singular poses).
+//! - [`Machine::forward`]`(axes)` → `(tip, tool axis)` in the output (part) frame.
+//! - [`Machine::realised_axis`]`(p, n)`: the tool axis the machine actually gives when asked for
+//!   `n` at `p` without a previous pose (e.g. the B head drops the Y component and clips the
+//!   angle). `forward(inverse(p, n, None)) == (p, realised_axis(p, n))` is the law
+//!   ([`laws`]). The angle between `n` and the realised axis is what a report calls "dropped".
+//!
+//! ## Units
+//! Linear axes in mm, rotary axes in **degrees** (as written to G-code), raw values (no `G92`
+//! offsets). The tool axis `n` is the unit vector from the tip into the nozzle.
+//!
+//! ## Machines (one file each)
+//! [`cartesian`], [`bhead`] (FullControl Prusa B), [`rtn`] (Slicer4RTN, RotBot), [`pax`]
+//! (5-axis head), [`abtable`] (Open5x A/B table), [`threez`] (RatRig triple-Z bed),
+//! [`rtheta`] (Core R-Theta), [`lathe`] (rotating mandrel). Presets are JSON files in
+//! `presets/`, compiled in with `include_str!` (so they work in wasm), see [`spec`]; a user's
+//! file is read by the caller and parsed with [`MachineSpec::from_json`] (no filesystem here).
+//!
+//! ## Around the kinematics
+//! - [`laws`]: the law tests every machine passes (round trip, continuity), callable from wasm.
+//! - [`batch`]: CSV in, CSV out (`warpslice kinematics inverse|forward`).
+//! - [`tessellate`]: split moves until the firmware's linear axis interpolation stays within
+//!   0.02 mm / 0.1° of the intended path (seed 001 §4.5); reports the worst error.
+//! - [`feed`]: output F for `xyz`, `all-axes` and `inverse-time` (G93) feed modes.
+
+use core::fmt;
+
+use glam::DVec3;
+
+pub mod abtable;
+pub mod angles;
+pub mod batch;
+pub mod bhead;
+pub mod cartesian;
+pub mod feed;
+pub mod lathe;
+pub mod laws;
+pub mod pax;
+pub mod rtheta;
+pub mod rtn;
+pub mod spec;
+pub mod tessellate;
+pub mod threez;
+
+pub use spec::{preset, preset_names, MachineSpec};
+
+/// Below this length a projected tool axis (|n_xy| for an azimuth, |n_xz| for a B angle) is
+/// taken to be zero: the angle it would define is undefined and the previous value is held.
+pub const POLE_EPSILON: f64 = 1e-12;
+/// Slack on angle limits (degrees) so that values computed exactly at a limit pass.
+pub const LIMIT_SLACK_DEG: f64 = 1e-9;
+/// Slack on unit vectors given by the user (|n| may differ from 1 by this before it is an error;
+/// n is normalised anyway).
+pub const UNIT_SLACK: f64 = 1e-6;
+
+/// One axis: its letter, whether it is rotary (degrees) and its travel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisLimit {
+    /// The output letter (G-code word), e.g. `"X"`, `"B"`, `"U"`.
+    pub name: String,
+    /// Rotary axis (degrees) rather than linear (mm).
+    pub rotary: bool,
+    /// Lowest allowed value (mm or degrees; `-inf` when unlimited).
+    pub min: f64,
+    /// Highest allowed value.
+    pub max: f64,
+}
+
+impl AxisLimit {
+    /// A linear axis without travel limits.
+    pub fn linear(name: &str) -> AxisLimit {
+        AxisLimit {
+            name: name.to_string(),
+            rotary: false,
+            min: f64::NEG_INFINITY,
+            max: f64::INFINITY,
+        }
+    }
+    /// A rotary axis limited to `[min, max]` degrees.
+    pub fn rotary(name: &str, min: f64, max: f64) -> AxisLimit {
+        AxisLimit {
+            name: name.to_string(),
+            rotary: true,
+            min,
+            max,
+        }
+    }
+}
+
+/// Where the law tests sample a machine: a box of tip positions (output frame, mm) and the
+/// largest tool-axis tilt from vertical (degrees) the machine realises without error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Workspace {
+    /// Lowest corner, mm.
+    pub min: DVec3,
+    /// Highest corner, mm.
+    pub max: DVec3,
+    /// Largest tilt of `n` from +Z that `inverse` accepts, degrees.
+    pub max_tilt_deg: f64,
+}
+
+/// A machine's kinematics. See the module documentation for the conventions.
+pub trait Machine: Send + Sync + fmt::Debug {
+    /// The preset/machine name (for messages).
+    fn name(&self) -> &str;
+    /// Axis letters in output order.
+    fn axis_names(&self) -> Vec<String> {
+        self.limits().iter().map(|l| l.name.clone()).collect()
+    }
+    /// Axis limits, in output order (same length as the axes).
+    fn limits(&self) -> &[AxisLimit];
+    /// Inverse kinematics: axes that put the tip at `p` with (the realisable part of) tool axis
+    /// `n`. `previous` picks the branch and keeps rotary axes continuous.
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError>;
+    /// Forward kinematics: `(tip, unit tool axis)` in the output frame.
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError>;
+    /// The tool axis the machine realises for `n` at `p` when no previous pose is given.
+    fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
+        n
+    }
+    /// The largest angle (radians) by which the realised axis may differ from
+    /// `realised_axis(p, n)` when `previous` picks a branch (e.g. holding B near the pole).
+    fn branch_freedom(&self, _p: DVec3, _n: DVec3) -> f64 {
+        0.0
+    }
+    /// Where the law tests sample this machine.
+    fn workspace(&self) -> Workspace;
+}
+
+/// Errors of the machine area.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum MachineError {
+    /// The machine cannot give this tool axis at this point.
+    UnreachableOrientation {
+        machine: String,
+        p: DVec3,
+        n: DVec3,
+        reason: String,
+    },
+    /// An axis would leave its travel.
+    AxisLimit {
+        machine: String,
+        axis: String,
+        value: f64,
+        min: f64,
+        max: f64,
+        p: DVec3,
+    },
+    /// A zero or non-finite tool axis or position.
+    InvalidInput { machine: String, p: DVec3, n: DVec3 },
+    /// `forward` got the wrong number of axis values.
+    WrongAxisCount {
+        machine: String,
+        expected: usize,
+        got: usize,
+    },
+    /// `forward` got a non-finite axis value.
+    InvalidAxes { machine: String, axes: Vec<f64> },
+    /// No preset with this name.
+    UnknownPreset { name: String, known: Vec<String> },
+    /// The machine JSON could not be parsed.
+    BadJson { source: String, message: String },
+    /// The machine JSON parsed but its parameters are unusable.
+    BadSpec { machine: String, message: String },
+    /// A batch CSV line is invalid (1-based line number).
+    BadCsv { line: usize, message: String },
+}
+
+impl fmt::Display for MachineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MachineError::UnreachableOrientation { machine, p, n, reason } => write!(
+                f,
+                "machine {machine}: tool axis ({:.6}, {:.6}, {:.6}) at point ({:.4}, {:.4}, {:.4}) cannot be reached: {reason}; lower the tilt of the warp or choose another machine",
+                n.x, n.y, n.z, p.x, p.y, p.z
+            ),
+            MachineError::AxisLimit { machine, axis, value, min, max, p } => write!(
+                f,
+                "machine {machine}: axis {axis} = {value:.6} is outside its travel [{min}, {max}] at point ({:.4}, {:.4}, {:.4}); move the part or widen the limit in the machine JSON",
+                p.x, p.y, p.z
+            ),
+            MachineError::InvalidInput { machine, p, n } => write!(
+                f,
+                "machine {machine}: invalid input point ({}, {}, {}) / tool axis ({}, {}, {}): the position must be finite and the tool axis a finite non-zero vector",
+                p.x, p.y, p.z, n.x, n.y, n.z
+            ),
+            MachineError::WrongAxisCount { machine, expected, got } => write!(
+                f,
+                "machine {machine}: expected {expected} axis values, got {got}"
+            ),
+            MachineError::InvalidAxes { machine, axes } => write!(
+                f,
+                "machine {machine}: axis values {axes:?} must all be finite numbers"
+            ),
+            MachineError::UnknownPreset { name, known } => write!(
+                f,
+                "unknown machine preset '{name}'; known presets: {} (or give a path to a machine JSON file)",
+                known.join(", ")
+            ),
+            MachineError::BadJson { source, message } => {
+                write!(f, "machine JSON {source} is invalid: {message}")
+            }
+            MachineError::BadSpec { machine, message } => {
+                write!(f, "machine {machine}: {message}; fix the machine JSON")
+            }
+            MachineError::BadCsv { line, message } => write!(
+                f,
+                "kinematics input line {line}: {message}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for MachineError {}
+
+/// Validate and normalise `(p, n)`; the error names the machine.
+pub(crate) fn check_input(machine: &str, p: DVec3, n: DVec3) -> Result<DVec3, MachineError> {
+    let len = n.length();
+    if !(p.is_finite() && n.is_finite() && len > POLE_EPSILON) {
+        return Err(MachineError::InvalidInput {
+            machine: machine.to_string(),
+            p,
+            n,
+        });
+    }
+    Ok(n / len)
+}
+
+/// Check `axes` against `limits`; the first violation is the error.
+pub(crate) fn check_limits(
+    machine: &str,
+    limits: &[AxisLimit],
+    axes: &[f64],
+    p: DVec3,
+) -> Result<(), MachineError> {
+    for (l, &v) in limits.iter().zip(axes) {
+        let slack = if l.rotary {
+            LIMIT_SLACK_DEG
+        } else {
+            crate::tolerance::LENGTH_EPSILON
+        };
+        if !(v >= l.min - slack && v <= l.max + slack) {
+            return Err(MachineError::AxisLimit {
+                machine: machine.to_string(),
+                axis: l.name.clone(),
+                value: v,
+                min: l.min,
+                max: l.max,
+                p,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Check the number of axis values given to `forward`.
+pub(crate) fn check_count(
+    machine: &str,
+    expected: usize,
+    axes: &[f64],
+) -> Result<(), MachineError> {
+    if axes.len() != expected {
+        return Err(MachineError::WrongAxisCount {
+            machine: machine.to_string(),
+            expected,
+            got: axes.len(),
+        });
+    }
+    if axes.iter().any(|v| !v.is_finite()) {
+        return Err(MachineError::InvalidAxes {
+            machine: machine.to_string(),
+            axes: axes.to_vec(),
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,355 @@
+//! `open5x-ab`: a vertical nozzle over an A/B rotary table (seed 004, Open5x / UHH). Axes
+//! X Y Z A B.
+//!
+//! ## Model (seed 004 §4.1)
+//! A turns the table about the line (A_pos, A_dir) ≈ X; B turns the bed about the line
+//! (B_pos, B_dir) ≈ Z, which is carried by A (B_pos, B_dir are given at A = 0). A part point `p`
+//! (output frame = machine frame at A = B = 0, shifted by `part_offset`) is at
+//!
+//! ```text
+//! q = T_A(A) T_B(B) (p + part_offset),   T_L(θ)(x) = L_pos + R(L_dir, θ)(x − L_pos)
+//! ```
+//! (right-hand rotations, degrees). The origin is moved to the machine origin of seed 004
+//! §4.1.1/§5.4.2: the point of the B line closest to the A line. The nozzle stays vertical, so
+//! (A, B) must satisfy `R(A_dir, A)·R(B_dir, B)·n = e_z`, and X Y Z = q.
+//!
+//! ## Closed form (any line directions, ideal or calibrated)
+//! `R_A(A) R_B(B) n = e_z` ⇔ `R_B(B) n = R_A(−A) e_z =: v`. Rotations keep the component along
+//! their axis, so v is a unit vector with `v·b_dir = n·b_dir` and `v·a_dir = e_z·a_dir`: the
+//! meeting of two circles on the sphere, `v = x a + y b ± z (a × b)` with
+//! `x = (c_a − (a·b) c_b)/(1 − (a·b)²)`, `y = (c_b − (a·b) c_a)/(1 − (a·b)²)`,
+//! `z² = (1 − |x a + y b|²)/|a × b|²`. Then B is the rotation about b_dir taking n to v and A
+//! the rotation about a_dir taking v to e_z, each `atan2(u·(w⊥ × v⊥), w⊥·v⊥)`. No iteration is
+//! needed (this replaces the Newton steps suggested for calibrated axes: it is exact).
+//! For ideal axes (a = X, b = Z) this is `(A, B) = (t, 90° − φ)` or `(−t, −90° − φ)` (tilt t,
+//! azimuth φ of n). The branch whose B is nearer the previous B (unwrapped, B is continuous) is
+//! taken; without a previous pose the larger A. A ∈ [−90°, 90°] (⇔ n_z ≥ 0 for ideal axes);
+//! beyond it the orientation is unreachable.
+//!
+//! ## Pole
+//! B is undefined when n ∥ b_dir. Near it (|n × b_dir| < sin 0.5°, `pole_hold_deg`) B is held at
+//! its previous value instead of spinning, and A maximises `(R_A R_B n)_z` (closed form): the
+//! realised axis then differs from n by at most 0.5° (`branch_freedom`).
+//!
+//! ## A-axis Z wobble (seed 004 §5.1.8, Eq. 5.1)
+//! `z_wobble(A) = min(max(z_d, −z_d), max(min(z_d, −z_d), 2 z_d A / 180))` (linear in A,
+//! ±z_d at ±90°). The commanded Z is the ideal Z plus z_wobble (as the a_wobble_correct
+//! post-processor does); forward subtracts it.
+
+use glam::DVec3;
+
+use super::angles::{rotate, unwrap_near, wrap180};
+use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use crate::num;
+
+/// Parameters of [`AbTable`] (JSON `"kind": "ab-table"`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct AbTableParams {
+    /// A point of the A line, mm.
+    pub a_pos: DVec3,
+    /// Direction of the A line (≈ +X).
+    pub a_dir: DVec3,
+    /// A point of the B line at A = 0, mm.
+    pub b_pos: DVec3,
+    /// Direction of the B line at A = 0 (≈ +Z).
+    pub b_dir: DVec3,
+    /// The output-frame origin in machine coordinates at A = B = 0 (e.g. the bed surface above
+    /// the machine origin), mm.
+    pub part_offset: DVec3,
+    /// Wobble amplitude z_d at A = ±90°, mm (0 disables).
+    pub z_wobble_mm: f64,
+    /// Hold B when |n_xy| < sin(pole_hold_deg), degrees.
+    pub pole_hold_deg: f64,
+    /// Largest |A|, degrees.
+    pub a_limit_deg: f64,
+}
+
+impl Default for AbTableParams {
+    fn default() -> Self {
+        AbTableParams {
+            a_pos: DVec3::ZERO,
+            a_dir: DVec3::X,
+            b_pos: DVec3::ZERO,
+            b_dir: DVec3::Z,
+            part_offset: DVec3::ZERO,
+            z_wobble_mm: 0.0,
+            pole_hold_deg: 0.5,
+            a_limit_deg: 90.0,
+        }
+    }
+}
+
+/// The A/B table machine.
+#[derive(Clone, Debug)]
+pub struct AbTable {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: AbTableParams,
+}
+
+impl AbTable {
+    /// Build with axis letters `names` (X Y Z A B). Moves the origin to the closest approach of
+    /// the two lines (seed 004 §5.4.2).
+    pub fn new(
+        name: &str,
+        names: &[String],
+        mut params: AbTableParams,
+    ) -> Result<AbTable, MachineError> {
+        let bad = |m: &str| MachineError::BadSpec {
+            machine: name.to_string(),
+            message: m.to_string(),
+        };
+        if !(params.a_dir.is_finite()
+            && params.b_dir.is_finite()
+            && params.a_pos.is_finite()
+            && params.b_pos.is_finite())
+        {
+            return Err(bad("a_pos, a_dir, b_pos, b_dir must be finite"));
+        }
+        if params.a_dir.length() < 1e-9 || params.b_dir.length() < 1e-9 {
+            return Err(bad("a_dir and b_dir must be non-zero"));
+        }
+        params.a_dir = params.a_dir.normalize();
+        params.b_dir = params.b_dir.normalize();
+        let w = params.a_dir.cross(params.b_dir);
+        if w.length() < 1e-6 {
+            return Err(bad("the A and B lines are parallel"));
+        }
+        // Closest approach: B_pos + s·B_dir with (B_pos + s B_dir − A_pos − u A_dir) ⟂ both.
+        let (a, b) = (params.a_dir, params.b_dir);
+        let r = params.b_pos - params.a_pos;
+        let (ab, ar, br) = (a.dot(b), a.dot(r), b.dot(r));
+        let s = (ab * ar - br) / (1.0 - ab * ab);
+        let origin = params.b_pos + b * s;
+        params.a_pos -= origin;
+        params.b_pos -= origin;
+        if !(params.pole_hold_deg >= 0.0 && params.a_limit_deg > 0.0) {
+            return Err(bad("pole_hold_deg must be ≥ 0 and a_limit_deg > 0"));
+        }
+        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            -params.a_limit_deg,
+            params.a_limit_deg,
+        ));
+        limits.push(AxisLimit::rotary(
+            &names[4],
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+        ));
+        Ok(AbTable {
+            name: name.to_string(),
+            limits,
+            params,
+        })
+    }
+
+    /// Eq. 5.1: the Z correction at A (degrees), mm.
+    pub fn z_wobble(&self, a: f64) -> f64 {
+        let zd = self.params.z_wobble_mm;
+        zd.max(-zd).min(zd.min(-zd).max(2.0 * zd * a / 180.0))
+    }
+
+    /// Angular radius (radians) of the zone about b_dir where B is held: `pole_hold_deg` plus,
+    /// for calibrated axes, the radius of the small cone about b_dir that no (A, B) makes exactly
+    /// vertical (`asin |e_z·a − (a·b)|`; 0 for ideal axes).
+    fn hold_radius(&self) -> f64 {
+        let (a, b) = (self.params.a_dir, self.params.b_dir);
+        num::rad(self.params.pole_hold_deg) + num::asin((a.z - a.dot(b)).abs().min(1.0))
+    }
+
+    /// The rotation about unit `u` (radians) taking `w` to `v` (both with the same component
+    /// along `u`): `atan2(u·(w⊥ × v⊥), w⊥·v⊥)`, ⊥ = perpendicular to `u`.
+    fn angle_about(u: DVec3, w: DVec3, v: DVec3) -> f64 {
+        let wp = w - u * u.dot(w);
+        let vp = v - u * u.dot(v);
+        num::atan2(u.dot(wp.cross(vp)), wp.dot(vp))
+    }
+
+    /// The two vectors `v = R_B(B)·n = R_A(−A)·e_z` (unit, `v·b_dir = n·b_dir`,
+    /// `v·a_dir = e_z·a_dir`): `v = x a + y b ± z (a × b)`. `None` when the two circles miss.
+    fn meeting(&self, n: DVec3) -> Option<[DVec3; 2]> {
+        let (a, b) = (self.params.a_dir, self.params.b_dir);
+        let (ca, cb, ab) = (a.z, n.dot(b), a.dot(b));
+        let det = 1.0 - ab * ab;
+        let x = (ca - ab * cb) / det;
+        let y = (cb - ab * ca) / det;
+        let base = a * x + b * y;
+        let w = a.cross(b);
+        // z²|a×b|² = 1 − |x a + y b|² = (|n × b|²·det − (c_a − (a·b) c_b)²)/det, written without the
+        // cancellation of 1 − c_b² near the pole.
+        let s2 = n.cross(b).length_squared();
+        let e = ca - ab * cb;
+        let mut z2 = (s2 * det - e * e) / (det * det);
+        if z2 < 0.0 {
+            if z2 > -1e-15 {
+                z2 = 0.0;
+            } else {
+                return None;
+            }
+        }
+        let z = z2.sqrt();
+        Some([base + w * z, base - w * z])
+    }
+
+    /// When no (A, B) makes n exactly vertical (calibrated axes near the pole): B turns n onto
+    /// the point of its cone about b_dir nearest the cone of A, in the plane of a_dir and b_dir,
+    /// then A = [`AbTable::hold_a`]. Radians.
+    fn nearest(&self, n: DVec3) -> (f64, f64) {
+        let (a, b) = (self.params.a_dir, self.params.b_dir);
+        let cb = n.dot(b);
+        let sb = (1.0 - cb * cb).max(0.0).sqrt();
+        let e = (a - b * a.dot(b)).normalize();
+        let sgn = if a.z - cb * a.dot(b) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let v = b * cb + e * (sb * sgn);
+        let bb = AbTable::angle_about(b, n, v);
+        (self.hold_a(n, bb), bb)
+    }
+
+    /// With B held (radians), the A (radians) bringing n closest to vertical: maximise
+    /// `(R_A m)_z`, `m = R_B n`: `A = atan2((a_dir × m⊥)_z, (m⊥)_z)`.
+    fn hold_a(&self, n: DVec3, b: f64) -> f64 {
+        let u = self.params.a_dir;
+        let m = rotate(n, self.params.b_dir, b);
+        let mp = m - u * u.dot(m);
+        num::atan2(u.cross(mp).z, mp.z)
+    }
+
+    /// Of the two exact solutions, the one whose B is nearest `prev_b` (degrees, unwrapped), or
+    /// without a previous pose the larger A.
+    fn pick(&self, n: DVec3, vs: [DVec3; 2], prev_b: Option<f64>) -> (f64, f64) {
+        let cand = vs.map(|v| {
+            let b = num::deg(AbTable::angle_about(self.params.b_dir, n, v));
+            let a = num::deg(AbTable::angle_about(self.params.a_dir, v, DVec3::Z));
+            (a, b)
+        });
+        match prev_b {
+            None => {
+                let (a, b) = if cand[0].0 >= cand[1].0 {
+                    cand[0]
+                } else {
+                    cand[1]
+                };
+                (a, wrap180(b))
+            }
+            Some(pb) => {
+                let c0 = (cand[0].0, unwrap_near(cand[0].1, pb));
+                let c1 = (cand[1].0, unwrap_near(cand[1].1, pb));
+                let (d0, d1) = ((c0.1 - pb).abs(), (c1.1 - pb).abs());
+                if d1 < d0 - 1e-9 || ((d1 - d0).abs() <= 1e-9 && c1.0 > c0.0) {
+                    c1
+                } else {
+                    c0
+                }
+            }
+        }
+    }
+
+    fn transform(&self, x: DVec3, a: f64, b: f64) -> DVec3 {
+        let p = &self.params;
+        let y = p.b_pos + rotate(x - p.b_pos, p.b_dir, b);
+        p.a_pos + rotate(y - p.a_pos, p.a_dir, a)
+    }
+
+    fn untransform(&self, q: DVec3, a: f64, b: f64) -> DVec3 {
+        let p = &self.params;
+        let y = p.a_pos + rotate(q - p.a_pos, p.a_dir, -a);
+        p.b_pos + rotate(y - p.b_pos, p.b_dir, -b)
+    }
+}
+
+impl Machine for AbTable {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n = check_input(&self.name, p, n)?;
+        let prev_b = previous.and_then(|a| a.get(4).copied());
+        let off_pole = n.cross(self.params.b_dir).length();
+        let hold = prev_b.is_some() && off_pole < num::sin(self.hold_radius());
+        let (a, b) = if hold {
+            let b = prev_b.unwrap_or(0.0);
+            (num::deg(self.hold_a(n, num::rad(b))), b)
+        } else {
+            match self.meeting(n) {
+                None => {
+                    let (a, b) = self.nearest(n);
+                    (num::deg(a), num::deg(b))
+                }
+                Some(vs) => self.pick(n, vs, prev_b),
+            }
+        };
+        if a.abs() > self.params.a_limit_deg + super::LIMIT_SLACK_DEG {
+            return Err(MachineError::UnreachableOrientation {
+                machine: self.name.clone(),
+                p,
+                n,
+                reason: format!("the table would have to tilt A = {a:.3}°, beyond ±{}° (the tool axis points below the horizon)", self.params.a_limit_deg),
+            });
+        }
+        let q = self.transform(p + self.params.part_offset, num::rad(a), num::rad(b));
+        let axes = vec![q.x, q.y, q.z + self.z_wobble(a), a, b];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 5, axes)?;
+        let (a, b) = (axes[3], axes[4]);
+        let q = DVec3::new(axes[0], axes[1], axes[2] - self.z_wobble(a));
+        let (ar, br) = (num::rad(a), num::rad(b));
+        let p = self.untransform(q, ar, br) - self.params.part_offset;
+        let n = rotate(
+            rotate(DVec3::Z, self.params.a_dir, -ar),
+            self.params.b_dir,
+            -br,
+        );
+        Ok((p, n))
+    }
+    fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
+        let n = n / n.length();
+        match self.meeting(n) {
+            Some(_) => n,
+            None => {
+                let (a, b) = self.nearest(n);
+                rotate(
+                    rotate(DVec3::Z, self.params.a_dir, -a),
+                    self.params.b_dir,
+                    -b,
+                )
+            }
+        }
+    }
+    fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
+        let n = n / n.length();
+        if n.cross(self.params.b_dir).length() < num::sin(self.hold_radius()) {
+            2.0 * self.hold_radius() + 1e-12
+        } else {
+            0.0
+        }
+    }
+    fn workspace(&self) -> Workspace {
+        // Calibrated axes reach a little less (or more) than A's limit in some directions.
+        let misalign = num::deg(
+            num::angle_between(self.params.a_dir, DVec3::X)
+                + num::angle_between(self.params.b_dir, DVec3::Z),
+        );
+        Workspace {
+            min: DVec3::new(-50.0, -50.0, 0.0),
+            max: DVec3::new(50.0, 50.0, 80.0),
+            max_tilt_deg: self.params.a_limit_deg.min(180.0) - misalign,
+        }
+    }
+}

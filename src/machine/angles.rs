@@ -1,0 +1,81 @@
+//! Angle helpers shared by the machines: wrapping, unwrapping next to a previous value, and
+//! rotations written with `crate::num` (libm) so native and wasm give identical bits.
+
+use glam::DVec3;
+
+use crate::num;
+
+/// Wrap an angle in degrees into (−180°, 180°].
+pub fn wrap180(deg: f64) -> f64 {
+    let mut a = deg % 360.0;
+    if a <= -180.0 {
+        a += 360.0;
+    } else if a > 180.0 {
+        a -= 360.0;
+    }
+    a
+}
+
+/// The representative of `target` (degrees, modulo 360°) nearest to `previous`:
+/// `previous + wrap180(target − previous)` — the continuous unwrap of a rotary axis.
+pub fn unwrap_near(target: f64, previous: f64) -> f64 {
+    previous + wrap180(target - previous)
+}
+
+/// Rodrigues: rotate `v` about the unit `axis` by `angle` radians (right-hand rule).
+/// `v cos θ + (a × v) sin θ + a (a·v)(1 − cos θ)`.
+pub fn rotate(v: DVec3, axis: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = (num::sin(angle), num::cos(angle));
+    v * c + axis.cross(v) * s + axis * (axis.dot(v) * (1.0 - c))
+}
+
+/// Rotate about +Z by `angle` radians: (x cos − y sin, x sin + y cos, z).
+pub fn rot_z(v: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = (num::sin(angle), num::cos(angle));
+    DVec3::new(v.x * c - v.y * s, v.x * s + v.y * c, v.z)
+}
+
+/// Rotate about +X by `angle` radians: (x, y cos − z sin, y sin + z cos).
+pub fn rot_x(v: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = (num::sin(angle), num::cos(angle));
+    DVec3::new(v.x, v.y * c - v.z * s, v.y * s + v.z * c)
+}
+
+/// Rotate about +Y by `angle` radians: (x cos + z sin, y, −x sin + z cos).
+pub fn rot_y(v: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = (num::sin(angle), num::cos(angle));
+    DVec3::new(v.x * c + v.z * s, v.y, -v.x * s + v.z * c)
+}
+
+/// Tilt of `n` from +Z, radians in [0, π] (accurate near 0: atan2(|n_xy|, n_z)).
+pub fn tilt(n: DVec3) -> f64 {
+    num::atan2((n.x * n.x + n.y * n.y).sqrt(), n.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_and_unwrap() {
+        assert_eq!(wrap180(180.0), 180.0);
+        assert_eq!(wrap180(-180.0), 180.0);
+        assert_eq!(wrap180(190.0), -170.0);
+        assert_eq!(wrap180(-190.0), 170.0);
+        assert_eq!(wrap180(720.0 + 10.0), 10.0);
+        assert!((unwrap_near(-179.0, 179.0) - 181.0).abs() < 1e-12);
+        assert!((unwrap_near(179.0, -179.0 + 720.0) - (-181.0 + 720.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn rotations_agree_with_rodrigues() {
+        let v = DVec3::new(0.3, -1.2, 2.5);
+        for a in [-2.0, -0.3, 0.0, 0.7, 3.0] {
+            assert!((rot_z(v, a) - rotate(v, DVec3::Z, a)).length() < 1e-14);
+            assert!((rot_x(v, a) - rotate(v, DVec3::X, a)).length() < 1e-14);
+            assert!((rot_y(v, a) - rotate(v, DVec3::Y, a)).length() < 1e-14);
+        }
+        // Right-hand rule: +Z about +Y by +90° goes to +X.
+        assert!((rot_y(DVec3::Z, core::f64::consts::FRAC_PI_2) - DVec3::X).length() < 1e-15);
+    }
+}

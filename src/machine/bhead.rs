@@ -1,0 +1,170 @@
+//! `fullcontrol-prusa-b`: a print head tilting about the machine Y axis (seed 000, FullControl's
+//! Prusa MK3S+ B-axis modification). Axes X Y Z B.
+//!
+//! ## Convention (ours, proven by `forward`)
+//! B is a right-hand rotation of the head about +Y, in degrees. The tool axis (tip → nozzle) is
+//! `n(B) = R_y(B)·e_z = (sin B, 0, cos B)`: B > 0 leans the nozzle body towards +X. Only the
+//! XZ-plane part of a requested axis can be realised: `B = atan2(n_x, n_z)`; the Y component is
+//! dropped (the angle between `n` and the realised axis is what the pipeline reports).
+//!
+//! The pivot sits `r` (pivot-to-tip, 46 mm in FullControl's guide) up the nozzle from the tip:
+//! `pivot = p + r·n(B)`. The machine position is that of the tip at B = 0, i.e. the pivot minus
+//! `r·e_z`:
+//!
+//! ```text
+//! X = p_x + r sin B,   Y = p_y,   Z = p_z + r cos B − r          (inverse)
+//! p = (X − r sin B, Y, Z − r cos B + r),  n = (sin B, 0, cos B)   (forward)
+//! ```
+//! so B = 0 gives X Z = tip. (Seed 000's Eqs. 5–6 measure b from another reference direction.)
+//!
+//! ## Collision clip (seed 000 §4.3.1)
+//! `|B| ≤ b₀ + (90° − b₀)·min(max(z, 0)/z_clip, 1)` with `z` the tip height, b₀ = 18°,
+//! z_clip = 50 mm: near the bed the head may tilt little, from 50 mm up to ±90°.
+
+use glam::DVec3;
+
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
+use crate::num;
+
+/// Parameters of [`BHead`] (JSON `"kind": "b-head"`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct BHeadParams {
+    /// Pivot-to-tip distance r, mm.
+    pub pivot_to_tip_mm: f64,
+    /// Apply the collision clip.
+    pub clip: bool,
+    /// Largest |B| at the bed (b₀), degrees.
+    pub clip_b0_deg: f64,
+    /// Height from which |B| may reach 90°, mm.
+    pub clip_z_mm: f64,
+    /// Travel of B: [−b_limit, b_limit], degrees.
+    pub b_limit_deg: f64,
+}
+
+impl Default for BHeadParams {
+    fn default() -> Self {
+        BHeadParams {
+            pivot_to_tip_mm: 46.0,
+            clip: true,
+            clip_b0_deg: 18.0,
+            clip_z_mm: 50.0,
+            b_limit_deg: 90.0,
+        }
+    }
+}
+
+/// The tilting-head machine.
+#[derive(Clone, Debug)]
+pub struct BHead {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: BHeadParams,
+}
+
+impl BHead {
+    /// Build with axis letters `names` (X Y Z B).
+    pub fn new(name: &str, names: &[String], params: BHeadParams) -> Result<BHead, MachineError> {
+        if !(params.pivot_to_tip_mm.is_finite()
+            && params.clip_z_mm > 0.0
+            && params.b_limit_deg > 0.0)
+        {
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "pivot_to_tip_mm must be finite, clip_z_mm and b_limit_deg positive"
+                    .into(),
+            });
+        }
+        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
+        limits.push(AxisLimit::rotary(
+            &names[3],
+            -params.b_limit_deg,
+            params.b_limit_deg,
+        ));
+        Ok(BHead {
+            name: name.to_string(),
+            limits,
+            params,
+        })
+    }
+
+    /// The largest |B| allowed at tip height `z` (degrees), seed 000 §4.3.1.
+    pub fn clip_limit_deg(&self, z: f64) -> f64 {
+        let b0 = self.params.clip_b0_deg;
+        b0 + (90.0 - b0) * (z.max(0.0) / self.params.clip_z_mm).min(1.0)
+    }
+
+    /// B (degrees) for `n` at tip height `z`, holding `held` when n has no XZ component.
+    fn b_of(&self, n: DVec3, z: f64, held: f64) -> f64 {
+        let len = (n.x * n.x + n.z * n.z).sqrt();
+        let mut b = if len < POLE_EPSILON {
+            held
+        } else {
+            num::deg(num::atan2(n.x, n.z))
+        };
+        if self.params.clip {
+            let lim = self.clip_limit_deg(z);
+            b = b.clamp(-lim, lim);
+        }
+        b
+    }
+}
+
+impl Machine for BHead {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n = check_input(&self.name, p, n)?;
+        let held = previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0);
+        let b = self.b_of(n, p.z, held);
+        let r = self.params.pivot_to_tip_mm;
+        let br = num::rad(b);
+        let axes = vec![p.x + r * num::sin(br), p.y, p.z + r * num::cos(br) - r, b];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 4, axes)?;
+        let r = self.params.pivot_to_tip_mm;
+        let br = num::rad(axes[3]);
+        let (s, c) = (num::sin(br), num::cos(br));
+        Ok((
+            DVec3::new(axes[0] - r * s, axes[1], axes[2] - r * c + r),
+            DVec3::new(s, 0.0, c),
+        ))
+    }
+    fn realised_axis(&self, p: DVec3, n: DVec3) -> DVec3 {
+        let br = num::rad(self.b_of(n, p.z, 0.0));
+        DVec3::new(num::sin(br), 0.0, num::cos(br))
+    }
+    fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
+        if (n.x * n.x + n.z * n.z).sqrt() < POLE_EPSILON * n.length() {
+            core::f64::consts::FRAC_PI_2
+        } else {
+            0.0
+        }
+    }
+    fn workspace(&self) -> Workspace {
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg: if self.params.clip {
+                180.0
+            } else {
+                self.params.b_limit_deg.min(180.0)
+            },
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! `cartesian`: a plain 3-axis printer. X Y Z = tip; the nozzle is always vertical.
+//!
+//! `forward(X, Y, Z) = ((X, Y, Z), +Z)`, `realised_axis = +Z`. With `max_tilt_deg` set, a tool
+//! axis tilted more than that from vertical is refused (`UnreachableOrientation`): a vertical
+//! nozzle following a surface steeper than its cone gouges the part (seed 001 §4.7).
+
+use glam::DVec3;
+
+use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use crate::num;
+
+/// Parameters of [`Cartesian`] (JSON `"kind": "cartesian"`).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct CartesianParams {
+    /// Refuse tool axes tilted more than this from vertical (degrees); `None` accepts all.
+    pub max_tilt_deg: Option<f64>,
+}
+
+/// The 3-axis machine.
+#[derive(Clone, Debug)]
+pub struct Cartesian {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: CartesianParams,
+}
+
+impl Cartesian {
+    /// Build with axis letters `names` (3 of them).
+    pub fn new(name: &str, names: &[String], params: CartesianParams) -> Cartesian {
+        Cartesian {
+            name: name.to_string(),
+            limits: names.iter().map(|n| AxisLimit::linear(n)).collect(),
+            params,
+        }
+    }
+}
+
+impl Machine for Cartesian {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        _previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n = check_input(&self.name, p, n)?;
+        if let Some(max) = self.params.max_tilt_deg {
+            let t = num::deg(super::angles::tilt(n));
+            if t > max + super::LIMIT_SLACK_DEG {
+                return Err(MachineError::UnreachableOrientation {
+                    machine: self.name.clone(),
+                    p,
+                    n,
+                    reason: format!(
+                        "the slope {t:.3}° exceeds max_tilt_deg = {max}° of this 3-axis machine"
+                    ),
+                });
+            }
+        }
+        let axes = vec![p.x, p.y, p.z];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 3, axes)?;
+        Ok((DVec3::new(axes[0], axes[1], axes[2]), DVec3::Z))
+    }
+    fn realised_axis(&self, _p: DVec3, _n: DVec3) -> DVec3 {
+        DVec3::Z
+    }
+    fn workspace(&self) -> Workspace {
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg: self.params.max_tilt_deg.unwrap_or(180.0),
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! Feed-rate modes: keep the programmed tool-tip speed whatever the firmware counts as the
+//! length of a move.
+//!
+//! A move of tip length L (mm) at programmed tip feed f (mm/min) should take `T = L / f`
+//! minutes. With `D = sqrt(Σ Δaxisᵢ²)` the machine-space length the firmware measures (mm and
+//! degrees mixed, as RepRapFirmware and Marlin do for rotary axes):
+//! - [`FeedMode::Xyz`]: the firmware counts only the linear axes and F is the tip feed:
+//!   `F = f` (unchanged).
+//! - [`FeedMode::AllAxes`]: the firmware divides D by F: `F = D / T = f · D / L`.
+//! - [`FeedMode::InverseTime`]: `G93`, F is moves per minute: `F = 1 / T = f / L`.
+//!
+//! A move with no tip length (a pure rotation, L ≈ 0) keeps `T = D / f`: F = f in all-axes
+//! mode and `f / D` in inverse-time mode. A move with nothing to do (D = 0 too) keeps F = f.
+
+use serde::{Deserialize, Serialize};
+
+/// How the output F is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FeedMode {
+    /// F = tip feed (firmware counts linear axes only).
+    #[default]
+    Xyz,
+    /// F scaled so the move takes tip_length / f with rotary degrees counted in the length.
+    AllAxes,
+    /// G93 inverse time: F = 1 / minutes.
+    InverseTime,
+}
+
+impl FeedMode {
+    /// Parse `xyz`, `all-axes`, `inverse-time`.
+    pub fn parse(s: &str) -> Option<FeedMode> {
+        match s {
+            "xyz" => Some(FeedMode::Xyz),
+            "all-axes" => Some(FeedMode::AllAxes),
+            "inverse-time" => Some(FeedMode::InverseTime),
+            _ => None,
+        }
+    }
+}
+
+/// The machine-space length the firmware measures between two axis vectors.
+pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {
+    from.iter()
+        .zip(to)
+        .map(|(a, b)| (b - a) * (b - a))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The output F of a move from `from` to `to` axes with tip length `tip_length` (mm) at
+/// programmed tip feed `f` (mm/min).
+pub fn output_feed(mode: FeedMode, from: &[f64], to: &[f64], tip_length: f64, f: f64) -> f64 {
+    let d = axis_length(from, to);
+    let eps = crate::tolerance::LENGTH_EPSILON;
+    match mode {
+        FeedMode::Xyz => f,
+        FeedMode::AllAxes => {
+            if tip_length > eps {
+                f * d / tip_length
+            } else {
+                f
+            }
+        }
+        FeedMode::InverseTime => {
+            if tip_length > eps {
+                f / tip_length
+            } else if d > eps {
+                f / d
+            } else {
+                f
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_move_takes_tip_length_over_feed() {
+        // 3 mm of tip at 600 mm/min = 0.005 min; the axes move (3, 0, 0, 4°) → D = 5.
+        let (a, b) = ([0.0, 0.0, 0.0, 0.0], [3.0, 0.0, 0.0, 4.0]);
+        assert_eq!(output_feed(FeedMode::Xyz, &a, &b, 3.0, 600.0), 600.0);
+        let f = output_feed(FeedMode::AllAxes, &a, &b, 3.0, 600.0);
+        assert!((5.0 / f - 0.005).abs() < 1e-15);
+        let g = output_feed(FeedMode::InverseTime, &a, &b, 3.0, 600.0);
+        assert!((1.0 / g - 0.005).abs() < 1e-15);
+        // Pure rotation: 4° at 600 → inverse time 150 per minute.
+        let c = [0.0, 0.0, 0.0, 4.0];
+        assert_eq!(
+            output_feed(FeedMode::InverseTime, &a, &c, 0.0, 600.0),
+            150.0
+        );
+        assert_eq!(FeedMode::parse("all-axes"), Some(FeedMode::AllAxes));
+        assert_eq!(FeedMode::parse("fast"), None);
+    }
+}

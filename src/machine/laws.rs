@@ -1,0 +1,246 @@
+//! The law tests every machine must pass (shared by the native tests and the wasm tests, so not
+//! `cfg(test)`).
+//!
+//! 1. **Round trip** ([`check_round_trip`]): on a grid of tip positions (corners, edges and
+//!    centre of the machine's [`Workspace`]) × tool axes (vertical, 1e-6°, 0.25°, 0.5°, 1°, 10°,
+//!    45°, 90°, 135°, 180° and exactly the workspace's largest tilt, at azimuths including
+//!    ±180° ± 1e-4° and ±90°), `forward(inverse(p, n, None)) = (p, realised_axis(p, n))` within
+//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`]; a tilt 3° beyond the workspace's largest
+//!    (when below 180°) must be refused.
+//! 2. **Paths** ([`check_paths`]): sweeps of the azimuth over two full turns (crossing ±180°)
+//!    and a meridian through the vertical, each point solved with the previous axes: the round
+//!    trip still holds (orientation within `branch_freedom`), and every rotary axis moves by at
+//!    most [`MAX_ROTARY_STEP_DEG`] per step (a single-revolution axis may instead wrap by
+//!    exactly 360°), except where the realised axis itself jumps (a fixed-tilt nozzle passing
+//!    over the vertical) and next to a hold zone (`branch_freedom > 0`: on leaving it a held
+//!    axis may have to catch up; the interpolation splits such moves).
+
+// `!(x <= tol)` on purpose: a NaN error must fail the law.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use glam::DVec3;
+
+use super::{Machine, Workspace};
+use crate::num;
+
+/// |p − forward(inverse(p)).p| bound, mm.
+pub const POSITION_TOLERANCE: f64 = 1e-9;
+/// Angle between the realised and the forward tool axis, radians.
+pub const ANGLE_TOLERANCE: f64 = 1e-9;
+/// Largest change of a rotary axis between two path points 0.5° (azimuth) or 0.05° (tilt)
+/// apart, degrees. An azimuth-like axis turns by step / (distance to its pole) radians; with the
+/// pole held within 0.5° that is at most 0.05°/0.5° = 0.1 rad = 5.73° on the meridian.
+pub const MAX_ROTARY_STEP_DEG: f64 = 6.0;
+
+/// A tilt this far beyond the workspace's largest must be refused, degrees.
+pub const BEYOND_MARGIN_DEG: f64 = 3.0;
+
+/// What a law check measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LawReport {
+    /// Points checked.
+    pub points: usize,
+    /// Worst position error, mm.
+    pub worst_position_mm: f64,
+    /// Worst orientation error (beyond the allowed branch freedom), radians.
+    pub worst_angle_rad: f64,
+    /// Largest rotary step on the paths, degrees.
+    pub worst_rotary_step_deg: f64,
+}
+
+/// The unit vector of tilt `t` and azimuth `a` (degrees).
+pub fn axis(tilt_deg: f64, azimuth_deg: f64) -> DVec3 {
+    let (t, a) = (num::rad(tilt_deg), num::rad(azimuth_deg));
+    DVec3::new(
+        num::sin(t) * num::cos(a),
+        num::sin(t) * num::sin(a),
+        num::cos(t),
+    )
+}
+
+/// The sample positions of a workspace: 3 × 3 × 3 (min, middle, max per axis).
+pub fn positions(ws: &Workspace) -> Vec<DVec3> {
+    let mut v = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            for k in 0..3 {
+                let f = |lo: f64, hi: f64, s: usize| lo + (hi - lo) * s as f64 / 2.0;
+                v.push(DVec3::new(
+                    f(ws.min.x, ws.max.x, i),
+                    f(ws.min.y, ws.max.y, j),
+                    f(ws.min.z, ws.max.z, k),
+                ));
+            }
+        }
+    }
+    v
+}
+
+/// The sample tool axes of a workspace (singular ones included).
+pub fn axes(ws: &Workspace) -> Vec<DVec3> {
+    let mut tilts: Vec<f64> = vec![0.0, 1e-6, 0.25, 0.5, 1.0, 10.0, 45.0, 90.0, 135.0, 180.0]
+        .into_iter()
+        .filter(|t| *t <= ws.max_tilt_deg)
+        .collect();
+    tilts.push(ws.max_tilt_deg);
+    let azimuths = [
+        0.0,
+        30.0,
+        45.0,
+        90.0,
+        135.0,
+        180.0 - 1e-4,
+        180.0,
+        -180.0 + 1e-4,
+        -90.0,
+        -45.0,
+        -120.0,
+    ];
+    let mut v = Vec::new();
+    for &t in &tilts {
+        if t == 0.0 || t == 180.0 {
+            v.push(axis(t, 0.0));
+            continue;
+        }
+        for &a in &azimuths {
+            v.push(axis(t, a));
+        }
+    }
+    v
+}
+
+fn check_one(
+    m: &dyn Machine,
+    p: DVec3,
+    n: DVec3,
+    previous: Option<&[f64]>,
+    rep: &mut LawReport,
+) -> Result<Vec<f64>, String> {
+    let a = m
+        .inverse(p, n, previous)
+        .map_err(|e| format!("{}: inverse({p}, {n}) failed: {e}", m.name()))?;
+    if a.len() != m.limits().len() {
+        return Err(format!(
+            "{}: inverse gave {} axes, limits has {}",
+            m.name(),
+            a.len(),
+            m.limits().len()
+        ));
+    }
+    let (q, nq) = m
+        .forward(&a)
+        .map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
+    let dp = (q - p).length();
+    let want = m.realised_axis(p, n);
+    let freedom = if previous.is_some() {
+        m.branch_freedom(p, n)
+    } else {
+        0.0
+    };
+    let da = (num::angle_between(nq, want) - freedom).max(0.0);
+    rep.points += 1;
+    rep.worst_position_mm = rep.worst_position_mm.max(dp);
+    rep.worst_angle_rad = rep.worst_angle_rad.max(da);
+    if !(dp <= POSITION_TOLERANCE)
+        || !(da <= ANGLE_TOLERANCE)
+        || !((nq.length() - 1.0).abs() <= 1e-12)
+    {
+        return Err(format!(
+            "{}: forward(inverse({p}, {n}, {previous:?})) = ({q}, {nq}) via axes {a:?}: position error {dp:e} mm, axis error {da:e} rad against realised {want}",
+            m.name()
+        ));
+    }
+    Ok(a)
+}
+
+/// Law 1: round trip on the grid, and refusal beyond the largest tilt.
+pub fn check_round_trip(m: &dyn Machine) -> Result<LawReport, String> {
+    let ws = m.workspace();
+    let mut rep = LawReport::default();
+    for p in positions(&ws) {
+        for n in axes(&ws) {
+            check_one(m, p, n, None, &mut rep)?;
+        }
+        if ws.max_tilt_deg < 180.0 - BEYOND_MARGIN_DEG {
+            let n = axis(ws.max_tilt_deg + BEYOND_MARGIN_DEG, 60.0);
+            if let Ok(a) = m.inverse(p, n, None) {
+                return Err(format!(
+                    "{}: tilt {}° beyond the workspace was accepted: {a:?}",
+                    m.name(),
+                    ws.max_tilt_deg + BEYOND_MARGIN_DEG
+                ));
+            }
+        }
+    }
+    Ok(rep)
+}
+
+fn walk(
+    m: &dyn Machine,
+    p: DVec3,
+    path: &[DVec3],
+    step_deg: f64,
+    rep: &mut LawReport,
+) -> Result<(), String> {
+    let limits = m.limits();
+    let mut prev: Option<(DVec3, Vec<f64>)> = None;
+    for &n in path {
+        let a = check_one(m, p, n, prev.as_ref().map(|(_, a)| a.as_slice()), rep)?;
+        if let Some((pn, pa)) = &prev {
+            let jump = num::angle_between(m.realised_axis(p, *pn), m.realised_axis(p, n));
+            let held = m.branch_freedom(p, *pn) > 0.0 || m.branch_freedom(p, n) > 0.0;
+            if jump <= num::rad(10.0 * step_deg) && !held {
+                for (k, l) in limits.iter().enumerate() {
+                    if !l.rotary {
+                        continue;
+                    }
+                    let mut d = (a[k] - pa[k]).abs();
+                    if (l.max - l.min) <= 360.0 + 1e-9 && d > 180.0 {
+                        d = (d - 360.0).abs();
+                    }
+                    rep.worst_rotary_step_deg = rep.worst_rotary_step_deg.max(d);
+                    if !(d <= MAX_ROTARY_STEP_DEG) {
+                        return Err(format!(
+                            "{}: axis {} jumps by {d}° between {pn} ({pa:?}) and {n} ({a:?})",
+                            m.name(),
+                            l.name
+                        ));
+                    }
+                }
+            }
+        }
+        prev = Some((n, a));
+    }
+    Ok(())
+}
+
+/// Law 2: continuity along azimuth sweeps and a meridian through the vertical.
+pub fn check_paths(m: &dyn Machine) -> Result<LawReport, String> {
+    let ws = m.workspace();
+    // Off-centre, so polar machines are away from their centre singularity.
+    let p = ws.min + (ws.max - ws.min) * 0.7;
+    let mut rep = LawReport::default();
+    for t in [0.3, 20.0, ws.max_tilt_deg.min(60.0)] {
+        if t > ws.max_tilt_deg {
+            continue;
+        }
+        let path: Vec<DVec3> = (0..=1440)
+            .map(|i| axis(t, -170.0 + 0.5 * i as f64))
+            .collect();
+        walk(m, p, &path, 0.5, &mut rep)?;
+    }
+    let top = ws.max_tilt_deg.min(20.0);
+    let steps = (2.0 * top / 0.05).round() as i64;
+    let path: Vec<DVec3> = (0..=steps)
+        .map(|i| {
+            let s = -top + 0.05 * i as f64;
+            if s >= 0.0 {
+                axis(s, 30.0)
+            } else {
+                axis(-s, 210.0)
+            }
+        })
+        .collect();
+    walk(m, p, &path, 0.05, &mut rep)?;
+    Ok(rep)
+}

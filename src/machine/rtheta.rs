@@ -1,0 +1,186 @@
+//! `core-r-theta`: a polar printer (Core R-Theta, cited in seeds 000 and 001) with a tilting
+//! nozzle. The bed turns by C about the vertical through the output origin; the head moves
+//! radially (X) on the line y = 0 and vertically (Z) and tilts by B in the XZ plane.
+//! Axes X C Z B.
+//!
+//! ## Convention
+//! C is a right-hand (counter-clockwise seen from above) rotation of the bed, degrees:
+//! `q = R_z(C)·p` is the tip in the machine frame and must lie on y = 0, so
+//! `C = −atan2(p_y, p_x)` and `q_x = |p_xy|`; the other branch `(C + 180°, q_x = −|p_xy|)` is
+//! taken when it keeps C nearer the previous value (C is unwrapped, unlimited), so a path
+//! through the centre does not spin the bed. In the machine frame the tool axis is
+//! `m = R_z(C)·n`; only its XZ part can be realised (the Y component is dropped):
+//! `B = atan2(m_x, m_z)` (B > 0 leans the nozzle body towards +X, as [`super::bhead`]).
+//! The pivot sits `L` (pivot-to-tip, 43 mm default) up the nozzle:
+//!
+//! ```text
+//! inverse: X = q_x + L sin B,  Z = p_z + L cos B − L
+//! forward: q = (X − L sin B, 0, Z − L cos B + L),  p = R_z(−C)·q,  n = R_z(−C)·(sin B, 0, cos B)
+//! ```
+//! At the centre (|p_xy| = 0) C is held.
+
+use glam::DVec3;
+
+use super::angles::{rot_z, unwrap_near, wrap180};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
+use crate::num;
+
+/// Parameters of [`RTheta`] (JSON `"kind": "r-theta"`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct RThetaParams {
+    /// Pivot-to-tip distance L, mm.
+    pub pivot_to_tip_mm: f64,
+    /// Largest |B|, degrees.
+    pub max_tilt_deg: f64,
+    /// Largest |X| (bed radius reach), mm.
+    pub max_radius_mm: f64,
+}
+
+impl Default for RThetaParams {
+    fn default() -> Self {
+        RThetaParams {
+            pivot_to_tip_mm: 43.0,
+            max_tilt_deg: 90.0,
+            max_radius_mm: f64::INFINITY,
+        }
+    }
+}
+
+/// The polar machine.
+#[derive(Clone, Debug)]
+pub struct RTheta {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: RThetaParams,
+}
+
+impl RTheta {
+    /// Build with axis letters `names` (X C Z B).
+    pub fn new(name: &str, names: &[String], params: RThetaParams) -> Result<RTheta, MachineError> {
+        if !(params.pivot_to_tip_mm.is_finite()
+            && params.max_tilt_deg > 0.0
+            && params.max_radius_mm > 0.0)
+        {
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "pivot_to_tip_mm must be finite, max_tilt_deg and max_radius_mm positive"
+                    .into(),
+            });
+        }
+        let r = params.max_radius_mm;
+        let limits = vec![
+            AxisLimit {
+                name: names[0].clone(),
+                rotary: false,
+                min: -r,
+                max: r,
+            },
+            AxisLimit::rotary(&names[1], f64::NEG_INFINITY, f64::INFINITY),
+            AxisLimit::linear(&names[2]),
+            AxisLimit::rotary(&names[3], -params.max_tilt_deg, params.max_tilt_deg),
+        ];
+        Ok(RTheta {
+            name: name.to_string(),
+            limits,
+            params,
+        })
+    }
+
+    /// (C degrees, q_x) for `p`, branch chosen next to `prev_c`.
+    fn c_of(p: DVec3, prev_c: Option<f64>) -> (f64, f64) {
+        let rho = (p.x * p.x + p.y * p.y).sqrt();
+        if rho < POLE_EPSILON {
+            return (prev_c.unwrap_or(0.0), 0.0);
+        }
+        let c1 = -num::deg(num::atan2(p.y, p.x));
+        match prev_c {
+            None => (wrap180(c1), rho),
+            Some(pc) => {
+                let a = unwrap_near(c1, pc);
+                let b = unwrap_near(c1 + 180.0, pc);
+                if (b - pc).abs() < (a - pc).abs() - 1e-9 {
+                    (b, -rho)
+                } else {
+                    (a, rho)
+                }
+            }
+        }
+    }
+
+    /// B (degrees) of `n` with the bed at C (degrees), holding `held` when undefined.
+    fn b_of(n: DVec3, c: f64, held: f64) -> f64 {
+        let m = rot_z(n, num::rad(c));
+        if (m.x * m.x + m.z * m.z).sqrt() < POLE_EPSILON {
+            held
+        } else {
+            num::deg(num::atan2(m.x, m.z))
+        }
+    }
+}
+
+impl Machine for RTheta {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n = check_input(&self.name, p, n)?;
+        let (c, qx) = RTheta::c_of(p, previous.and_then(|a| a.get(1).copied()));
+        let b = RTheta::b_of(
+            n,
+            c,
+            previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0),
+        );
+        let l = self.params.pivot_to_tip_mm;
+        let br = num::rad(b);
+        let axes = vec![qx + l * num::sin(br), c, p.z + l * num::cos(br) - l, b];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 4, axes)?;
+        let l = self.params.pivot_to_tip_mm;
+        let br = num::rad(axes[3]);
+        let (s, co) = (num::sin(br), num::cos(br));
+        let q = DVec3::new(axes[0] - l * s, 0.0, axes[2] - l * co + l);
+        let c = num::rad(axes[1]);
+        Ok((rot_z(q, -c), rot_z(DVec3::new(s, 0.0, co), -c)))
+    }
+    fn realised_axis(&self, p: DVec3, n: DVec3) -> DVec3 {
+        let (c, _) = RTheta::c_of(p, None);
+        let br = num::rad(RTheta::b_of(n / n.length(), c, 0.0));
+        rot_z(DVec3::new(num::sin(br), 0.0, num::cos(br)), -num::rad(c))
+    }
+    fn branch_freedom(&self, p: DVec3, n: DVec3) -> f64 {
+        let (c, _) = RTheta::c_of(p, None);
+        let m = rot_z(n / n.length(), num::rad(c));
+        if (p.x * p.x + p.y * p.y).sqrt() < POLE_EPSILON
+            || (m.x * m.x + m.z * m.z).sqrt() < POLE_EPSILON
+        {
+            core::f64::consts::PI
+        } else {
+            0.0
+        }
+    }
+    fn workspace(&self) -> Workspace {
+        // A square inside the reach: |p_xy| + L ≤ max_radius.
+        let h = ((self.params.max_radius_mm - self.params.pivot_to_tip_mm.abs()) / 2f64.sqrt())
+            .clamp(1.0, 100.0);
+        Workspace {
+            min: DVec3::new(-h, -h, 0.0),
+            max: DVec3::new(h, h, 200.0),
+            max_tilt_deg: self.params.max_tilt_deg.min(90.0),
+        }
+    }
+}

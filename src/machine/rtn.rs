@@ -1,0 +1,202 @@
+//! `rtn-slicer4rtn` and `rotbot`: the rotating tilted nozzle (seed 002). Axes X Y Z R, with the
+//! rotation letter R = `A` (Slicer4RTN `--rot-gcode`) or `U` (RotBot).
+//!
+//! ## Convention
+//! The nozzle has a fixed tilt α (45°) from vertical and turns about the vertical line through
+//! its tip. φ is the azimuth of the tool axis (tip → nozzle) in XY, measured counter-clockwise
+//! from +X; the rotation value is `R = φ + rot_offset` (Slicer4RTN `--rot-offset`, −90° by
+//! default: its 0° points to the front). Only the azimuth of a requested axis is realised:
+//! `realised n = (sin α cos φ, sin α sin φ, cos α)`; with `|n_xy| = 0` (planar moves) φ is held
+//! from the previous point (0 without one).
+//!
+//! ## Revolutions (`--rot-revolv`)
+//! - `single` (1): R ∈ [−180°, 180°] (the cables allow one turn). When consecutive points cross
+//!   ±180° the head must turn around the other way: [`Rtn::must_rotate_around`] tells the
+//!   emitter to insert Slicer4RTN's lifted rotate-around move.
+//! - `unlimited` (0, RotBot's slip ring): R is unwrapped continuously next to the previous value
+//!   (the emitter may `G92` it back modulo 360° at a layer change).
+//!
+//! ## Nozzle misalignment (RotBot)
+//! The tip sits off the rotation axis by `e_parallel` along the azimuth direction and
+//! `e_perpendicular` 90° counter-clockwise from it; the offset turns with R:
+//! `tip = (X, Y, Z) + R_z(φ)·(e_par, e_perp, 0)`, hence `(X, Y) = p_xy − R_z(φ)·(e_par, e_perp)`.
+
+use glam::DVec3;
+
+use super::angles::{rot_z, unwrap_near, wrap180};
+use super::{
+    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
+    POLE_EPSILON,
+};
+use crate::num;
+
+/// How far the rotation may turn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Revolution {
+    /// One turn, R ∈ [−180°, 180°].
+    Single,
+    /// Unlimited turns, continuous unwrap.
+    Unlimited,
+}
+
+/// Parameters of [`Rtn`] (JSON `"kind": "rtn"`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct RtnParams {
+    /// Fixed nozzle tilt α from vertical, degrees.
+    pub tilt_deg: f64,
+    /// Added to the azimuth to give the rotation value, degrees.
+    pub rot_offset_deg: f64,
+    /// Single or unlimited revolutions.
+    pub revolution: Revolution,
+    /// Tip offset along the azimuth direction, mm (RotBot calibration).
+    pub e_parallel_mm: f64,
+    /// Tip offset 90° counter-clockwise from the azimuth direction, mm.
+    pub e_perpendicular_mm: f64,
+}
+
+impl Default for RtnParams {
+    fn default() -> Self {
+        RtnParams {
+            tilt_deg: 45.0,
+            rot_offset_deg: -90.0,
+            revolution: Revolution::Single,
+            e_parallel_mm: 0.0,
+            e_perpendicular_mm: 0.0,
+        }
+    }
+}
+
+/// The rotating tilted nozzle.
+#[derive(Clone, Debug)]
+pub struct Rtn {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: RtnParams,
+}
+
+impl Rtn {
+    /// Build with axis letters `names` (X Y Z R).
+    pub fn new(name: &str, names: &[String], params: RtnParams) -> Result<Rtn, MachineError> {
+        if !(params.tilt_deg > 0.0 && params.tilt_deg < 90.0) {
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: format!("tilt_deg = {} must be in (0, 90)", params.tilt_deg),
+            });
+        }
+        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
+        limits.push(match params.revolution {
+            Revolution::Single => AxisLimit::rotary(&names[3], -180.0, 180.0),
+            Revolution::Unlimited => AxisLimit::rotary(&names[3], f64::NEG_INFINITY, f64::INFINITY),
+        });
+        Ok(Rtn {
+            name: name.to_string(),
+            limits,
+            params,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &RtnParams {
+        &self.params
+    }
+
+    /// In `single` mode, whether going from rotation `from` to `to` (degrees) crosses the ±180°
+    /// seam the short way, so the head must turn around the long way (the emitter lifts the
+    /// nozzle and rotates around, Slicer4RTN's move at radius + 1 mm).
+    pub fn must_rotate_around(&self, from: f64, to: f64) -> bool {
+        self.params.revolution == Revolution::Single && (to - from).abs() > 180.0
+    }
+
+    fn axis_of(&self, phi: f64) -> DVec3 {
+        let t = num::rad(self.params.tilt_deg);
+        DVec3::new(
+            num::sin(t) * num::cos(phi),
+            num::sin(t) * num::sin(phi),
+            num::cos(t),
+        )
+    }
+
+    fn offset(&self, phi: f64) -> DVec3 {
+        rot_z(
+            DVec3::new(
+                self.params.e_parallel_mm,
+                self.params.e_perpendicular_mm,
+                0.0,
+            ),
+            phi,
+        )
+    }
+}
+
+impl Machine for Rtn {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n = check_input(&self.name, p, n)?;
+        let prev = previous.and_then(|a| a.get(3).copied());
+        let target = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
+            prev.unwrap_or(self.params.rot_offset_deg)
+        } else {
+            num::deg(num::atan2(n.y, n.x)) + self.params.rot_offset_deg
+        };
+        let r = match (self.params.revolution, prev) {
+            (Revolution::Unlimited, Some(pr)) => unwrap_near(target, pr),
+            (Revolution::Single, Some(pr)) => {
+                // Exactly on the seam (+180° ≡ −180°): keep the side of the previous value.
+                let w = wrap180(target);
+                if w == 180.0 && pr < 0.0 {
+                    -180.0
+                } else {
+                    w
+                }
+            }
+            _ => wrap180(target),
+        };
+        let phi = num::rad(r - self.params.rot_offset_deg);
+        let o = self.offset(phi);
+        let axes = vec![p.x - o.x, p.y - o.y, p.z, r];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 4, axes)?;
+        let phi = num::rad(axes[3] - self.params.rot_offset_deg);
+        Ok((
+            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
+            self.axis_of(phi),
+        ))
+    }
+    fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
+        let phi = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() {
+            0.0
+        } else {
+            num::atan2(n.y, n.x)
+        };
+        self.axis_of(phi)
+    }
+    fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
+        if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() {
+            core::f64::consts::PI
+        } else {
+            0.0
+        }
+    }
+    fn workspace(&self) -> Workspace {
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg: 180.0,
+        }
+    }
+}

@@ -1,0 +1,349 @@
+//! `ratrig-vcore3-3z`: the triple-Z tilting bed of seed 001 (Cocco et al., SCF '25). Axes
+//! X Y Z U V = x, y, z₀, z₁, z₂. Closed form both ways (seed 001 §3, Eqs. 1–23), no iteration.
+//!
+//! ## Frames and parameters (seed 001 §3)
+//! Bed space (^): the part/output frame; the nozzle touches its origin when all axes are 0.
+//! World space: origin at ball 0 when homed, `e₃` up. Balls `b̂ᵢ` (bed space, all at the same
+//! z = `ball_z`) slide on rails of direction `dᵢ = (cos σᵢ, sin σᵢ, 0)`; each ball stays in the
+//! vertical plane `nᵢ·b + kᵢ = 0`, `nᵢ = e₃ × dᵢ`, `kᵢ = −nᵢ·b̄ᵢ`, `b̄ᵢ = b̂ᵢ − b̂₀` (Eq. 3),
+//! at height `(bᵢ)_z = −zᵢ` (Eq. 1). The tool axis n̂ (tip → nozzle, bed space) is realised by
+//! the bed normal `n' = (−n̂_x, −n̂_y, n̂_z)`.
+//!
+//! ## Inverse (§3.1)
+//! `M = [t b n']ᵀ`, `b = n'×e₁/|·|`, `t = b×n'/|·|` (Eq. 4); plane-space normals
+//! `ñᵢ = (M nᵢ)_{xy}`, ball offsets `l̃ᵢ = (b̂ᵢ − b̂₀)_{xy}` (Eqs. 5–6). Ball 0 lies on the line
+//! `b̃·ñ₀ = 0` (k₀ = 0), direction `d̃₀ = (ñ₀)_{−y,x}/|ñ₀|` (the paper's d̃₀: any direction of
+//! that line), `b̃₀ = t d̃₀` (Eq. 7). Eq. 8 gives t(θ); Eq. 9 gives
+//! `α cos θ + β sin θ + γ = 0`, solved for the smallest |θ| by Eq. 11 (half-angle tangent,
+//! cancellation-free root). Then (Eq. 14–15)
+//!
+//! ```text
+//! p' = Mᵀ R_θ (p̂ − b̂₀) + b̂₀ + (b₀)_{x,y,0},   (b₀)_{xy} = (Mᵀ (t d̃₀, 0))_{xy}
+//! x = p'_x, y = p'_y, z₀ = p'_z, zᵢ = z₀ − (Mᵀ R_θ (b̂ᵢ − b̂₀))_z   (i = 1, 2)
+//! ```
+//!
+//! ## Forward (§3.2)
+//! R₁ about `a₁ = e₃ × b̄₁/|·|` so that `(R₁ b̄₁)_z = z₀ − z₁` (Eq. 16), R₂ about
+//! `a₂ = R₁b̄₁/|·|` so that `(R₂R₁ b̄₂)_z = z₀ − z₂` (Eq. 17), each by Rodrigues (Eqs. 18–19)
+//! and Eq. 11; then the 2-D problem of Eqs. 20–22 in world xy for (t', θ'); finally (Eq. 23)
+//!
+//! ```text
+//! R = R_{θ'} R₂ R₁,  p̂ = Rᵀ((x − t'd₀ₓ, y − t'd₀ᵧ, z₀) − b̂₀) + b̂₀,  n' = R e₃,  n̂ = (n')_{−x,−y,z}
+//! ```
+//!
+//! The paper's preset (§4.1): b̂₀ = (−4.07, −12.16), b̂₁ = (304.93, −12.16),
+//! b̂₂ = (150.43, 296.84), ball z = −45.7 mm, slots 29.89°, 150.11°, −90°, tilt ≤ 30°.
+//! RepRapFirmware refuses negative axis values by default: the emitter offsets the Z axes with
+//! `G92` when needed; the values here are raw.
+
+use glam::{DVec2, DVec3};
+
+use super::angles::{rot_z, rotate, tilt};
+use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use crate::num;
+
+/// Parameters of [`ThreeZ`] (JSON `"kind": "three-z"`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct ThreeZParams {
+    /// Ball positions b̂₀, b̂₁, b̂₂ in bed space (x, y), mm.
+    pub balls_xy: [[f64; 2]; 3],
+    /// The balls' z in bed space (negative: below the bed surface), mm.
+    pub ball_z_mm: f64,
+    /// Rail (slot) directions σ₀, σ₁, σ₂ from the X axis, degrees.
+    pub slot_angles_deg: [f64; 3],
+    /// Largest bed tilt, degrees.
+    pub max_tilt_deg: f64,
+    /// Planar build volume (x, y, z), mm — where the law tests sample.
+    pub build_volume_mm: [f64; 3],
+    /// Rail travel of each ball from its planar position (inward towards the balls' centroid,
+    /// outward), mm; `None` does not check. Seed 001 §4.1: 69 mm inward, 19 mm outward.
+    pub rail_travel_mm: Option<[f64; 2]>,
+}
+
+impl Default for ThreeZParams {
+    fn default() -> Self {
+        ThreeZParams {
+            balls_xy: [[-4.07, -12.16], [304.93, -12.16], [150.43, 296.84]],
+            ball_z_mm: -45.7,
+            slot_angles_deg: [29.89, 150.11, -90.0],
+            max_tilt_deg: 30.0,
+            build_volume_mm: [300.0, 293.0, 205.0],
+            rail_travel_mm: None,
+        }
+    }
+}
+
+/// Solve `α cos θ + β sin θ + γ = 0` for the θ of smallest |θ| (seed 001 Eq. 11).
+/// `None` when there is no real solution (`α² + β² < γ²`).
+pub fn solve_trig(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
+    let s = alpha + gamma;
+    if s == 0.0 {
+        return Some(0.0);
+    }
+    let scale = alpha * alpha + beta * beta;
+    let mut d = scale - gamma * gamma;
+    if d < 0.0 {
+        if d > -1e-12 * scale {
+            d = 0.0;
+        } else {
+            return None;
+        }
+    }
+    let sign = if beta >= 0.0 { 1.0 } else { -1.0 };
+    let den = -beta - sign * d.sqrt();
+    if den == 0.0 {
+        return Some(core::f64::consts::PI);
+    }
+    Some(2.0 * num::atan(s / den))
+}
+
+fn perp(v: DVec2) -> DVec2 {
+    DVec2::new(-v.y, v.x)
+}
+
+/// The triple-Z bed machine.
+#[derive(Clone, Debug)]
+pub struct ThreeZ {
+    name: String,
+    limits: Vec<AxisLimit>,
+    params: ThreeZParams,
+    /// b̂ᵢ (bed space, 3-D).
+    b_hat: [DVec3; 3],
+    /// l̂ᵢ = b̂ᵢ − b̂₀ = b̄ᵢ (3-D, z = 0).
+    l: [DVec3; 3],
+    /// Rail directions dᵢ (xy).
+    d: [DVec2; 3],
+    /// Rail-plane normals nᵢ = e₃ × dᵢ (xy).
+    nrm: [DVec2; 3],
+    /// kᵢ = −nᵢ·b̄ᵢ.
+    k: [f64; 3],
+}
+
+impl ThreeZ {
+    /// Build with axis letters `names` (X Y Z U V).
+    pub fn new(name: &str, names: &[String], params: ThreeZParams) -> Result<ThreeZ, MachineError> {
+        let ok = params.balls_xy.iter().flatten().all(|v| v.is_finite())
+            && params.ball_z_mm.is_finite()
+            && params.slot_angles_deg.iter().all(|v| v.is_finite())
+            && params.max_tilt_deg > 0.0
+            && params.max_tilt_deg < 90.0;
+        if !ok {
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "balls_xy, ball_z_mm, slot_angles_deg must be finite and max_tilt_deg in (0, 90)".into(),
+            });
+        }
+        let b_hat = params
+            .balls_xy
+            .map(|[x, y]| DVec3::new(x, y, params.ball_z_mm));
+        let l = b_hat.map(|b| b - b_hat[0]);
+        let d = params
+            .slot_angles_deg
+            .map(|s| DVec2::new(num::cos(num::rad(s)), num::sin(num::rad(s))));
+        let nrm = d.map(perp);
+        let k = [0, 1, 2].map(|i| -nrm[i].dot(l[i].truncate()));
+        let tri = l[1].truncate().perp_dot(l[2].truncate());
+        if tri.abs() < 1e-6 || nrm[0].dot(d[0]).abs() > 1e-12 {
+            return Err(MachineError::BadSpec {
+                machine: name.to_string(),
+                message: "the three balls are collinear".into(),
+            });
+        }
+        let limits = names.iter().map(|n| AxisLimit::linear(n)).collect();
+        Ok(ThreeZ {
+            name: name.to_string(),
+            limits,
+            params,
+            b_hat,
+            l,
+            d,
+            nrm,
+            k,
+        })
+    }
+
+    /// Solve the 2-D rigid-triangle problem (Eqs. 8–11 / 21–22): ball offsets `l1, l2` (xy),
+    /// ball-0 line direction `d0`, rail normals `n1, n2`, offsets `k1, k2` → (t, θ).
+    fn solve_triangle(
+        l1: DVec2,
+        l2: DVec2,
+        d0: DVec2,
+        n1: DVec2,
+        n2: DVec2,
+        k1: f64,
+        k2: f64,
+    ) -> Option<(f64, f64)> {
+        let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
+        let (c1, s1) = (l1.dot(n1), perp(l1).dot(n1));
+        let (c2, s2) = (l2.dot(n2), perp(l2).dot(n2));
+        let alpha = dn1 * c2 - dn2 * c1;
+        let beta = dn1 * s2 - dn2 * s1;
+        let gamma = d0.dot(n1 * k2 - n2 * k1);
+        let theta = solve_trig(alpha, beta, gamma)?;
+        if dn1.abs() < 1e-300 {
+            return None;
+        }
+        let t = -(c1 * num::cos(theta) + s1 * num::sin(theta) + k1) / dn1;
+        Some((t, theta))
+    }
+
+    fn unreachable(&self, p: DVec3, n: DVec3, reason: String) -> MachineError {
+        MachineError::UnreachableOrientation {
+            machine: self.name.clone(),
+            p,
+            n,
+            reason,
+        }
+    }
+}
+
+/// `M v` and `Mᵀ w` for M = [t b n']ᵀ.
+struct Basis {
+    t: DVec3,
+    b: DVec3,
+    n: DVec3,
+}
+
+impl Basis {
+    fn apply(&self, v: DVec3) -> DVec3 {
+        DVec3::new(self.t.dot(v), self.b.dot(v), self.n.dot(v))
+    }
+    fn apply_t(&self, w: DVec3) -> DVec3 {
+        self.t * w.x + self.b * w.y + self.n * w.z
+    }
+}
+
+impl Machine for ThreeZ {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn limits(&self) -> &[AxisLimit] {
+        &self.limits
+    }
+    fn inverse(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        _previous: Option<&[f64]>,
+    ) -> Result<Vec<f64>, MachineError> {
+        let n_hat = check_input(&self.name, p, n)?;
+        let tilt_deg = num::deg(tilt(n_hat));
+        if tilt_deg > self.params.max_tilt_deg + super::LIMIT_SLACK_DEG {
+            return Err(self.unreachable(
+                p,
+                n_hat,
+                format!(
+                    "the bed would tilt {tilt_deg:.3}°, beyond max_tilt_deg = {}°",
+                    self.params.max_tilt_deg
+                ),
+            ));
+        }
+        // Eq. 4.
+        let np = DVec3::new(-n_hat.x, -n_hat.y, n_hat.z);
+        let b = np.cross(DVec3::X).normalize();
+        let t = b.cross(np).normalize();
+        let m = Basis { t, b, n: np };
+        // Eq. 5.
+        let nt = self.nrm.map(|v| m.apply(v.extend(0.0)).truncate());
+        let d0 = perp(nt[0]) / nt[0].length();
+        let (tt, theta) = ThreeZ::solve_triangle(
+            self.l[1].truncate(),
+            self.l[2].truncate(),
+            d0,
+            nt[1],
+            nt[2],
+            self.k[1],
+            self.k[2],
+        )
+        .ok_or_else(|| {
+            self.unreachable(
+                p,
+                n_hat,
+                "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into(),
+            )
+        })?;
+        // Eq. 12/14.
+        let b0w = m.apply_t((d0 * tt).extend(0.0));
+        let rot = |v: DVec3| m.apply_t(rot_z(v, theta));
+        let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + DVec3::new(b0w.x, b0w.y, 0.0);
+        let z0 = pp.z;
+        // Eq. 15.
+        if let Some([inward, outward]) = self.params.rail_travel_mm {
+            // Ball i is at b₀ʷ + Mᵀ R_θ l̂ᵢ (xy); planar it is at l̂ᵢ. Its slide along the rail,
+            // signed towards the centroid of the balls, must stay within the rail.
+            let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
+            for i in 0..3 {
+                let now = DVec2::new(b0w.x, b0w.y) + rot(self.l[i]).truncate();
+                let into = if self.d[i].dot((centroid - self.l[i]).truncate()) >= 0.0 {
+                    self.d[i]
+                } else {
+                    -self.d[i]
+                };
+                let slide = into.dot(now - self.l[i].truncate());
+                if slide > inward + crate::tolerance::LENGTH_EPSILON
+                    || -slide > outward + crate::tolerance::LENGTH_EPSILON
+                {
+                    return Err(self.unreachable(
+                        p,
+                        n_hat,
+                        format!("ball {i} would slide {slide:.3} mm inward along its rail, beyond the rail travel [-{outward}, {inward}] mm"),
+                    ));
+                }
+            }
+        }
+        let axes = vec![pp.x, pp.y, z0, z0 - rot(self.l[1]).z, z0 - rot(self.l[2]).z];
+        check_limits(&self.name, &self.limits, &axes, p)?;
+        Ok(axes)
+    }
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        check_count(&self.name, 5, axes)?;
+        let (x, y, z0, z1, z2) = (axes[0], axes[1], axes[2], axes[3], axes[4]);
+        let fail = |what: &str| MachineError::UnreachableOrientation {
+            machine: self.name.clone(),
+            p: DVec3::new(x, y, z0),
+            n: DVec3::Z,
+            reason: format!(
+                "the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"
+            ),
+        };
+        // Eqs. 16–19: rotation of v about a so that its z becomes zt.
+        let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
+            let va = v.dot(a);
+            solve_trig(v.z - a.z * va, a.cross(v).z, a.z * va - zt)
+        };
+        let (l1, l2) = (self.l[1], self.l[2]);
+        let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
+        let th1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
+        let r1l1 = rotate(l1, a1, th1);
+        let a2 = r1l1.normalize();
+        let th2 = solve_rot(rotate(l2, a1, th1), a2, z0 - z2).ok_or_else(|| fail("R2"))?;
+        let r21 = |v: DVec3| rotate(rotate(v, a1, th1), a2, th2);
+        let r21t = |v: DVec3| rotate(rotate(v, a2, -th2), a1, -th1);
+        // Eqs. 20–22.
+        let (tp, thp) = ThreeZ::solve_triangle(
+            r21(l1).truncate(),
+            r21(l2).truncate(),
+            self.d[0],
+            self.nrm[1],
+            self.nrm[2],
+            self.k[1],
+            self.k[2],
+        )
+        .ok_or_else(|| fail("the balls cannot reach their rails"))?;
+        // Eq. 23.
+        let b0 = self.d[0] * tp;
+        let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
+        let p = r21t(rot_z(v, -thp)) + self.b_hat[0];
+        let np = rot_z(r21(DVec3::Z), thp);
+        Ok((p, DVec3::new(-np.x, -np.y, np.z)))
+    }
+    fn workspace(&self) -> Workspace {
+        let v = self.params.build_volume_mm;
+        Workspace {
+            min: DVec3::ZERO,
+            max: DVec3::new(v[0], v[1], v[2]),
+            max_tilt_deg: self.params.max_tilt_deg,
+        }
+    }
+}

@@ -1,0 +1,60 @@
+//! The machine laws and the batch output under wasm (`wasm-pack test --node -- --test
+//! machine_wasm`); natively the same checks run as ordinary tests. The batch output is compared
+//! with text produced natively, so native and wasm are bit-identical (all trigonometry goes
+//! through libm).
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use warpslice::machine::{batch, laws, preset, preset_names};
+
+#[test]
+fn laws_hold_for_every_preset() {
+    for name in preset_names() {
+        let m = preset(name).and_then(|s| s.build()).unwrap();
+        laws::check_round_trip(m.as_ref()).unwrap();
+        laws::check_paths(m.as_ref()).unwrap();
+    }
+}
+
+const INPUT: &str = "100,120,5,0,0,1\n112.5,93.25,7,0.25,-0.3,0.9205976319760984\n40,35,60,-0.3,0.1,0.9486832980505138\n";
+
+#[test]
+fn batch_output_is_bit_identical_to_native() {
+    for (name, want) in EXPECTED {
+        let m = preset(name).and_then(|s| s.build()).unwrap();
+        let got = batch::inverse_csv(m.as_ref(), INPUT).unwrap();
+        assert_eq!(&got, want, "{name}");
+    }
+}
+
+/// Produced natively by `print_expected`.
+const EXPECTED: &[(&str, &str)] = &[
+    ("fullcontrol-prusa-b", "100,120,5,0\n124.55527562230206,93.25,5.392232762841857,15.192995933226873\n26.13047814942287,35,57.85927910529725,-17.5484006137923\n"),
+    ("open5x-ab", "100,120,5,0,0\n146.12208922341753,2.3799760411518287,6.59418342383269,-22.986391395138504,-39.8055710922652\n45.8530260724415,-44.473665961010276,48.42099788303082,18.434948822922014,-71.56505117707799\n"),
+    ("ratrig-vcore3-3z", "100,120,5,5,5\n93.16212612420115,105.40541667935857,0.16156240298221292,-76.82594298922275,54.58592695795845\n73.05238454911388,26.466151080733276,46.091261447679855,138.75717996366944,61.422163587025544\n"),
+    ("pax-5axis", "100,120,5,0,0\n112.5,93.25,7,39.80557109226518,-22.986391395138504\n40,35,60,71.565051177078,18.434948822922014\n"),
+    ("rotbot", "100,120,5,-90\n112.5,93.25,7,-140.19442890773482\n40,35,60,-288.434948822922\n"),
+("lathe-a", "100,120.10412149464312,87.61405596961119\n112.5,93.51236549248448,85.70702797087252\n40,69.46221994724903,30.25643716352927\n"),
+];
+
+/// Prints the EXPECTED table (run natively with `--ignored --nocapture` to regenerate).
+#[cfg(not(target_arch = "wasm32"))]
+#[test]
+#[ignore]
+fn print_expected() {
+    for name in [
+        "fullcontrol-prusa-b",
+        "open5x-ab",
+        "ratrig-vcore3-3z",
+        "pax-5axis",
+        "rotbot",
+        "lathe-a",
+    ] {
+        let m = preset(name).and_then(|s| s.build()).unwrap();
+        println!(
+            "    ({name:?}, {:?}),",
+            batch::inverse_csv(m.as_ref(), INPUT).unwrap()
+        );
+    }
+}
