@@ -9,7 +9,7 @@ use crate::anchor;
 use crate::job::{fnv1a64, Job, JobError, JOB_FORMAT};
 use crate::mesh::{self, Aabb, Mesh, MeshError, MeshReport, SubdivideOptions, SubdivideStats};
 use crate::tolerance::{DEFAULT_LAYER_HEIGHT, DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
-use crate::warp::{Warp, WarpError, WarpParams};
+use crate::warp::{WarpError, WarpParams};
 
 /// Whether to put the removable anchor slab under the warped part (see [`crate::anchor`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]

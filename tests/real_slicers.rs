@@ -47,7 +47,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
                 let Some(&(mi, wi)) = cases.get(i) else { break };
                 let (name, bytes) = &models[mi];
                 let (wname, params) = &common::acceptance_warps()[wi];
-                let r = run_case(kind, e_mode, name, bytes, params, &dir.join(format!("{i}")));
+                let r = run_case(kind, e_mode, bytes, params, &dir.join(format!("{i}")));
                 match r {
                     Ok(st) => table.lock().unwrap().push(format!(
                         "{name:40} {wname:15} pts {:7} layer-dev {:.4} outside {:.3} E {:.1}/{:.1} (anchor {:.1}) min-z {:.3} clamped {}",
@@ -72,7 +72,6 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
 fn run_case(
     kind: SlicerKind,
     e_mode: EMode,
-    name: &str,
     bytes: &[u8],
     params: &warpslice::warp::WarpParams,
     stem: &std::path::Path,

@@ -33,7 +33,7 @@ use crate::tolerance::{
     DEFAULT_MAX_SEGMENT, DEFAULT_RETRACT_LENGTH, DEFAULT_TOLERANCE, DEFAULT_TRAVEL_CLEARANCE, LENGTH_EPSILON,
 };
 use crate::toolpath::{Feature, ToolPoint};
-use crate::warp::{Shear, Warp};
+use crate::warp::Warp;
 
 pub mod extrusion;
 pub mod segment;
@@ -184,7 +184,7 @@ struct Pending {
 /// Pass 2 state.
 struct Core {
     job: Job,
-    warp: Shear,
+    warp: Box<dyn Warp>,
     opts: UnwarpOptions,
     reg: Registration,
     dx: f64,

@@ -277,7 +277,7 @@ pub struct WarpParams {
 impl WarpParams {
     /// Build the warp for a model whose model-frame bounding box is `model_bbox` (resolves the
     /// spec, validates it and checks monotonicity of the base blend over the bbox).
-    pub fn build(&mut self, model_bbox: &crate::mesh::Aabb) -> Result<Shear, WarpError> {
+    pub fn build(&mut self, model_bbox: &crate::mesh::Aabb) -> Result<Box<dyn Warp>, WarpError> {
         self.spec.resolve(model_bbox);
         self.spec.validate()?;
         let blend = match self.base {
@@ -310,7 +310,7 @@ impl WarpParams {
                 });
             }
         }
-        Ok(shear)
+        Ok(Box::new(shear))
     }
 }
 

@@ -13,7 +13,7 @@ use warpslice::mesh::Mesh;
 use warpslice::pipeline::WarpOptions;
 use warpslice::toolpath::{Feature, ToolPoint};
 use warpslice::unwarp::UnwarpOutput;
-use warpslice::warp::{Direction, Warp, WarpParams, WarpSpec};
+use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 /// `../shared/corpus/stl` next to the repository, if present.
 pub fn corpus_dir() -> Option<PathBuf> {
