@@ -20,7 +20,9 @@ fn to_js<T: serde::Serialize>(v: &T) -> Result<JsValue, JsError> {
 }
 
 fn set(obj: &js_sys::Object, key: &str, v: &JsValue) -> Result<(), JsError> {
-    js_sys::Reflect::set(obj, &JsValue::from_str(key), v).map(|_| ()).map_err(|_| JsError::new("cannot build the result object"))
+    js_sys::Reflect::set(obj, &JsValue::from_str(key), v)
+        .map(|_| ())
+        .map_err(|_| JsError::new("cannot build the result object"))
 }
 
 fn parse<T: serde::de::DeserializeOwned>(what: &str, json: &str) -> Result<T, JsError> {
@@ -39,7 +41,11 @@ pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsError> {
     let opts: WarpOptions = parse("warp options", options_json)?;
     let out = pipeline::warp_model(stl, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(&obj, "stl", &js_sys::Uint8Array::from(out.stl.as_slice()).into())?;
+    set(
+        &obj,
+        "stl",
+        &js_sys::Uint8Array::from(out.stl.as_slice()).into(),
+    )?;
     set(&obj, "job", &JsValue::from_str(&out.job.to_json_pretty()))?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
@@ -52,7 +58,11 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
     let opts: UnwarpOptions = parse("unwarp options", options_json)?;
     let out = unwarp::unwarp(gcode, &job, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(&obj, "gcode", &js_sys::Uint8Array::from(out.gcode.as_slice()).into())?;
+    set(
+        &obj,
+        "gcode",
+        &js_sys::Uint8Array::from(out.gcode.as_slice()).into(),
+    )?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
 }
@@ -60,8 +70,12 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
 /// An STL of a generated example part (`cube`, `cylinder`, `sphere`, `overhang`).
 #[wasm_bindgen]
 pub fn example_stl(name: &str) -> Result<Vec<u8>, JsError> {
-    let m = crate::shapes::example(name).ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
-    Ok(crate::mesh::write_stl(&m, &format!("warpslice example {name}")))
+    let m = crate::shapes::example(name)
+        .ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
+    Ok(crate::mesh::write_stl(
+        &m,
+        &format!("warpslice example {name}"),
+    ))
 }
 
 /// Streaming unwarp for the web worker: `scan` every chunk, `endScan`, `push` every chunk
@@ -77,7 +91,9 @@ impl UnwarpStream {
     pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsError> {
         let job = Job::from_json(job_json).map_err(js)?;
         let opts: UnwarpOptions = parse("unwarp options", options_json)?;
-        Ok(UnwarpStream { inner: Unwarper::new(&job, &opts).map_err(js)? })
+        Ok(UnwarpStream {
+            inner: Unwarper::new(&job, &opts).map_err(js)?,
+        })
     }
     /// Pass 1: a chunk of the G-code.
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsError> {
@@ -105,7 +121,18 @@ impl UnwarpStream {
         let tp = self.inner.take_toolpath();
         let mut v = Vec::with_capacity(tp.len() * 10);
         for p in tp {
-            v.extend_from_slice(&[p.p.x, p.p.y, p.p.z, p.n.x, p.n.y, p.n.z, p.e, p.layer as f64, if p.travel { 1.0 } else { 0.0 }, p.feature as u8 as f64]);
+            v.extend_from_slice(&[
+                p.p.x,
+                p.p.y,
+                p.p.z,
+                p.n.x,
+                p.n.y,
+                p.n.z,
+                p.e,
+                p.layer as f64,
+                if p.travel { 1.0 } else { 0.0 },
+                p.feature as u8 as f64,
+            ]);
         }
         v
     }
@@ -114,4 +141,83 @@ impl UnwarpStream {
         let r = self.inner.finish().map_err(js)?;
         to_js(&r)
     }
+}
+
+/// The mesh report of an STL (format, triangles, bbox, defects), without warping it.
+#[wasm_bindgen]
+pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsError> {
+    let (_, report) = crate::mesh::read_stl(stl).map_err(|e| JsError::new(&format!("STL: {e}")))?;
+    to_js(&report)
+}
+
+/// Every shipped machine preset as JSON: `[{ name, spec, axes: [{ name, rotary, min, max }],
+/// workspace_max_tilt_deg }]`; `spec` is the preset's JSON object, unbounded limits are `null`.
+#[wasm_bindgen]
+pub fn machine_presets() -> Result<String, JsError> {
+    let finite = |v: f64| {
+        if v.is_finite() {
+            serde_json::json!(v)
+        } else {
+            serde_json::Value::Null
+        }
+    };
+    let mut list = Vec::new();
+    for name in crate::machine::preset_names() {
+        let spec = crate::machine::preset(name).map_err(js)?;
+        let machine = spec.build().map_err(js)?;
+        let axes: Vec<serde_json::Value> = machine
+            .limits()
+            .iter()
+            .map(|l| serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": finite(l.min), "max": finite(l.max) }))
+            .collect();
+        let spec_value = serde_json::to_value(&spec).map_err(js)?;
+        list.push(serde_json::json!({
+            "name": name,
+            "spec": spec_value,
+            "axes": axes,
+            "workspace_max_tilt_deg": finite(machine.workspace().max_tilt_deg),
+        }));
+    }
+    serde_json::to_string(&list).map_err(js)
+}
+
+/// Layer surfaces of a job for display: every `every`-th slicing plane z' = k·h, sampled on a
+/// `grid`×`grid` lattice over the model's XY bounding box and mapped back to the model frame by
+/// T⁻¹. Returns 5 numbers per sample: x y z (model frame, mm), tilt of the tool axis from +Z
+/// (degrees), layer index k; samples whose z falls outside the model's z range are skipped.
+#[wasm_bindgen]
+pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>, JsError> {
+    let job = Job::from_json(job_json).map_err(js)?;
+    let mut params = job.warp.clone();
+    let warp = params.build(&job.model_bbox).map_err(js)?;
+    let (b, h) = (job.model_bbox, job.layer_height);
+    let every = every.max(1) as f64;
+    let grid = grid.clamp(2, 256);
+    let zt_min = job.warped_bbox.min.z - job.stl_z_offset;
+    let zt_max = job.warped_bbox.max.z - job.stl_z_offset;
+    let mut out = Vec::new();
+    if !(h > 0.0) {
+        return Ok(out);
+    }
+    let k0 = (zt_min / h).floor() as i64;
+    let k1 = (zt_max / h).ceil() as i64;
+    let mut k = k0;
+    while k <= k1 {
+        let zq = k as f64 * h;
+        for i in 0..grid {
+            for j in 0..grid {
+                let x = b.min.x + (b.max.x - b.min.x) * i as f64 / (grid - 1) as f64;
+                let y = b.min.y + (b.max.y - b.min.y) * j as f64 / (grid - 1) as f64;
+                let p = warp.inverse(glam::DVec3::new(x, y, zq));
+                if p.z < b.min.z || p.z > b.max.z || !p.is_finite() {
+                    continue;
+                }
+                let tilt =
+                    crate::num::deg(crate::num::angle_between(warp.tool_axis(p), glam::DVec3::Z));
+                out.extend_from_slice(&[p.x, p.y, p.z, tilt, k as f64]);
+            }
+        }
+        k += every as i64;
+    }
+    Ok(out)
 }

@@ -1,0 +1,141 @@
+// The heavy work, off the page's thread: warping, and the streaming two-pass unwarp of a G-code
+// File read in slices (never one big string). Messages in: {id, op, ...}; out: {id, type, ...}.
+import init, * as ws from './pkg/warpslice.js';
+
+const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
+
+/** Bytes per chunk read from the G-code File. */
+const CHUNK = 4 << 20;
+/** Most toolpath points kept for the preview (the download always has every line). */
+const PREVIEW_POINTS = 1_500_000;
+/** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
+const BYTES_PER_POINT = 28;
+
+function errText(e) {
+  return e && e.message ? e.message : String(e);
+}
+
+self.onmessage = async (ev) => {
+  const msg = ev.data;
+  try {
+    await ready;
+    if (msg.op === 'init') {
+      self.postMessage({ id: msg.id, type: 'done', version: ws.version(), presets: JSON.parse(ws.machine_presets()) });
+    } else if (msg.op === 'example') {
+      const stl = ws.example_stl(msg.name);
+      self.postMessage({ id: msg.id, type: 'done', stl }, [stl.buffer]);
+    } else if (msg.op === 'inspect') {
+      const report = ws.stl_report(new Uint8Array(msg.stl));
+      self.postMessage({ id: msg.id, type: 'done', report });
+    } else if (msg.op === 'warp') {
+      const out = ws.warp(new Uint8Array(msg.stl), JSON.stringify(msg.options));
+      const surfaces = new Float32Array(ws.layer_surfaces(out.job, msg.every || 5, msg.grid || 48));
+      self.postMessage({ id: msg.id, type: 'done', stl: out.stl, job: out.job, report: out.report, surfaces }, [out.stl.buffer, surfaces.buffer]);
+    } else if (msg.op === 'unwarp') {
+      await unwarpFile(msg);
+    }
+  } catch (e) {
+    self.postMessage({ id: msg.id, type: 'error', message: errText(e) });
+  }
+};
+
+async function readSlice(file, start, end) {
+  return new Uint8Array(await file.slice(start, end).arrayBuffer());
+}
+
+/** The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature | travel<<7). */
+class Preview {
+  constructor(stride) {
+    this.stride = stride;
+    this.count = 0;
+    this.seen = 0;
+    this.cap = 1 << 16;
+    this.alloc(this.cap);
+  }
+  alloc(cap) {
+    const grow = (Old, k) => {
+      const a = new Old(cap * k);
+      return a;
+    };
+    const pos = grow(Float32Array, 3), axis = grow(Float32Array, 3), layer = grow(Uint32Array, 1), flags = grow(Uint8Array, 1);
+    if (this.pos) {
+      pos.set(this.pos.subarray(0, this.count * 3));
+      axis.set(this.axis.subarray(0, this.count * 3));
+      layer.set(this.layer.subarray(0, this.count));
+      flags.set(this.flags.subarray(0, this.count));
+    }
+    Object.assign(this, { pos, axis, layer, flags, cap });
+  }
+  add(tp) {
+    for (let i = 0; i + 9 < tp.length; i += 10) {
+      const keep = this.seen % this.stride === 0;
+      this.seen++;
+      // Keep every point of a layer change so the layer ranges stay exact.
+      const layer = tp[i + 7];
+      const newLayer = this.count > 0 && this.layer[this.count - 1] !== layer;
+      if (!keep && !newLayer) continue;
+      if (this.count === this.cap) this.alloc(this.cap * 2);
+      const c = this.count++;
+      this.pos[c * 3] = tp[i]; this.pos[c * 3 + 1] = tp[i + 1]; this.pos[c * 3 + 2] = tp[i + 2];
+      this.axis[c * 3] = tp[i + 3]; this.axis[c * 3 + 1] = tp[i + 4]; this.axis[c * 3 + 2] = tp[i + 5];
+      this.layer[c] = layer;
+      this.flags[c] = (tp[i + 9] & 0x7f) | (tp[i + 8] ? 0x80 : 0);
+    }
+  }
+  result() {
+    const n = this.count;
+    return {
+      count: n, stride: this.stride, seen: this.seen,
+      pos: this.pos.slice(0, n * 3), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
+    };
+  }
+}
+
+async function unwarpFile(msg) {
+  const { id, file, job } = msg;
+  const options = { ...msg.options, collect_toolpath: true };
+  const total = file.size;
+  const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2 });
+  const head = await readSlice(file, 0, Math.min(total, 16));
+  if (head.length >= 4 && head[0] === 0x47 && head[1] === 0x43 && head[2] === 0x44 && head[3] === 0x45) {
+    throw new Error('this is a binary G-code (.bgcode): export plain-text G-code instead (PrusaSlicer: Printer settings → General → “Supports binary G-code” off)');
+  }
+  const t0 = performance.now();
+  const stream = new ws.UnwarpStream(job, JSON.stringify(options));
+  try {
+    for (let off = 0; off < total; off += CHUNK) {
+      stream.scan(await readSlice(file, off, off + CHUNK));
+      post('scan', Math.min(total, off + CHUNK));
+    }
+    const registration = stream.endScan();
+    self.postMessage({ id, type: 'registration', registration });
+    const parts = [];
+    const preview = new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS)));
+    let outBytes = 0;
+    const drain = () => {
+      const out = stream.takeOutput();
+      if (out.length) {
+        parts.push(out);
+        outBytes += out.length;
+      }
+      preview.add(stream.takeToolpath());
+    };
+    for (let off = 0; off < total; off += CHUNK) {
+      stream.push(await readSlice(file, off, off + CHUNK));
+      drain();
+      // Fold the pieces into a Blob now and then: Blob storage lives outside the JS heap.
+      if (parts.length > 16) parts.splice(0, parts.length, new Blob(parts));
+      post('unwarp', total + Math.min(total, off + CHUNK));
+    }
+    const report = stream.finish();
+    drain();
+    const blob = new Blob(parts, { type: 'text/x-gcode' });
+    const pv = preview.result();
+    self.postMessage(
+      { id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv },
+      [pv.pos.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer],
+    );
+  } finally {
+    stream.free();
+  }
+}
