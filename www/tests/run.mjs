@@ -1,0 +1,412 @@
+// End-to-end tests of the web app in a real browser (Debian chromium via playwright-core).
+//
+//   node www/tests/run.mjs            # everything (needs www/pkg, www/vendor, the CLI, prusa-slicer)
+//   WARPSLICE_WEB_BIG=0 node ...      # skip the 100 MB G-code test
+//
+// Serves www/ on 127.0.0.1, drives the page, slices the downloaded warped STL with prusa-slicer,
+// and checks the browser's output is byte-identical to the CLI's for the same settings.
+// Screenshots go to artifacts/web/. Prints `N passed, N failed`; exits non-zero on failure.
+import { chromium } from 'playwright-core';
+import { execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync, writeFileSync, copyFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { createHash } from 'node:crypto';
+import { startServer } from '../scripts/serve.mjs';
+
+const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+const ROOT = resolve(WWW, '..');
+const ART = join(ROOT, 'artifacts', 'web');
+const CORPUS = resolve(ROOT, '..', 'shared', 'corpus', 'stl');
+const SLICE = resolve(ROOT, '..', 'shared', 'tools', 'slice.sh');
+const TARGET = process.env.CARGO_TARGET_DIR ? resolve(process.env.CARGO_TARGET_DIR) : join(ROOT, 'target');
+const CLI = join(TARGET, 'release', 'warpslice');
+const BIG = process.env.WARPSLICE_WEB_BIG !== '0';
+const TMP = mkdtempSync(join(tmpdir(), 'warpslice-web-'));
+mkdirSync(ART, { recursive: true });
+
+let passed = 0, failed = 0;
+const t0all = Date.now();
+async function test(name, fn) {
+  const t0 = Date.now();
+  try {
+    await fn();
+    passed++;
+    console.log(`ok   ${name} (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
+  } catch (e) {
+    failed++;
+    console.log(`FAIL ${name}: ${e.stack || e}`);
+  }
+}
+function assert(cond, msg) {
+  if (!cond) throw new Error(`assertion failed: ${msg}`);
+}
+function sha(buf) {
+  return createHash('sha256').update(buf).digest('hex').slice(0, 16);
+}
+function sh(cmd, args, opts = {}) {
+  return execFileSync(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'], maxBuffer: 1 << 26, ...opts }).toString();
+}
+function cliWarp(stl, out, warpArgs) {
+  sh(CLI, ['warp', stl, ...warpArgs, '-o', out]);
+}
+function slice(stl, gcode) {
+  sh('bash', [SLICE, 'prusaslicer', 'rel', stl, gcode]);
+}
+
+// --- prerequisites ------------------------------------------------------------------------------
+for (const [what, p, fix] of [
+  ['wasm package', join(WWW, 'pkg', 'warpslice_bg.wasm'), 'wasm-pack build --release --target web --out-dir www/pkg'],
+  ['three.js vendor copy', join(WWW, 'vendor', 'three.module.js'), '(cd www && npm ci)'],
+  ['chromium', '/usr/bin/chromium', 'apt-get install -y chromium chromium-driver'],
+  ['slice.sh', SLICE, 'the shared tools folder ../shared/tools'],
+]) {
+  if (!existsSync(p)) {
+    console.log(`missing ${what} (${p}): run ${fix}`);
+    console.log('0 passed, 1 failed');
+    process.exit(1);
+  }
+}
+if (!existsSync(CLI)) {
+  console.log(`building the CLI (${CLI})`);
+  execFileSync('cargo', ['build', '--release'], { cwd: ROOT, stdio: 'inherit' });
+}
+
+// The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
+const wasm = await import(join(WWW, 'pkg', 'warpslice.js'));
+await wasm.default({ module_or_path: readFileSync(join(WWW, 'pkg', 'warpslice_bg.wasm')) });
+const presetNames = JSON.parse(wasm.machine_presets()).map((p) => p.name);
+
+// --- browser --------------------------------------------------------------------------------------
+const { server, url } = await startServer(WWW, 0);
+const profile = mkdtempSync(join(tmpdir(), 'warpslice-chromium-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: '/usr/bin/chromium',
+  headless: true,
+  acceptDownloads: true,
+  viewport: { width: 1280, height: 720 },
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update',
+    '--disable-sync', '--no-first-run', '--disable-quic', '--enable-precise-memory-info'],
+});
+const outside = [];
+context.on('request', (r) => {
+  const u = new URL(r.url());
+  if (['blob:', 'data:'].includes(u.protocol)) return;
+  if (u.hostname !== '127.0.0.1') outside.push(r.url());
+});
+const page = context.pages()[0] ?? (await context.newPage());
+const consoleErrors = [];
+page.on('console', (m) => {
+  if (m.type() === 'error') consoleErrors.push(m.text());
+});
+page.on('pageerror', (e) => consoleErrors.push(`pageerror: ${e.message}`));
+let shot = 0;
+async function screenshot(name) {
+  shot++;
+  await page.screenshot({ path: join(ART, `${String(shot).padStart(2, '0')}-${name}.png`) });
+}
+const tid = (id) => page.locator(`[data-testid="${id}"]`);
+
+async function download(testid, dest) {
+  const [dl] = await Promise.all([page.waitForEvent('download'), tid(testid).click()]);
+  await dl.saveAs(dest);
+  return readFileSync(dest);
+}
+/** Waits until the warp for the current form settled (warped download enabled, not warping). */
+async function warpSettled() {
+  await page.waitForFunction(() => {
+    const a = document.querySelector('[data-testid="warped-download"]');
+    return a && !a.classList.contains('disabled') && document.getElementById('warp-info').textContent !== 'warping…';
+  }, null, { timeout: 120000 });
+  await page.waitForTimeout(450); // a debounced re-warp (400 ms) may still be scheduled
+  await page.waitForFunction(() => !document.querySelector('[data-testid="warped-download"]').classList.contains('disabled'), null, { timeout: 120000 });
+}
+async function setConic(angle) {
+  await tid('machine-select').selectOption('cartesian');
+  await tid('warp-select').selectOption('conic');
+  await page.locator('#p-conic-angle').fill(String(angle));
+  await page.locator('#p-conic-angle').dispatchEvent('change');
+  await page.locator('#p-conic-direction').selectOption('outward');
+  await warpSettled();
+}
+async function unwarpInBrowser(gcodePath) {
+  await tid('gcode-input').setInputFiles(gcodePath);
+  await page.waitForFunction(() => {
+    const p = document.querySelector('[data-testid="progress"]');
+    const err = document.querySelector('[data-testid="error"]');
+    return p.dataset.done === '1' || !err.hidden;
+  }, null, { timeout: 600000 });
+  const err = await tid('error');
+  if (await err.isVisible()) throw new Error(`the page showed an error: ${await err.innerText()}`);
+}
+
+/** Full round trip for one model; compares every artifact with the CLI's. */
+async function roundTrip(label, stlPath, angle) {
+  const dir = join(TMP, label);
+  mkdirSync(dir, { recursive: true });
+  await setConic(angle);
+  await screenshot(`${label}-warped`);
+  const wStl = await download('warped-download', join(dir, 'W.stl'));
+  const wJob = await download('job-download', join(dir, 'W.job.json'));
+  cliWarp(stlPath, join(dir, 'C.stl'), ['--warp', 'conic', '--angle', String(angle), '--direction', 'outward']);
+  const cStl = readFileSync(join(dir, 'C.stl'));
+  assert(sha(wStl) === sha(cStl), `${label}: warped STL differs from the CLI's (${wStl.length} vs ${cStl.length} bytes)`);
+  assert(JSON.stringify(JSON.parse(wJob)) === JSON.stringify(JSON.parse(readFileSync(join(dir, 'C.job.json')))), `${label}: job differs from the CLI's`);
+  slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '-o', join(dir, 'C.out.gcode')]);
+  await unwarpInBrowser(join(dir, 'W.gcode'));
+  await screenshot(`${label}-toolpath`);
+  const out = await download('result-download', join(dir, 'B.out.gcode'));
+  const cli = readFileSync(join(dir, 'C.out.gcode'));
+  assert(out.length === cli.length && out.equals(cli), `${label}: browser G-code (${out.length} B, ${sha(out)}) is not byte-identical to the CLI's (${cli.length} B, ${sha(cli)})`);
+  return dir;
+}
+
+async function pixels() {
+  return sha(await page.locator('#canvas-wrap canvas').screenshot());
+}
+
+try {
+  await test('page loads with every preset and no CSP error', async () => {
+    await page.goto(url);
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 60000 });
+    const names = await tid('machine-select').locator('option').evaluateAll((os) => os.map((o) => o.value));
+    assert(JSON.stringify(names) === JSON.stringify(presetNames), `machine options ${names} ≠ presets ${presetNames}`);
+    for (const t of ['model-input', 'machine-select', 'warp-select', 'warped-download', 'job-download', 'gcode-input', 'progress', 'cancel', 'error', 'layer-slider', 'result-download']) {
+      assert((await tid(t).count()) === 1, `data-testid ${t} present once`);
+    }
+    await screenshot('loaded');
+  });
+
+  await test('generated model: every preset in turn shows its limits and re-warps', async () => {
+    await tid('example-select').selectOption('cylinder');
+    await warpSettled();
+    assert((await page.locator('#model-info').getAttribute('data-triangles')) > 0, 'triangle count shown');
+    for (const name of presetNames) {
+      await tid('machine-select').selectOption(name);
+      await warpSettled();
+      const info = await tid('machine-info').innerText();
+      assert(info.includes(name), `machine info names ${name}`);
+      const warn = await tid('warnings').innerText();
+      assert(warn.length > 0, `warnings/limits line for ${name}`);
+      await screenshot(`preset-${name}`);
+    }
+  });
+
+  let exampleDir;
+  await test('generated model: browser output byte-identical to the CLI (conic 30°, prusa-slicer)', async () => {
+    const p = join(TMP, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    exampleDir = await roundTrip('example-cylinder', p, 30);
+  });
+
+  await test('layer slider and move slider change the preview', async () => {
+    const vp = page.locator('#canvas-wrap');
+    const before = await vp.getAttribute('data-drawn');
+    const px0 = await pixels();
+    await tid('layer-slider').focus();
+    await page.keyboard.press('Home');
+    for (let i = 0; i < 5; i++) await page.keyboard.press('ArrowRight');
+    await page.waitForTimeout(200);
+    const after = await vp.getAttribute('data-drawn');
+    const px1 = await pixels();
+    assert(before !== after, `data-drawn changed (${before} → ${after})`);
+    assert(px0 !== px1, 'canvas pixels changed');
+    assert((await vp.getAttribute('data-layer')) !== null, 'layer attribute set');
+    await screenshot('layer-5');
+    await page.locator('#move-slider').focus();
+    await page.keyboard.press('Home');
+    await page.waitForTimeout(100);
+    assert((await vp.getAttribute('data-move')) === '0', 'move slider to the first move');
+    await tid('color-mode').selectOption('tilt');
+    await tid('show-travel').check();
+    await page.waitForTimeout(200);
+    await screenshot('tilt-travel');
+  });
+
+  if (existsSync(join(CORPUS, 'sm_gearwheel_bin.stl'))) {
+    await test('corpus model (sm_gearwheel_bin.stl): byte-identical to the CLI', async () => {
+      const p = join(CORPUS, 'sm_gearwheel_bin.stl');
+      await tid('model-input').setInputFiles(p);
+      await warpSettled();
+      await roundTrip('corpus-gearwheel', p, 25);
+    });
+  } else {
+    console.log('skip corpus model: ../shared/corpus/stl not present');
+  }
+
+  await test('non-matching G-code shows an error and the page survives', async () => {
+    // The G-code sliced for the generated cylinder, against the gearwheel's (or a re-warped) job.
+    await tid('warp-select').selectOption('belt');
+    await warpSettled();
+    const bad = join(TMP, 'hello.gcode');
+    writeFileSync(bad, 'G28\nG1 X10 Y10 Z0.2 E1 F1200\n');
+    await tid('gcode-input').setInputFiles(bad);
+    await page.waitForSelector('[data-testid="error"]:not([hidden])', { timeout: 60000 });
+    const text = await tid('error').innerText();
+    assert(/what to do/i.test(text), `error says what to do: ${text}`);
+    await screenshot('error-gcode');
+    if (exampleDir) {
+      await tid('gcode-input').setInputFiles(join(exampleDir, 'W.gcode'));
+      await page.waitForFunction(() => {
+        const p = document.querySelector('[data-testid="progress"]');
+        return p.dataset.done === '1' || document.getElementById('progress-text').textContent === 'failed';
+      }, null, { timeout: 60000 });
+      const failedText = await page.locator('#progress-text').innerText();
+      assert(failedText === 'failed', `the wrong model's G-code is refused (progress: ${failedText})`);
+      await screenshot('error-wrong-model');
+    }
+    assert((await page.evaluate(() => 1 + 1)) === 2, 'page alive');
+  });
+
+  await test('broken STL (sm_empty.stl) shows an error and the page survives', async () => {
+    const p = existsSync(join(CORPUS, 'broken', 'sm_empty.stl')) ? join(CORPUS, 'broken', 'sm_empty.stl') : join(TMP, 'empty.stl');
+    if (!existsSync(p)) writeFileSync(p, '');
+    await tid('model-input').setInputFiles(p);
+    await page.waitForSelector('[data-testid="error"]:not([hidden])', { timeout: 30000 });
+    const text = await tid('error').innerText();
+    assert(/cannot read/i.test(text), `error shown: ${text}`);
+    await screenshot('error-stl');
+    await tid('example-select').selectOption('cube');
+    await warpSettled();
+    assert(await tid('error').isHidden(), 'error cleared after a good model');
+  });
+
+  await test('settings round-trip through the URL hash', async () => {
+    await tid('machine-select').selectOption('pax-5axis');
+    await tid('warp-select').selectOption('tilted');
+    await warpSettled();
+    const hash = await page.evaluate(() => location.hash);
+    assert(hash.startsWith('#s='), 'hash written');
+    const page2 = await context.newPage();
+    await page2.goto(url + hash);
+    await page2.waitForSelector('body[data-ready="1"]');
+    assert((await page2.locator('[data-testid="machine-select"]').inputValue()) === 'pax-5axis', 'machine from hash');
+    assert((await page2.locator('[data-testid="warp-select"]').inputValue()) === 'tilted', 'warp from hash');
+    await page2.close();
+  });
+
+  await test('cancel stops an unwarp and the page stays usable', async () => {
+    if (!exampleDir) throw new Error('needs the generated-model round trip');
+    await tid('example-select').selectOption('');
+    await page.evaluate(() => (document.getElementById('example-select').value = ''));
+    await tid('example-select').selectOption('cylinder');
+    await setConic(30);
+    // A slow, large input: the example's G-code repeated does not register; use it once and cancel at once.
+    await tid('gcode-input').setInputFiles(join(exampleDir, 'W.gcode'));
+    await tid('cancel').click({ timeout: 5000 }).catch(() => {});
+    await page.waitForFunction(() => ['cancelled', ''].includes(document.getElementById('progress-text').textContent) || document.querySelector('[data-testid="progress"]').dataset.done === '1', null, { timeout: 60000 });
+    await unwarpInBrowser(join(exampleDir, 'W.gcode'));
+  });
+
+  if (BIG) {
+    await test('100 MB G-code goes through the browser (time, peak JS heap)', async () => {
+      const big = join(ART, 'big');
+      mkdirSync(big, { recursive: true });
+      const stl = join(big, 'tall.stl');
+      makeCylinder(stl, 60, 180, 96);
+      cliWarp(stl, join(big, 'W.stl'), ['--warp', 'conic', '--angle', '20', '--direction', 'outward', '--max-edge', '4']);
+      const key = sha(readFileSync(join(big, 'W.stl')));
+      const gcode = join(big, `W.${key}.gcode`);
+      if (!existsSync(gcode)) {
+        const ts = Date.now();
+        sh('prusa-slicer', ['--loglevel', '1', '--export-gcode', '--layer-height', '0.2', '--first-layer-height', '0.2', '--nozzle-diameter', '0.4',
+          '--filament-diameter', '1.75', '--gcode-flavor', 'marlin2', '--use-relative-e-distances', '--layer-gcode', 'G92 E0',
+          '--perimeters', '6', '--fill-density', '35%', '--fill-pattern', 'gyroid', '--output', gcode, join(big, 'W.stl')]);
+        console.log(`     sliced the 100 MB test G-code in ${((Date.now() - ts) / 1000).toFixed(0)} s`);
+      }
+      const size = statSync(gcode).size;
+      await page.goto(url);
+      await page.waitForSelector('body[data-ready="1"]');
+      await tid('model-input').setInputFiles(stl);
+      await warpSettled();
+      await tid('machine-select').selectOption('cartesian');
+      await tid('warp-select').selectOption('conic');
+      await page.locator('#p-conic-angle').fill('20');
+      await page.locator('#p-conic-angle').dispatchEvent('change');
+      await page.locator('#p-max_edge').fill('4');
+      await page.locator('#p-max_edge').dispatchEvent('change');
+      await warpSettled();
+      const cdp = await context.newCDPSession(page);
+      await cdp.send('Performance.enable');
+      let peak = 0;
+      let peakWorker = 0;
+      const sample = async () => {
+        const m = await cdp.send('Performance.getMetrics');
+        const v = m.metrics.find((x) => x.name === 'JSHeapUsedSize')?.value ?? 0;
+        peak = Math.max(peak, v);
+      };
+      // The worker's heap: sampled via its own CDP target when available.
+      const workers = [];
+      page.on('worker', (w) => workers.push(w));
+      const ts = Date.now();
+      let done = false;
+      const run = unwarpInBrowser(gcode).finally(() => (done = true));
+      let responsive = 0;
+      while (!done) {
+        await sample();
+        const t = Date.now();
+        await page.evaluate(() => 1);
+        responsive = Math.max(responsive, Date.now() - t);
+        for (const w of page.workers()) {
+          try {
+            const h = await w.evaluate(() => (performance.memory ? performance.memory.usedJSHeapSize : 0));
+            peakWorker = Math.max(peakWorker, h);
+          } catch {}
+        }
+        await new Promise((r) => setTimeout(r, 250));
+      }
+      await run;
+      const secs = (Date.now() - ts) / 1000;
+      await sample();
+      await screenshot('big-toolpath');
+      const [dl] = await Promise.all([page.waitForEvent('download'), tid('result-download').click()]);
+      const outPath = join(big, 'B.out.gcode');
+      await dl.saveAs(outPath);
+      const outSize = statSync(outPath).size;
+      console.log(`     BIG: input ${(size / 1e6).toFixed(1)} MB → output ${(outSize / 1e6).toFixed(1)} MB in ${secs.toFixed(1)} s; ` +
+        `peak JS heap page ${(peak / 2 ** 20).toFixed(1)} MiB, worker ${(peakWorker / 2 ** 20).toFixed(1)} MiB; slowest page round-trip ${responsive} ms`);
+      writeFileSync(join(ART, 'big.json'), JSON.stringify({ input_bytes: size, output_bytes: outSize, seconds: secs, peak_page_heap: peak, peak_worker_heap: peakWorker, slowest_page_roundtrip_ms: responsive }, null, 2));
+      assert(size >= 90e6, `the test G-code is ~100 MB (${(size / 1e6).toFixed(1)} MB)`);
+      assert(outSize > size / 2, 'output written');
+      assert(responsive < 2000, `page stayed responsive (${responsive} ms)`);
+      rmSync(outPath);
+    });
+  }
+
+  await test('no request left 127.0.0.1 and no console errors', async () => {
+    assert(outside.length === 0, `requests outside 127.0.0.1: ${outside.slice(0, 5).join(', ')}`);
+    const bad = consoleErrors.filter((e) => /Content Security Policy|pageerror|Refused/i.test(e));
+    assert(bad.length === 0, `console errors: ${bad.slice(0, 5).join(' | ')}`);
+  });
+} finally {
+  await context.close().catch(() => {});
+  server.close();
+  rmSync(profile, { recursive: true, force: true });
+  rmSync(TMP, { recursive: true, force: true });
+}
+
+function makeCylinder(out, R, H, N) {
+  const tris = [];
+  const p = (i, z) => [R * Math.cos((2 * Math.PI * (i % N)) / N), R * Math.sin((2 * Math.PI * (i % N)) / N), z];
+  for (let i = 0; i < N; i++) {
+    const a0 = p(i, 0), a1 = p(i + 1, 0), b0 = p(i, H), b1 = p(i + 1, H);
+    tris.push([a0, a1, b1], [a0, b1, b0], [[0, 0, 0], a1, a0], [[0, 0, H], b0, b1]);
+  }
+  const buf = Buffer.alloc(84 + 50 * tris.length);
+  buf.write('warpslice test cylinder', 0);
+  buf.writeUInt32LE(tris.length, 80);
+  tris.forEach((t, k) => {
+    let o = 84 + 50 * k + 12;
+    for (const v of t) for (const c of v) {
+      buf.writeFloatLE(c, o);
+      o += 4;
+    }
+  });
+  writeFileSync(out, buf);
+}
+
+console.log(`web tests took ${((Date.now() - t0all) / 1000).toFixed(0)} s`);
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed ? 1 : 0);
