@@ -99,6 +99,8 @@ web_tests() {
   else
     (cd www && npm install --no-audit --no-fund) || return
   fi
+  # Browser-only wasm tests (File, Blob, Worker); webdriver.json passes chromium's flags.
+  wasm-pack test --headless --chrome -- --features browser-tests --test web_wasm || return
   if [[ -f www/tests/run.mjs ]]; then
     node www/tests/run.mjs
   else

@@ -332,7 +332,8 @@ function explain(message, context) {
   else if (context === 'warp') todo = 'Lower the warp strength or angle, or change the flat base; then press Warp again.';
   else if (m.includes('binary g-code')) todo = '';
   else if (m.includes('arc') || m.includes('g2') || m.includes('g3')) todo = 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.';
-  else if (m.includes('hash') || m.includes('job')) todo = 'Use the job file of this exact warped STL; warp again if in doubt.';
+  else if (m.includes('hash')) todo = 'Use the job file of this exact warped STL; warp again if in doubt.';
+  else if (context === 'gcode' && m.includes('does not match')) todo = 'In the browser the placement is always detected: slice the warped STL downloaded in step 3, not the original model, with first layer height = layer height.';
   else if (context === 'gcode') todo = 'Check that this G-code was sliced from the warped STL downloaded in step 3 with these settings (same layer height, first layer height = layer height), and that it is plain text.';
   return todo;
 }
@@ -408,6 +409,7 @@ function initView() {
   const grid = new THREE.GridHelper(200, 20, 0x556070, 0x394250);
   grid.rotation.x = Math.PI / 2;
   scene.add(grid);
+  view.grid = grid;
   const modelGroup = new THREE.Group();
   const pathGroup = new THREE.Group();
   scene.add(modelGroup, pathGroup);
@@ -418,7 +420,9 @@ function initView() {
   const loop = () => {
     if (view.dirty) {
       view.dirty = false;
+      const t = performance.now();
       renderer.render(scene, camera);
+      wrap.dataset.renderMs = String(Math.max(Number(wrap.dataset.renderMs || 0), Math.round(performance.now() - t)));
     }
     requestAnimationFrame(loop);
   };
@@ -447,6 +451,7 @@ function frame(box) {
   const c = box.getCenter(new THREE.Vector3());
   const r = box.getSize(new THREE.Vector3()).length() / 2 || 10;
   view.controls.target.copy(c);
+  view.grid.position.set(Math.round(c.x / 10) * 10, Math.round(c.y / 10) * 10, 0);
   view.camera.position.copy(c).add(new THREE.Vector3(1.2 * r, -1.8 * r, 1.3 * r));
   view.camera.near = r / 100;
   view.camera.far = r * 100;
@@ -543,6 +548,7 @@ const tp = { data: null, built: null, layers: [] };
 function buildToolpath() {
   const d = tp.data;
   if (!d) return;
+  const t0 = performance.now();
   const showTravel = $('show-travel').checked;
   const mode = $('color-mode').value;
   const n = d.count;
@@ -557,18 +563,28 @@ function buildToolpath() {
   const c = new THREE.Color();
   let s = 0;
   let maxTilt = 0;
-  for (let i = 0; i < n; i++) maxTilt = Math.max(maxTilt, Math.acos(Math.min(1, d.axis[i * 3 + 2])) * 180 / Math.PI);
+  for (let i = 0; i < n; i++) if (d.tilt[i] > maxTilt) maxTilt = d.tilt[i];
+  const palette = new Float32Array(FEATURE_COLORS.length * 3);
+  FEATURE_COLORS.forEach((h, k) => c.setHex(h).toArray(palette, k * 3));
+  const travelRgb = TRAVEL_COLOR.toArray([]);
+  const rgb = [0, 0, 0];
   for (let i = 1; i < n; i++) {
     const travel = (d.flags[i] & 0x80) !== 0;
     if (travel && !showTravel) continue;
-    if (travel) c.copy(TRAVEL_COLOR);
-    else if (mode === 'feature') c.setHex(FEATURE_COLORS[d.flags[i] & 0x7f] ?? 0xc8c8c8);
-    else if (mode === 'tilt') tiltColor(Math.acos(Math.min(1, d.axis[i * 3 + 2])) * 180 / Math.PI, Math.max(1, maxTilt), c);
-    else c.setHSL(((d.layer[i] - layerMin) / Math.max(1, layerMax - layerMin)) * 0.8, 0.8, 0.55);
-    pos.set(d.pos.subarray((i - 1) * 3, i * 3), s * 6);
-    pos.set(d.pos.subarray(i * 3, i * 3 + 3), s * 6 + 3);
-    c.toArray(col, s * 6);
-    c.toArray(col, s * 6 + 3);
+    if (travel) {
+      rgb[0] = travelRgb[0]; rgb[1] = travelRgb[1]; rgb[2] = travelRgb[2];
+    } else if (mode === 'feature') {
+      const k = Math.min(d.flags[i] & 0x7f, FEATURE_COLORS.length - 1) * 3;
+      rgb[0] = palette[k]; rgb[1] = palette[k + 1]; rgb[2] = palette[k + 2];
+    } else {
+      if (mode === 'tilt') tiltColor(d.tilt[i], Math.max(1, maxTilt), c);
+      else c.setHSL(((d.layer[i] - layerMin) / Math.max(1, layerMax - layerMin)) * 0.8, 0.8, 0.55);
+      rgb[0] = c.r; rgb[1] = c.g; rgb[2] = c.b;
+    }
+    const o = s * 6, a = (i - 1) * 3, b = i * 3;
+    pos[o] = d.pos[a]; pos[o + 1] = d.pos[a + 1]; pos[o + 2] = d.pos[a + 2];
+    pos[o + 3] = d.pos[b]; pos[o + 4] = d.pos[b + 1]; pos[o + 5] = d.pos[b + 2];
+    col[o] = col[o + 3] = rgb[0]; col[o + 1] = col[o + 4] = rgb[1]; col[o + 2] = col[o + 5] = rgb[2];
     segPoint[s] = i;
     s++;
   }
@@ -603,6 +619,7 @@ function buildToolpath() {
   else if (mode === 'tilt') legendTilt(maxTilt, 'tool tilt');
   else $('legend').replaceChildren();
   onLayerChange(true);
+  $('canvas-wrap').dataset.buildMs = String(Math.round(performance.now() - t0));
 }
 
 function legendFeatures(d) {
@@ -652,7 +669,7 @@ function onLayerChange(resetMove) {
   a.needsUpdate = true;
   b.tip.position.copy(p);
   $('layer-out').textContent = `${layer} (${li + 1} of ${tp.layers.length})`;
-  const tilt = Math.acos(Math.min(1, n.z)) * 180 / Math.PI;
+  const tilt = d.tilt[pi];
   $('move-out').textContent = `${move + 1} of ${count} — x ${p.x.toFixed(2)} y ${p.y.toFixed(2)} z ${p.z.toFixed(2)}, tilt ${tilt.toFixed(1)}°`;
   const vp = $('canvas-wrap');
   vp.dataset.layer = String(layer);
@@ -693,7 +710,7 @@ async function loadModel(bytes, name) {
   try {
     const { report } = await call('inspect', { stl: bytes.buffer.slice(0) });
     state.stl = bytes;
-    state.modelReport = report;
+    state.modelReport = { ...report, bbox: box3(report.bbox) };
   } catch (e) {
     showError(`Cannot read “${name}”`, e.message, 'stl');
     showModel();
@@ -718,6 +735,12 @@ async function loadModel(bytes, name) {
   setViewMode('model');
   showModel();
   await doWarp();
+}
+
+/** The core's Aabb ({min: [x,y,z], max: [x,y,z]}) as {min: {x,y,z}, max: {x,y,z}}. */
+function box3(b) {
+  const v = (a) => (Array.isArray(a) ? { x: a[0], y: a[1], z: a[2] } : a);
+  return b ? { min: v(b.min), max: v(b.max) } : b;
 }
 
 function info(dl, rows) {
@@ -771,6 +794,7 @@ async function doWarp() {
   try {
     const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: 48 });
     if (seq !== warpSeq) return;
+    out.report.warped_bbox = box3(out.report.warped_bbox);
     state.warped = out;
     const r = out.report;
     const wb = r.warped_bbox;
@@ -825,10 +849,8 @@ function showWarnings() {
     if (size.some((v, i) => v > caps.volume[i])) add(`The part (${size.map((v) => v.toFixed(0)).join(' × ')} mm) exceeds the build volume ${caps.volume.join(' × ')} mm.`);
   }
   if (caps.radius) {
-    const r = Math.hypot(Math.max(Math.abs(mb.min.x), Math.abs(mb.max.x)) / 2 + (mb.max.x - mb.min.x) / 2 * 0, 0);
     const reach = Math.hypot((mb.max.x - mb.min.x) / 2, (mb.max.y - mb.min.y) / 2);
     if (reach > caps.radius) add(`The part reaches r = ${reach.toFixed(0)} mm from its centre; ${p.name} reaches ${caps.radius} mm.`);
-    void r;
   }
   if (!ul.children.length) add(`Within ${p.name}'s limits (largest tilt ${tilt.toFixed(1)}°).`, true);
 }
@@ -850,12 +872,14 @@ async function doUnwarp(file) {
   const prog = $('progress');
   const text = $('progress-text');
   prog.removeAttribute('data-done');
+  prog.removeAttribute('data-worker-bytes');
   text.textContent = 'reading…';
   const t0 = performance.now();
   try {
     const out = await call('unwarp', { file, job: state.warped.job, options: unwarpOptions() }, [], (ev) => {
       if (ev.type === 'progress') {
         prog.value = ev.done / ev.total;
+        prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
         text.textContent = `${ev.phase === 'scan' ? 'finding the part' : 'unwarping'} ${Math.round((100 * ev.done) / ev.total)} %`;
       }
     });
@@ -873,14 +897,18 @@ async function doUnwarp(file) {
     tp.data = out.preview;
     tp.built = null;
     tp.firstBuild = true;
+    const tv = performance.now();
     setViewMode('toolpath');
     $('sliders').hidden = false;
+    prog.dataset.viewMs = String(Math.round(performance.now() - tv));
+    prog.dataset.afterMs = String(Math.round(performance.now() - t0) - Number(prog.dataset.ms));
   } catch (e) {
     prog.value = 0;
     if (e.cancelled) {
       text.textContent = 'cancelled';
     } else {
       text.textContent = 'failed';
+      setViewMode('model');
       showError(`Cannot unwarp “${file.name}”`, e.message, 'gcode');
     }
   } finally {

@@ -3,11 +3,15 @@
 import init, * as ws from './pkg/warpslice.js';
 
 const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
+let wasmMemory = null;
+ready.then((exports) => (wasmMemory = exports.memory));
+/** Bytes the worker holds outside its JS heap: the wasm linear memory (never shrinks). */
+const wasmBytes = () => (wasmMemory ? wasmMemory.buffer.byteLength : 0);
 
 /** Bytes per chunk read from the G-code File. */
 const CHUNK = 4 << 20;
 /** Most toolpath points kept for the preview (the download always has every line). */
-const PREVIEW_POINTS = 1_500_000;
+const PREVIEW_POINTS = 250_000;
 /** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
 const BYTES_PER_POINT = 28;
 
@@ -58,13 +62,15 @@ class Preview {
       return a;
     };
     const pos = grow(Float32Array, 3), axis = grow(Float32Array, 3), layer = grow(Uint32Array, 1), flags = grow(Uint8Array, 1);
+    const tilt = grow(Float32Array, 1);
     if (this.pos) {
+      tilt.set(this.tilt.subarray(0, this.count));
       pos.set(this.pos.subarray(0, this.count * 3));
       axis.set(this.axis.subarray(0, this.count * 3));
       layer.set(this.layer.subarray(0, this.count));
       flags.set(this.flags.subarray(0, this.count));
     }
-    Object.assign(this, { pos, axis, layer, flags, cap });
+    Object.assign(this, { pos, axis, layer, flags, tilt, cap });
   }
   add(tp) {
     for (let i = 0; i + 9 < tp.length; i += 10) {
@@ -79,6 +85,7 @@ class Preview {
       this.pos[c * 3] = tp[i]; this.pos[c * 3 + 1] = tp[i + 1]; this.pos[c * 3 + 2] = tp[i + 2];
       this.axis[c * 3] = tp[i + 3]; this.axis[c * 3 + 1] = tp[i + 4]; this.axis[c * 3 + 2] = tp[i + 5];
       this.layer[c] = layer;
+      this.tilt[c] = (Math.acos(Math.max(-1, Math.min(1, tp[i + 5]))) * 180) / Math.PI;
       this.flags[c] = (tp[i + 9] & 0x7f) | (tp[i + 8] ? 0x80 : 0);
     }
   }
@@ -86,7 +93,7 @@ class Preview {
     const n = this.count;
     return {
       count: n, stride: this.stride, seen: this.seen,
-      pos: this.pos.slice(0, n * 3), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
+      bytes: this.cap * 33, pos: this.pos.slice(0, n * 3), tilt: this.tilt.slice(0, n), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
     };
   }
 }
@@ -95,7 +102,8 @@ async function unwarpFile(msg) {
   const { id, file, job } = msg;
   const options = { ...msg.options, collect_toolpath: true };
   const total = file.size;
-  const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2 });
+  let preview = null;
+  const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2, workerBytes: wasmBytes() + (preview ? preview.cap * 33 : 0) });
   const head = await readSlice(file, 0, Math.min(total, 16));
   if (head.length >= 4 && head[0] === 0x47 && head[1] === 0x43 && head[2] === 0x44 && head[3] === 0x45) {
     throw new Error('this is a binary G-code (.bgcode): export plain-text G-code instead (PrusaSlicer: Printer settings → General → “Supports binary G-code” off)');
@@ -110,7 +118,7 @@ async function unwarpFile(msg) {
     const registration = stream.endScan();
     self.postMessage({ id, type: 'registration', registration });
     const parts = [];
-    const preview = new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS)));
+    preview = new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS)));
     let outBytes = 0;
     const drain = () => {
       const out = stream.takeOutput();
@@ -133,7 +141,7 @@ async function unwarpFile(msg) {
     const pv = preview.result();
     self.postMessage(
       { id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv },
-      [pv.pos.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer],
+      [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer],
     );
   } finally {
     stream.free();

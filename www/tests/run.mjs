@@ -2,6 +2,7 @@
 //
 //   node www/tests/run.mjs            # everything (needs www/pkg, www/vendor, the CLI, prusa-slicer)
 //   WARPSLICE_WEB_BIG=0 node ...      # skip the 100 MB G-code test
+//   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100'
 //
 // Serves www/ on 127.0.0.1, drives the page, slices the downloaded warped STL with prusa-slicer,
 // and checks the browser's output is byte-identical to the CLI's for the same settings.
@@ -28,7 +29,9 @@ mkdirSync(ART, { recursive: true });
 
 let passed = 0, failed = 0;
 const t0all = Date.now();
+const GREP = process.env.WARPSLICE_WEB_GREP; // run only the tests whose name contains this
 async function test(name, fn) {
+  if (GREP && !name.includes(GREP) && !name.startsWith('page loads')) return;
   const t0 = Date.now();
   try {
     await fn();
@@ -305,7 +308,7 @@ try {
       const big = join(ART, 'big');
       mkdirSync(big, { recursive: true });
       const stl = join(big, 'tall.stl');
-      makeCylinder(stl, 60, 180, 96);
+      makeCylinder(stl, 60, 40, 96); // ≈ 105 MB of G-code with the settings below
       cliWarp(stl, join(big, 'W.stl'), ['--warp', 'conic', '--angle', '20', '--direction', 'outward', '--max-edge', '4']);
       const key = sha(readFileSync(join(big, 'W.stl')));
       const gcode = join(big, `W.${key}.gcode`);
@@ -337,40 +340,42 @@ try {
         const v = m.metrics.find((x) => x.name === 'JSHeapUsedSize')?.value ?? 0;
         peak = Math.max(peak, v);
       };
-      // The worker's heap: sampled via its own CDP target when available.
-      const workers = [];
-      page.on('worker', (w) => workers.push(w));
       const ts = Date.now();
       let done = false;
       const run = unwarpInBrowser(gcode).finally(() => (done = true));
       let responsive = 0;
+      let responsiveDuring = 0; // while the worker streams (the first WebGL frame afterwards is separate)
       while (!done) {
         await sample();
         const t = Date.now();
         await page.evaluate(() => 1);
-        responsive = Math.max(responsive, Date.now() - t);
-        for (const w of page.workers()) {
-          try {
-            const h = await w.evaluate(() => (performance.memory ? performance.memory.usedJSHeapSize : 0));
-            peakWorker = Math.max(peakWorker, h);
-          } catch {}
-        }
+        const rt = Date.now() - t;
+        if ((await tid('progress').getAttribute('data-done')) !== '1') responsiveDuring = Math.max(responsiveDuring, rt);
+        if (rt > 500) console.log(`     slow round-trip ${rt} ms at ${((t - ts) / 1000).toFixed(1)} s, progress ${await tid('progress').getAttribute('value')} ${await page.locator('#progress-text').innerText()}`);
+        responsive = Math.max(responsive, rt);
         await new Promise((r) => setTimeout(r, 250));
       }
       await run;
       const secs = (Date.now() - ts) / 1000;
       await sample();
+      // The worker reports its wasm linear memory + preview buffers (it has no performance.memory).
+      peakWorker = Number(await tid('progress').getAttribute('data-worker-bytes'));
+      console.log(`     after done: ${await tid('progress').getAttribute('data-after-ms')} ms, of which view ${await tid('progress').getAttribute('data-view-ms')} ms`);
+      const buildMs = await page.locator('#canvas-wrap').getAttribute('data-build-ms');
+      await page.waitForTimeout(500);
+      const renderMs = await page.locator('#canvas-wrap').getAttribute('data-render-ms');
       await screenshot('big-toolpath');
       const [dl] = await Promise.all([page.waitForEvent('download'), tid('result-download').click()]);
       const outPath = join(big, 'B.out.gcode');
       await dl.saveAs(outPath);
       const outSize = statSync(outPath).size;
       console.log(`     BIG: input ${(size / 1e6).toFixed(1)} MB → output ${(outSize / 1e6).toFixed(1)} MB in ${secs.toFixed(1)} s; ` +
-        `peak JS heap page ${(peak / 2 ** 20).toFixed(1)} MiB, worker ${(peakWorker / 2 ** 20).toFixed(1)} MiB; slowest page round-trip ${responsive} ms`);
-      writeFileSync(join(ART, 'big.json'), JSON.stringify({ input_bytes: size, output_bytes: outSize, seconds: secs, peak_page_heap: peak, peak_worker_heap: peakWorker, slowest_page_roundtrip_ms: responsive }, null, 2));
+        `peak JS heap (page) ${(peak / 2 ** 20).toFixed(1)} MiB, worker wasm memory + preview ${(peakWorker / 2 ** 20).toFixed(1)} MiB; ` +
+        `slowest page round-trip while unwarping ${responsiveDuring} ms, overall ${responsive} ms (preview build ${buildMs} ms, last frame ${renderMs} ms)`);
+      writeFileSync(join(ART, 'big.json'), JSON.stringify({ input_bytes: size, output_bytes: outSize, seconds: secs, peak_page_heap: peak, peak_worker_wasm_and_preview_bytes: peakWorker, preview_build_ms: Number(buildMs), render_ms: Number(renderMs), slowest_page_roundtrip_unwarping_ms: responsiveDuring, slowest_page_roundtrip_ms: responsive }, null, 2));
       assert(size >= 90e6, `the test G-code is ~100 MB (${(size / 1e6).toFixed(1)} MB)`);
       assert(outSize > size / 2, 'output written');
-      assert(responsive < 2000, `page stayed responsive (${responsive} ms)`);
+      assert(responsiveDuring < 1000, `page stayed responsive while unwarping (${responsiveDuring} ms)`);
       rmSync(outPath);
     });
   }
