@@ -6,7 +6,7 @@
 //! ```text
 //! wasm-pack test --headless --chrome -- --features browser-tests --test web_wasm
 //! # or, as scripts/test.sh does (wasm-pack adds --tests, compiling every tests/*.rs for wasm32):
-//! CHROMEDRIVER=$(command -v chromedriver) CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \\
+//! CHROMEDRIVER=$(command -v chromedriver) CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
 //!   cargo test --target wasm32-unknown-unknown --features browser-tests --test web_wasm
 //! ```
 //!
