@@ -196,7 +196,7 @@ pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>,
     let zt_min = job.warped_bbox.min.z - job.stl_z_offset;
     let zt_max = job.warped_bbox.max.z - job.stl_z_offset;
     let mut out = Vec::new();
-    if !(h > 0.0) {
+    if !h.is_finite() || h <= 0.0 {
         return Ok(out);
     }
     let k0 = (zt_min / h).floor() as i64;

@@ -110,14 +110,21 @@ async fn a_worker_gets_the_buffer_transferred_not_copied() {
     let arr = js_sys::Array::from(&v);
     let echoed = js_sys::Uint8Array::new(&arr.get(0)).to_vec();
     assert_eq!(echoed, stl);
-    assert_eq!(arr.get(1).as_f64(), Some(0.0), "the sender's buffer is detached after the transfer");
+    assert_eq!(
+        arr.get(1).as_f64(),
+        Some(0.0),
+        "the sender's buffer is detached after the transfer"
+    );
 }
 
 #[wasm_bindgen_test]
 fn the_presets_and_layer_surfaces_glue_answer() {
     let presets = warpslice::wasm::machine_presets().unwrap();
     let v: serde_json::Value = serde_json::from_str(&presets).unwrap();
-    assert_eq!(v.as_array().unwrap().len(), warpslice::machine::preset_names().len());
+    assert_eq!(
+        v.as_array().unwrap().len(),
+        warpslice::machine::preset_names().len()
+    );
     let stl = warpslice::wasm::example_stl("cylinder").unwrap();
     let out = warpslice::wasm::warp(&stl, warp_options()).unwrap();
     let job = get(&out, "job").as_string().unwrap();
