@@ -496,10 +496,21 @@ function showModel() {
       const n = w.surfaces.length / 5;
       const pos = new Float32Array(n * 3), col = new Float32Array(n * 3);
       const c = new THREE.Color();
+      // Samples beyond the machine's tilt limit are drawn magenta.
+      const limit = machineCaps(currentPreset()).maxTilt;
+      const over = new THREE.Color(0xff00ff);
+      let nOver = 0;
       for (let i = 0; i < n; i++) {
         pos.set(w.surfaces.subarray(i * 5, i * 5 + 3), i * 3);
-        tiltColor(w.surfaces[i * 5 + 3], maxTilt, c).toArray(col, i * 3);
+        const t = w.surfaces[i * 5 + 3];
+        if (limit != null && t > limit + 1e-6) {
+          over.toArray(col, i * 3);
+          nOver++;
+        } else {
+          tiltColor(t, maxTilt, c).toArray(col, i * 3);
+        }
       }
+      $('canvas-wrap').dataset.overLimit = String(nOver);
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
       g.setAttribute('color', new THREE.BufferAttribute(col, 3));
@@ -514,6 +525,14 @@ function showModel() {
       box.union(new THREE.Box3().setFromBufferAttribute(wg.attributes.position));
     }
     legendTilt(maxTilt, 'layer tilt');
+    if (Number($('canvas-wrap').dataset.overLimit) > 0) {
+      const row = document.createElement('div');
+      const sw = document.createElement('span');
+      sw.className = 'sw';
+      sw.style.background = '#ff00ff';
+      row.append(sw, 'beyond the machine');
+      $('legend').append(row);
+    }
   } else {
     $('legend').replaceChildren();
   }
