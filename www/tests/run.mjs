@@ -293,6 +293,27 @@ try {
     await page2.close();
   });
 
+  await test('settings export and import as JSON', async () => {
+    const p = join(TMP, 'settings.json');
+    const exported = JSON.parse(await download('settings-export', p));
+    assert(exported.machine === 'pax-5axis' && exported.warp.kind === 'tilted', `exported ${JSON.stringify(exported)}`);
+    exported.machine = 'open5x-ab';
+    exported.warp = { kind: 'belt', angle: 12, tx: 1, ty: 0 };
+    exported.layer_height = 0.25;
+    writeFileSync(p, JSON.stringify(exported));
+    await tid('settings-import').setInputFiles(p);
+    await page.waitForFunction(() => document.querySelector('[data-testid="warp-select"]').value === 'belt');
+    assert((await tid('machine-select').inputValue()) === 'open5x-ab', 'machine imported');
+    assert((await page.locator('#p-belt-angle').inputValue()) === '12', 'belt angle imported');
+    assert((await tid('layer-height').inputValue()) === '0.25', 'layer height imported');
+    await warpSettled();
+    const job = JSON.parse(await download('job-download', join(TMP, 'imported.job.json')));
+    assert(job.layer_height === 0.25 && job.warp.spec.kind === 'belt' && job.warp.spec.angle === 12, `job follows the imported settings: ${JSON.stringify(job.warp)}`);
+    await tid('layer-height').fill('0.2');
+    await tid('layer-height').dispatchEvent('change');
+    await warpSettled();
+  });
+
   await test('cancel right after starting leaves the page usable', async () => {
     if (!exampleDir) throw new Error('needs the generated-model round trip');
     await tid('example-select').selectOption('');
@@ -302,7 +323,8 @@ try {
     // A slow, large input: the example's G-code repeated does not register; use it once and cancel at once.
     await tid('gcode-input').setInputFiles(join(exampleDir, 'W.gcode'));
     await tid('cancel').click({ timeout: 5000 }).catch(() => {});
-    await page.waitForFunction(() => ['cancelled', ''].includes(document.getElementById('progress-text').textContent) || document.querySelector('[data-testid="progress"]').dataset.done === '1', null, { timeout: 60000 });
+    await page.waitForFunction(() => ['cancelled', ''].includes(document.getElementById('progress-text').textContent) || document.querySelector('[data-testid="progress"]').dataset.done === '1', null, { timeout: 60000 })
+      .catch(async (e) => { throw new Error(`${e.message}; progress text: ${await page.locator('#progress-text').innerText()}; error: ${await tid('error').innerText()}`); });
     await unwarpInBrowser(join(exampleDir, 'W.gcode'));
   });
 
