@@ -307,7 +307,9 @@ function enforceLimits() {
 function onMachineChange(rebuild = true) {
   const p = currentPreset();
   const caps = machineCaps(p);
-  $('machine-info').textContent = `${p.name} (${p.spec.kind}) — axes ${axesText(p)}; ${caps.notes.join('; ')}. ` +
+  const kind = p.spec.kind === p.name ? '' : ` (${p.spec.kind})`;
+  const notes = caps.notes.map((n) => n.replace(/\.$/, '')).join('; ');
+  $('machine-info').textContent = `${p.name}${kind} — axes ${axesText(p)}${notes ? `; ${notes}` : ''}. ` +
     'Machine G-code output is coming: the result is the 3-axis G-code for now.';
   const sel = $('warp-select');
   for (const o of sel.options) {
@@ -439,6 +441,7 @@ function resize() {
 }
 
 function clearGroup(g) {
+  view.dirty = true;
   for (const c of [...g.children]) {
     g.remove(c);
     c.geometry?.dispose();
@@ -494,26 +497,31 @@ function showModel() {
     const maxTilt = Math.max(1, w.report.largest_tilt_deg);
     if (showLayers && w.surfaces.length) {
       const n = w.surfaces.length / 5;
+      const inside = footprint(geom, JSON.parse(w.job).model_bbox, SURFACE_GRID);
       const pos = new Float32Array(n * 3), col = new Float32Array(n * 3);
       const c = new THREE.Color();
       // Samples beyond the machine's tilt limit are drawn magenta.
       const limit = machineCaps(currentPreset()).maxTilt;
       const over = new THREE.Color(0xff00ff);
       let nOver = 0;
+      let k = 0;
       for (let i = 0; i < n; i++) {
-        pos.set(w.surfaces.subarray(i * 5, i * 5 + 3), i * 3);
+        if (!inside(w.surfaces[i * 5], w.surfaces[i * 5 + 1])) continue;
+        pos.set(w.surfaces.subarray(i * 5, i * 5 + 3), k * 3);
         const t = w.surfaces[i * 5 + 3];
         if (limit != null && t > limit + 1e-6) {
-          over.toArray(col, i * 3);
+          over.toArray(col, k * 3);
           nOver++;
         } else {
-          tiltColor(t, maxTilt, c).toArray(col, i * 3);
+          tiltColor(t, maxTilt, c).toArray(col, k * 3);
         }
+        k++;
       }
       $('canvas-wrap').dataset.overLimit = String(nOver);
+      $('canvas-wrap').dataset.surfacePoints = String(k);
       const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-      g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+      g.setAttribute('position', new THREE.BufferAttribute(pos.subarray(0, k * 3), 3));
+      g.setAttribute('color', new THREE.BufferAttribute(col.subarray(0, k * 3), 3));
       view.modelGroup.add(new THREE.Points(g, new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: true })));
     }
     if ($('show-warped').checked) {
@@ -537,6 +545,42 @@ function showModel() {
     $('legend').replaceChildren();
   }
   frame(box);
+}
+
+/** Lattice of the layer-surface samples (layer_surfaces' grid). */
+const SURFACE_GRID = 48;
+
+/**
+ * Whether a lattice point (x, y) of the model's XY bbox lies under the model: the cells whose
+ * centre some triangle covers in XY. Returns a test function (x, y) → bool.
+ */
+function footprint(geom, bbox, grid) {
+  const v = (a) => (Array.isArray(a) ? a : [a.x, a.y, a.z]);
+  const [x0, y0] = v(bbox.min), [x1, y1] = v(bbox.max);
+  const dx = (x1 - x0) / (grid - 1) || 1, dy = (y1 - y0) / (grid - 1) || 1;
+  const mask = new Uint8Array(grid * grid);
+  const p = geom.attributes.position.array;
+  const cross = (ax, ay, bx, by, cx, cy) => (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+  for (let t = 0; t + 8 < p.length; t += 9) {
+    const ax = p[t], ay = p[t + 1], bx = p[t + 3], by = p[t + 4], cx = p[t + 6], cy = p[t + 7];
+    const area = cross(ax, ay, bx, by, cx, cy);
+    if (Math.abs(area) < 1e-12) continue;
+    const i0 = Math.max(0, Math.ceil((Math.min(ax, bx, cx) - x0) / dx)), i1 = Math.min(grid - 1, Math.floor((Math.max(ax, bx, cx) - x0) / dx));
+    const j0 = Math.max(0, Math.ceil((Math.min(ay, by, cy) - y0) / dy)), j1 = Math.min(grid - 1, Math.floor((Math.max(ay, by, cy) - y0) / dy));
+    for (let i = i0; i <= i1; i++) {
+      const x = x0 + i * dx;
+      for (let j = j0; j <= j1; j++) {
+        if (mask[i * grid + j]) continue;
+        const y = y0 + j * dy;
+        const s = Math.sign(area);
+        if (s * cross(ax, ay, bx, by, x, y) >= 0 && s * cross(bx, by, cx, cy, x, y) >= 0 && s * cross(cx, cy, ax, ay, x, y) >= 0) mask[i * grid + j] = 1;
+      }
+    }
+  }
+  return (x, y) => {
+    const i = Math.round((x - x0) / dx), j = Math.round((y - y0) / dy);
+    return i >= 0 && j >= 0 && i < grid && j < grid && mask[i * grid + j] === 1;
+  };
 }
 
 function legendTilt(max, title) {
@@ -811,7 +855,7 @@ async function doWarp() {
   $('warp-button').disabled = true;
   $('warp-info').textContent = 'warping…';
   try {
-    const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: 48 });
+    const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: SURFACE_GRID });
     if (seq !== warpSeq) return;
     out.report.warped_bbox = box3(out.report.warped_bbox);
     state.warped = out;

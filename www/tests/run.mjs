@@ -26,6 +26,7 @@ const CLI = join(TARGET, 'release', 'warpslice');
 const BIG = process.env.WARPSLICE_WEB_BIG !== '0';
 const TMP = mkdtempSync(join(tmpdir(), 'warpslice-web-'));
 mkdirSync(ART, { recursive: true });
+for (const f of readdirSync(ART)) if (f.endsWith('.png')) rmSync(join(ART, f)); // this run's screenshots only
 
 let passed = 0, failed = 0;
 const t0all = Date.now();
