@@ -392,7 +392,7 @@ const view = {};
 
 function initView() {
   const wrap = $('canvas-wrap');
-  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  const renderer = new THREE.WebGLRenderer({ antialias: false, powerPreference: 'high-performance' });
   renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
   wrap.append(renderer.domElement);
   renderer.domElement.setAttribute('aria-label', '3D view: drag to orbit, scroll to zoom');
@@ -441,7 +441,7 @@ function resize() {
 }
 
 function clearGroup(g) {
-  view.dirty = true;
+  if (g.children.length) view.dirty = true;
   for (const c of [...g.children]) {
     g.remove(c);
     c.geometry?.dispose();
