@@ -20,9 +20,7 @@ fn to_js<T: serde::Serialize>(v: &T) -> Result<JsValue, JsError> {
 }
 
 fn set(obj: &js_sys::Object, key: &str, v: &JsValue) -> Result<(), JsError> {
-    js_sys::Reflect::set(obj, &JsValue::from_str(key), v)
-        .map(|_| ())
-        .map_err(|_| JsError::new("cannot build the result object"))
+    js_sys::Reflect::set(obj, &JsValue::from_str(key), v).map(|_| ()).map_err(|_| JsError::new("cannot build the result object"))
 }
 
 fn parse<T: serde::de::DeserializeOwned>(what: &str, json: &str) -> Result<T, JsError> {
@@ -41,11 +39,7 @@ pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsError> {
     let opts: WarpOptions = parse("warp options", options_json)?;
     let out = pipeline::warp_model(stl, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(
-        &obj,
-        "stl",
-        &js_sys::Uint8Array::from(out.stl.as_slice()).into(),
-    )?;
+    set(&obj, "stl", &js_sys::Uint8Array::from(out.stl.as_slice()).into())?;
     set(&obj, "job", &JsValue::from_str(&out.job.to_json_pretty()))?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
@@ -58,11 +52,7 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
     let opts: UnwarpOptions = parse("unwarp options", options_json)?;
     let out = unwarp::unwarp(gcode, &job, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(
-        &obj,
-        "gcode",
-        &js_sys::Uint8Array::from(out.gcode.as_slice()).into(),
-    )?;
+    set(&obj, "gcode", &js_sys::Uint8Array::from(out.gcode.as_slice()).into())?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
 }
@@ -70,12 +60,8 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
 /// An STL of a generated example part (`cube`, `cylinder`, `sphere`, `overhang`).
 #[wasm_bindgen]
 pub fn example_stl(name: &str) -> Result<Vec<u8>, JsError> {
-    let m = crate::shapes::example(name)
-        .ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
-    Ok(crate::mesh::write_stl(
-        &m,
-        &format!("warpslice example {name}"),
-    ))
+    let m = crate::shapes::example(name).ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
+    Ok(crate::mesh::write_stl(&m, &format!("warpslice example {name}")))
 }
 
 /// Streaming unwarp for the web worker: `scan` every chunk, `endScan`, `push` every chunk
@@ -91,9 +77,7 @@ impl UnwarpStream {
     pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsError> {
         let job = Job::from_json(job_json).map_err(js)?;
         let opts: UnwarpOptions = parse("unwarp options", options_json)?;
-        Ok(UnwarpStream {
-            inner: Unwarper::new(&job, &opts).map_err(js)?,
-        })
+        Ok(UnwarpStream { inner: Unwarper::new(&job, &opts).map_err(js)? })
     }
     /// Pass 1: a chunk of the G-code.
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsError> {
@@ -121,18 +105,7 @@ impl UnwarpStream {
         let tp = self.inner.take_toolpath();
         let mut v = Vec::with_capacity(tp.len() * 10);
         for p in tp {
-            v.extend_from_slice(&[
-                p.p.x,
-                p.p.y,
-                p.p.z,
-                p.n.x,
-                p.n.y,
-                p.n.z,
-                p.e,
-                p.layer as f64,
-                if p.travel { 1.0 } else { 0.0 },
-                p.feature as u8 as f64,
-            ]);
+            v.extend_from_slice(&[p.p.x, p.p.y, p.p.z, p.n.x, p.n.y, p.n.z, p.e, p.layer as f64, if p.travel { 1.0 } else { 0.0 }, p.feature as u8 as f64]);
         }
         v
     }
