@@ -34,8 +34,14 @@
 //! not made: the mesh of the last completed pass is returned and
 //! [`SubdivideStats::limit_hit`] says which cap stopped it (edges may then still exceed the
 //! bounds). Non-positive `max_edge`/`tolerance` ask for refinement without end and hit a cap;
-//! NaN disables the criterion. Triangles with an out-of-range vertex index are passed
-//! through unchanged.
+//! NaN disables the criterion.
+//!
+//! ## Dropped triangles
+//! A triangle that uses one vertex twice (STL facets with two identical corners weld to
+//! those) has no area and a self-loop edge; splitting its other edge would make nonsense
+//! topology, so it is dropped, as is a triangle with an out-of-range vertex index
+//! ([`SubdivideStats::dropped_triangles`]). Collinear triangles with three distinct vertices
+//! are kept and subdivided like any other.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -89,6 +95,10 @@ pub struct SubdivideStats {
     /// Edges split, over all passes (= vertices added).
     #[serde(default)]
     pub edges_split: usize,
+    /// Input triangles dropped because they use one vertex twice (no area, and their
+    /// self-loop edge has no sensible split) or have an out-of-range vertex index.
+    #[serde(default)]
+    pub dropped_triangles: usize,
     /// `Some` when a runaway guard stopped refinement before the bounds were met.
     #[serde(default)]
     pub limit_hit: Option<SubdivideLimit>,
@@ -109,6 +119,18 @@ pub fn subdivide_warped(
     opts: &SubdivideOptions,
     warp: &dyn Fn(DVec3) -> DVec3,
 ) -> (Mesh, Vec<DVec3>, SubdivideStats) {
+    refine(mesh, opts, warp, MAX_PASSES, MAX_TRIANGLES)
+}
+
+/// The refinement loop with explicit caps (the public functions use [`MAX_PASSES`] and
+/// [`MAX_TRIANGLES`]; tests use small ones).
+fn refine(
+    mesh: &Mesh,
+    opts: &SubdivideOptions,
+    warp: &dyn Fn(DVec3) -> DVec3,
+    max_passes: usize,
+    max_triangles: usize,
+) -> (Mesh, Vec<DVec3>, SubdivideStats) {
     const NONE: u32 = u32::MAX;
     // Signed squares: a negative bound gives a negative square, which every length exceeds.
     let max2 = opts.max_edge * opts.max_edge.abs();
@@ -116,11 +138,17 @@ pub fn subdivide_warped(
 
     let mut verts = mesh.vertices.clone();
     let mut warped: Vec<DVec3> = verts.iter().map(|&p| warp(p)).collect();
-    let mut tris = mesh.triangles.clone();
+    let nv = verts.len();
+    let keep = |t: &&[u32; 3]| t.iter().all(|&i| (i as usize) < nv) && t[0] != t[1] && t[1] != t[2] && t[2] != t[0];
+    let mut tris: Vec<[u32; 3]> = mesh.triangles.iter().filter(keep).copied().collect();
     let mut next: Vec<[u32; 3]> = Vec::new();
     let mut table = EdgeTable::default();
     let mut mid_of: Vec<u32> = Vec::new();
-    let mut stats = SubdivideStats { triangles_before: tris.len(), ..SubdivideStats::default() };
+    let mut stats = SubdivideStats {
+        triangles_before: mesh.triangles.len(),
+        dropped_triangles: mesh.triangles.len() - tris.len(),
+        ..SubdivideStats::default()
+    };
     // Edges whose both ends are below `tested` were tested in an earlier pass and kept.
     let mut tested: u32 = 0;
 
@@ -151,9 +179,9 @@ pub fn subdivide_warped(
         if added == 0 {
             break;
         }
-        let limit = if stats.passes >= MAX_PASSES {
+        let limit = if stats.passes >= max_passes {
             Some(SubdivideLimit::Passes)
-        } else if tris.len().saturating_add(extra) > MAX_TRIANGLES || verts.len() >= NONE as usize {
+        } else if tris.len().saturating_add(extra) > max_triangles || verts.len() >= NONE as usize {
             Some(SubdivideLimit::Triangles)
         } else {
             None
@@ -209,4 +237,43 @@ pub fn subdivide_warped(
     }
     stats.triangles_after = tris.len();
     (Mesh { vertices: verts, triangles: tris }, warped, stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes;
+
+    #[test]
+    fn triangle_cap_stops_before_the_pass_that_would_exceed_it() {
+        let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(8.0));
+        let opts = SubdivideOptions { max_edge: 0.0, tolerance: 1.0 };
+        // 12 → 48 → 192 → 768: a cap of 500 allows two passes
+        let (m, w, s) = refine(&cube, &opts, &|p| p, MAX_PASSES, 500);
+        assert_eq!((s.passes, s.triangles_after, m.triangles.len()), (2, 192, 192));
+        assert_eq!(s.limit_hit, Some(SubdivideLimit::Triangles));
+        // the rolled-back pass left no stray vertices
+        assert_eq!(m.vertices.len(), w.len());
+        assert_eq!(m.vertices.len(), 8 + 18 + 72);
+    }
+
+    #[test]
+    fn pass_cap_stops_refinement() {
+        let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(8.0));
+        let opts = SubdivideOptions { max_edge: 0.0, tolerance: 1.0 };
+        let (m, _, s) = refine(&cube, &opts, &|p| p, 1, usize::MAX);
+        assert_eq!((s.passes, m.triangles.len(), s.limit_hit), (1, 48, Some(SubdivideLimit::Passes)));
+    }
+
+    #[test]
+    fn discontinuous_warp_hits_a_cap_and_leaves_a_closed_mesh() {
+        // a step across x = 0.3: the edges crossing it can never meet the tolerance
+        let step = |p: DVec3| if p.x > 0.3 { p + DVec3::Z } else { p };
+        let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(1.0));
+        let (m, _, s) = refine(&cube, &SubdivideOptions::default(), &step, MAX_PASSES, 20_000);
+        assert_eq!(s.limit_hit, Some(SubdivideLimit::Triangles));
+        assert!(m.triangles.len() <= 20_000);
+        let r = crate::mesh::MeshReport::of(&m, crate::mesh::StlFormat::Binary);
+        assert_eq!((r.open_edges, r.nonmanifold_edges), (0, 0));
+    }
 }
