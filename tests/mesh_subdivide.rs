@@ -279,3 +279,43 @@ proptest! {
         prop_assert!((volume(&out) - volume(&sphere)).abs() <= 1e-9 * volume(&sphere));
     }
 }
+
+/// Timing figures (release only: `cargo test --release --test mesh_subdivide -- --ignored
+/// --nocapture`). A 225 120-triangle grid of 1 mm cells with max_edge 0.8 splits every edge
+/// once: 900 480 triangles.
+#[test]
+#[ignore]
+fn timing_225k_to_900k() {
+    let grid = shapes::grid(336, 335, 1.0);
+    assert_eq!(grid.triangles.len(), 225_120);
+    let opts = SubdivideOptions { max_edge: 0.8, tolerance: 0.01 };
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        let (m, s) = subdivide(&grid, &opts, &curved);
+        let dt = t.elapsed().as_secs_f64();
+        best = best.min(dt);
+        assert_eq!(s.triangles_after, 900_480, "{s:?}");
+        assert_eq!(m.triangles.len(), 900_480);
+    }
+    println!("grid 225120 → 900480 triangles (curved warp): best of 5 {:.1} ms", best * 1e3);
+
+    let sphere = shapes::uv_sphere(DVec3::new(0.0, 0.0, 40.0), 40.0, 301, 375);
+    assert_eq!(sphere.triangles.len(), 225_000);
+    let opts = SubdivideOptions::default();
+    let t = std::time::Instant::now();
+    let (m, s) = subdivide(&sphere, &opts, &curved);
+    let dt = t.elapsed().as_secs_f64();
+    println!("sphere r=40 225000 → {} triangles in {} passes (curved warp, defaults): {:.1} ms", m.triangles.len(), s.passes, dt * 1e3);
+    let t = std::time::Instant::now();
+    let r = report(&m);
+    println!("report of {} triangles: {:.1} ms, open {} nonmanifold {}", r.triangles, t.elapsed().as_secs_f64() * 1e3, r.open_edges, r.nonmanifold_edges);
+    assert!(r.is_watertight());
+    let t = std::time::Instant::now();
+    let bytes = warpslice::mesh::write_stl(&m, "bench");
+    let t1 = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let (back, _) = warpslice::mesh::read_stl(&bytes).unwrap();
+    println!("write_stl {:.1} ms, read_stl {:.1} ms ({} MB)", t1 * 1e3, t.elapsed().as_secs_f64() * 1e3, bytes.len() / 1_000_000);
+    assert_eq!(back.triangles.len(), m.triangles.len());
+}
