@@ -16,7 +16,11 @@ fn curved(p: DVec3) -> DVec3 {
 
 /// An affine warp: a shear, a scale and a shift.
 fn affine(p: DVec3) -> DVec3 {
-    DVec3::new(1.5 * p.x + 0.2 * p.y, p.y - 0.7 * p.z, 0.9 * p.z + 0.4 * p.x + 3.0)
+    DVec3::new(
+        1.5 * p.x + 0.2 * p.y,
+        p.y - 0.7 * p.z,
+        0.9 * p.z + 0.4 * p.x + 3.0,
+    )
 }
 
 /// Rounding slack when checking a bound on f64 lengths, mm.
@@ -81,7 +85,10 @@ fn closed_cube_stays_closed_under_a_curved_warp_and_meets_both_bounds() {
     let cube = shapes::cuboid(DVec3::new(-10.0, -10.0, 0.0), DVec3::new(10.0, 10.0, 20.0));
     let opts = SubdivideOptions::default();
     let (m, s) = subdivide(&cube, &opts, &curved);
-    println!("cube: {} → {} triangles in {} passes", s.triangles_before, s.triangles_after, s.passes);
+    println!(
+        "cube: {} → {} triangles in {} passes",
+        s.triangles_before, s.triangles_after, s.passes
+    );
     assert_eq!(s.triangles_before, 12);
     assert_eq!(s.triangles_after, m.triangles.len());
     assert!(s.triangles_after > 12 * 400, "{s:?}");
@@ -100,7 +107,10 @@ fn tolerance_refines_beyond_max_edge_where_the_warp_curves() {
     // a flat 10 × 10 sheet of 0.5 mm cells is fine for max_edge = 1 (diagonals 0.71);
     // the curved warp still needs splits where x is large (second difference 0.03·h²/4·2)
     let sheet = shapes::grid(20, 20, 0.5);
-    let opts = SubdivideOptions { max_edge: 1.0, tolerance: 0.001 };
+    let opts = SubdivideOptions {
+        max_edge: 1.0,
+        tolerance: 0.001,
+    };
     let (flat, s0) = subdivide(&sheet, &opts, &|p| p);
     assert_eq!((s0.passes, s0.triangles_after), (0, 800));
     let (m, s) = subdivide(&sheet, &opts, &curved);
@@ -144,14 +154,27 @@ fn warped_positions_are_the_warp_of_every_output_vertex() {
 fn shared_edge_of_three_triangles_is_split_at_one_vertex() {
     // three fins on the edge (0,0,0)–(4,0,0)
     let m = Mesh {
-        vertices: vec![DVec3::ZERO, DVec3::new(4.0, 0.0, 0.0), DVec3::new(2.0, 1.0, 0.0), DVec3::new(2.0, 0.0, 1.0), DVec3::new(2.0, -1.0, -1.0)],
+        vertices: vec![
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(2.0, 0.0, 1.0),
+            DVec3::new(2.0, -1.0, -1.0),
+        ],
         triangles: vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
     };
     assert_eq!(report(&m).nonmanifold_edges, 1);
-    let opts = SubdivideOptions { max_edge: 3.0, tolerance: 1.0 };
+    let opts = SubdivideOptions {
+        max_edge: 3.0,
+        tolerance: 1.0,
+    };
     let (out, s) = subdivide(&m, &opts, &|p| p);
     assert_eq!(s.passes, 1);
-    assert_eq!(out.vertices.len(), 6, "one new vertex for the one long edge");
+    assert_eq!(
+        out.vertices.len(),
+        6,
+        "one new vertex for the one long edge"
+    );
     assert_eq!(out.vertices[5], DVec3::new(2.0, 0.0, 0.0));
     let r = report(&out);
     assert_eq!((r.triangles, r.nonmanifold_edges, r.open_edges), (6, 2, 6));
@@ -161,10 +184,17 @@ fn shared_edge_of_three_triangles_is_split_at_one_vertex() {
 fn two_split_case_cuts_along_the_shorter_diagonal() {
     // right triangle with legs 4 (x) and 1 (y): hypotenuse and the x-leg are long
     let m = Mesh {
-        vertices: vec![DVec3::ZERO, DVec3::new(4.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0)],
+        vertices: vec![
+            DVec3::ZERO,
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ],
         triangles: vec![[0, 1, 2]],
     };
-    let opts = SubdivideOptions { max_edge: 3.0, tolerance: 1.0 };
+    let opts = SubdivideOptions {
+        max_edge: 3.0,
+        tolerance: 1.0,
+    };
     let (out, s) = subdivide(&m, &opts, &|p| p);
     assert_eq!((s.passes, out.triangles.len()), (1, 3));
     // new vertices: p = (2,0,0) on 0–1, q = (2,0.5,0) on 1–2. Diagonals of the quad 0 p q 2:
@@ -176,7 +206,10 @@ fn two_split_case_cuts_along_the_shorter_diagonal() {
         })
     };
     assert!(has_edge(DVec3::ZERO, DVec3::new(2.0, 0.5, 0.0)));
-    assert!(!has_edge(DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0)));
+    assert!(!has_edge(
+        DVec3::new(2.0, 0.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0)
+    ));
     // all children counter-clockwise seen from +z
     for t in &out.triangles {
         let [a, b, c] = t.map(|i| out.vertices[i as usize]);
@@ -188,18 +221,30 @@ fn two_split_case_cuts_along_the_shorter_diagonal() {
 fn one_degenerate_triangle_does_not_panic() {
     let opts = SubdivideOptions::default();
     // collinear: subdivided like any triangle (into 16 collinear ones)
-    let m = Mesh { vertices: vec![DVec3::ZERO, DVec3::X * 2.0, DVec3::X * 4.0], triangles: vec![[0, 1, 2]] };
+    let m = Mesh {
+        vertices: vec![DVec3::ZERO, DVec3::X * 2.0, DVec3::X * 4.0],
+        triangles: vec![[0, 1, 2]],
+    };
     let (out, s) = subdivide(&m, &opts, &curved);
     assert_eq!((s.limit_hit, s.dropped_triangles), (None, 0));
     assert!(longest_edge(&out) <= opts.max_edge + SLACK);
     assert_eq!(report(&out).degenerate, out.triangles.len());
     // a vertex used twice: dropped
     for m in [
-        Mesh { vertices: vec![DVec3::ZERO, DVec3::X * 5.0], triangles: vec![[0, 0, 1]] },
-        Mesh { vertices: vec![DVec3::ZERO], triangles: vec![[0, 0, 0]] },
+        Mesh {
+            vertices: vec![DVec3::ZERO, DVec3::X * 5.0],
+            triangles: vec![[0, 0, 1]],
+        },
+        Mesh {
+            vertices: vec![DVec3::ZERO],
+            triangles: vec![[0, 0, 0]],
+        },
     ] {
         let (out, s) = subdivide(&m, &opts, &curved);
-        assert_eq!((s.limit_hit, s.dropped_triangles, out.triangles.len()), (None, 1, 0));
+        assert_eq!(
+            (s.limit_hit, s.dropped_triangles, out.triangles.len()),
+            (None, 1, 0)
+        );
         let _ = report(&out);
     }
 }
@@ -208,12 +253,21 @@ fn one_degenerate_triangle_does_not_panic() {
 fn bad_input_does_not_panic() {
     let opts = SubdivideOptions::default();
     // out-of-range index: dropped
-    let m = Mesh { vertices: vec![DVec3::ZERO, DVec3::X * 5.0], triangles: vec![[0, 1, 9]] };
+    let m = Mesh {
+        vertices: vec![DVec3::ZERO, DVec3::X * 5.0],
+        triangles: vec![[0, 1, 9]],
+    };
     let (out, s) = subdivide(&m, &opts, &curved);
-    assert_eq!((out.triangles.len(), s.dropped_triangles, s.passes), (0, 1, 0));
+    assert_eq!(
+        (out.triangles.len(), s.dropped_triangles, s.passes),
+        (0, 1, 0)
+    );
     // non-finite vertices and a warp that returns NaN: nothing to compare, nothing split
     // (the one finite edge is shorter than max_edge)
-    let m = Mesh { vertices: vec![DVec3::NAN, DVec3::X * 0.5, DVec3::Y * 0.5], triangles: vec![[0, 1, 2]] };
+    let m = Mesh {
+        vertices: vec![DVec3::NAN, DVec3::X * 0.5, DVec3::Y * 0.5],
+        triangles: vec![[0, 1, 2]],
+    };
     let (_, s) = subdivide(&m, &opts, &curved);
     assert_eq!(s.passes, 0);
     let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(0.5));
@@ -229,22 +283,26 @@ fn bad_input_does_not_panic() {
 /// copies both own the inner edges of their subdivisions, which are then used four times
 /// (non-manifold) although the doubled input edges were used twice.
 fn arb_mesh() -> impl Strategy<Value = Mesh> {
-    (3usize..12).prop_flat_map(|nv| {
-        let c = -10.0f64..10.0;
-        (
-            prop::collection::vec((c.clone(), c.clone(), c), nv),
-            prop::collection::vec(prop::array::uniform3(0..nv as u32), 1..12),
-        )
-    })
-    .prop_map(|(v, mut t)| {
-        let mut seen = std::collections::HashSet::new();
-        t.retain(|tri| {
-            let mut k = *tri;
-            k.sort_unstable();
-            seen.insert(k)
-        });
-        Mesh { vertices: v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect(), triangles: t }
-    })
+    (3usize..12)
+        .prop_flat_map(|nv| {
+            let c = -10.0f64..10.0;
+            (
+                prop::collection::vec((c.clone(), c.clone(), c), nv),
+                prop::collection::vec(prop::array::uniform3(0..nv as u32), 1..12),
+            )
+        })
+        .prop_map(|(v, mut t)| {
+            let mut seen = std::collections::HashSet::new();
+            t.retain(|tri| {
+                let mut k = *tri;
+                k.sort_unstable();
+                seen.insert(k)
+            });
+            Mesh {
+                vertices: v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect(),
+                triangles: t,
+            }
+        })
 }
 
 proptest! {
@@ -288,7 +346,10 @@ proptest! {
 fn timing_225k_to_900k() {
     let grid = shapes::grid(336, 335, 1.0);
     assert_eq!(grid.triangles.len(), 225_120);
-    let opts = SubdivideOptions { max_edge: 0.8, tolerance: 0.01 };
+    let opts = SubdivideOptions {
+        max_edge: 0.8,
+        tolerance: 0.01,
+    };
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let t = std::time::Instant::now();
@@ -298,24 +359,48 @@ fn timing_225k_to_900k() {
         assert_eq!(s.triangles_after, 900_480, "{s:?}");
         assert_eq!(m.triangles.len(), 900_480);
     }
-    println!("grid 225120 → 900480 triangles (curved warp): best of 5 {:.1} ms", best * 1e3);
+    println!(
+        "grid 225120 → 900480 triangles (curved warp): best of 5 {:.1} ms",
+        best * 1e3
+    );
+}
 
+/// Timing figures for the sphere, the report and the STL round trip (release, ignored).
+#[test]
+#[ignore]
+fn timing_sphere_report_stl() {
     let sphere = shapes::uv_sphere(DVec3::new(0.0, 0.0, 40.0), 40.0, 301, 375);
     assert_eq!(sphere.triangles.len(), 225_000);
     let opts = SubdivideOptions::default();
     let t = std::time::Instant::now();
     let (m, s) = subdivide(&sphere, &opts, &curved);
     let dt = t.elapsed().as_secs_f64();
-    println!("sphere r=40 225000 → {} triangles in {} passes (curved warp, defaults): {:.1} ms", m.triangles.len(), s.passes, dt * 1e3);
+    println!(
+        "sphere r=40 225000 → {} triangles in {} passes (curved warp, defaults): {:.1} ms",
+        m.triangles.len(),
+        s.passes,
+        dt * 1e3
+    );
     let t = std::time::Instant::now();
     let r = report(&m);
-    println!("report of {} triangles: {:.1} ms, open {} nonmanifold {}", r.triangles, t.elapsed().as_secs_f64() * 1e3, r.open_edges, r.nonmanifold_edges);
+    println!(
+        "report of {} triangles: {:.1} ms, open {} nonmanifold {}",
+        r.triangles,
+        t.elapsed().as_secs_f64() * 1e3,
+        r.open_edges,
+        r.nonmanifold_edges
+    );
     assert!(r.is_watertight());
     let t = std::time::Instant::now();
     let bytes = warpslice::mesh::write_stl(&m, "bench");
     let t1 = t.elapsed().as_secs_f64();
     let t = std::time::Instant::now();
     let (back, _) = warpslice::mesh::read_stl(&bytes).unwrap();
-    println!("write_stl {:.1} ms, read_stl {:.1} ms ({} MB)", t1 * 1e3, t.elapsed().as_secs_f64() * 1e3, bytes.len() / 1_000_000);
+    println!(
+        "write_stl {:.1} ms, read_stl {:.1} ms ({} MB)",
+        t1 * 1e3,
+        t.elapsed().as_secs_f64() * 1e3,
+        bytes.len() / 1_000_000
+    );
     assert_eq!(back.triangles.len(), m.triangles.len());
 }

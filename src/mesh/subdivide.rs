@@ -71,7 +71,10 @@ pub struct SubdivideOptions {
 impl Default for SubdivideOptions {
     /// [`DEFAULT_MAX_EDGE`] (1 mm) and [`DEFAULT_TOLERANCE`] (0.01 mm).
     fn default() -> Self {
-        SubdivideOptions { max_edge: DEFAULT_MAX_EDGE, tolerance: DEFAULT_TOLERANCE }
+        SubdivideOptions {
+            max_edge: DEFAULT_MAX_EDGE,
+            tolerance: DEFAULT_TOLERANCE,
+        }
     }
 }
 
@@ -107,7 +110,11 @@ pub struct SubdivideStats {
 /// Split edges until none is longer than `max_edge` and none deviates more than `tolerance`
 /// under `warp`. Shared edges are split at one shared vertex, so a closed mesh stays closed.
 /// See the module documentation for the rules.
-pub fn subdivide(mesh: &Mesh, opts: &SubdivideOptions, warp: &dyn Fn(DVec3) -> DVec3) -> (Mesh, SubdivideStats) {
+pub fn subdivide(
+    mesh: &Mesh,
+    opts: &SubdivideOptions,
+    warp: &dyn Fn(DVec3) -> DVec3,
+) -> (Mesh, SubdivideStats) {
     let (m, _, s) = subdivide_warped(mesh, opts, warp);
     (m, s)
 }
@@ -176,7 +183,9 @@ fn refine(
     let mut verts = mesh.vertices.clone();
     let mut warped: Vec<DVec3> = verts.iter().map(|&p| warp(p)).collect();
     let nv = verts.len();
-    let keep = |t: &&[u32; 3]| t.iter().all(|&i| (i as usize) < nv) && t[0] != t[1] && t[1] != t[2] && t[2] != t[0];
+    let keep = |t: &&[u32; 3]| {
+        t.iter().all(|&i| (i as usize) < nv) && t[0] != t[1] && t[1] != t[2] && t[2] != t[0]
+    };
     let mut tris: Vec<[u32; 3]> = mesh.triangles.iter().filter(keep).copied().collect();
     let mut stats = SubdivideStats {
         triangles_before: mesh.triangles.len(),
@@ -258,8 +267,13 @@ fn refine(
             }
         };
         for (&[a, b, c], &[eab, ebc, eca]) in tris.iter().zip(&tri_e) {
-            let m = [edges.mid[eab as usize], edges.mid[ebc as usize], edges.mid[eca as usize]];
-            let mask = (m[0] != NONE) as u8 | ((m[1] != NONE) as u8) << 1 | ((m[2] != NONE) as u8) << 2;
+            let m = [
+                edges.mid[eab as usize],
+                edges.mid[ebc as usize],
+                edges.mid[eca as usize],
+            ];
+            let mask =
+                (m[0] != NONE) as u8 | ((m[1] != NONE) as u8) << 1 | ((m[2] != NONE) as u8) << 2;
             match mask {
                 0 => {
                     next.push([a, b, c]);
@@ -303,7 +317,8 @@ fn refine(
                     let (bq, qc) = (half(&edges, ebc, b), half(&edges, ebc, c));
                     next.push([p, b, q]);
                     next_e.push([pb, bq, pq]);
-                    let len2 = |i: u32, j: u32| (verts[i as usize] - verts[j as usize]).length_squared();
+                    let len2 =
+                        |i: u32, j: u32| (verts[i as usize] - verts[j as usize]).length_squared();
                     if len2(a, q) <= len2(p, c) {
                         let aq = edges.push(a, q, 2);
                         next.extend_from_slice(&[[a, p, q], [a, q, c]]);
@@ -323,7 +338,14 @@ fn refine(
         stats.edges_split += added;
     }
     stats.triangles_after = tris.len();
-    (Mesh { vertices: verts, triangles: tris }, warped, stats)
+    (
+        Mesh {
+            vertices: verts,
+            triangles: tris,
+        },
+        warped,
+        stats,
+    )
 }
 
 #[cfg(test)]
@@ -334,10 +356,16 @@ mod tests {
     #[test]
     fn triangle_cap_stops_before_the_pass_that_would_exceed_it() {
         let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(8.0));
-        let opts = SubdivideOptions { max_edge: 0.0, tolerance: 1.0 };
+        let opts = SubdivideOptions {
+            max_edge: 0.0,
+            tolerance: 1.0,
+        };
         // 12 → 48 → 192 → 768: a cap of 500 allows two passes
         let (m, w, s) = refine(&cube, &opts, &|p| p, MAX_PASSES, 500);
-        assert_eq!((s.passes, s.triangles_after, m.triangles.len()), (2, 192, 192));
+        assert_eq!(
+            (s.passes, s.triangles_after, m.triangles.len()),
+            (2, 192, 192)
+        );
         assert_eq!(s.limit_hit, Some(SubdivideLimit::Triangles));
         // the rolled-back pass left no stray vertices
         assert_eq!(m.vertices.len(), w.len());
@@ -347,9 +375,15 @@ mod tests {
     #[test]
     fn pass_cap_stops_refinement() {
         let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(8.0));
-        let opts = SubdivideOptions { max_edge: 0.0, tolerance: 1.0 };
+        let opts = SubdivideOptions {
+            max_edge: 0.0,
+            tolerance: 1.0,
+        };
         let (m, _, s) = refine(&cube, &opts, &|p| p, 1, usize::MAX);
-        assert_eq!((s.passes, m.triangles.len(), s.limit_hit), (1, 48, Some(SubdivideLimit::Passes)));
+        assert_eq!(
+            (s.passes, m.triangles.len(), s.limit_hit),
+            (1, 48, Some(SubdivideLimit::Passes))
+        );
     }
 
     #[test]
@@ -357,7 +391,13 @@ mod tests {
         // a step across x = 0.3: the edges crossing it can never meet the tolerance
         let step = |p: DVec3| if p.x > 0.3 { p + DVec3::Z } else { p };
         let cube = shapes::cuboid(DVec3::ZERO, DVec3::splat(1.0));
-        let (m, _, s) = refine(&cube, &SubdivideOptions::default(), &step, MAX_PASSES, 20_000);
+        let (m, _, s) = refine(
+            &cube,
+            &SubdivideOptions::default(),
+            &step,
+            MAX_PASSES,
+            20_000,
+        );
         assert_eq!(s.limit_hit, Some(SubdivideLimit::Triangles));
         assert!(m.triangles.len() <= 20_000);
         let r = crate::mesh::MeshReport::of(&m, crate::mesh::StlFormat::Binary);
