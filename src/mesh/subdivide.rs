@@ -41,7 +41,10 @@
 //! those) has no area and a self-loop edge; splitting its other edge would make nonsense
 //! topology, so it is dropped, as is a triangle with an out-of-range vertex index
 //! ([`SubdivideStats::dropped_triangles`]). Collinear triangles with three distinct vertices
-//! are kept and subdivided like any other.
+//! are kept and subdivided like any other. Two triangles over the same three vertices (a
+//! doubled facet) each own the inner edges of their subdivisions, so those are not shared:
+//! refined further, such a pair may get two coincident midpoints (harmless geometry, but
+//! the edge counts of the result then report it as open).
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
