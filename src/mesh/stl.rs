@@ -96,15 +96,11 @@ impl Welder {
             let v = v.map(|c| c + 0.0);
             let next = self.mesh.vertices.len() as u32;
             let i = *self.index.entry(Key(v.map(f32::to_bits))).or_insert(next);
+            p[k] = DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
             if i == next {
-                self.mesh.vertices.push(DVec3::new(
-                    f64::from(v[0]),
-                    f64::from(v[1]),
-                    f64::from(v[2]),
-                ));
+                self.mesh.vertices.push(p[k]);
             }
             tri[k] = i;
-            p[k] = self.mesh.vertices[i as usize];
         }
         self.mesh.triangles.push(tri);
         let n = DVec3::new(
