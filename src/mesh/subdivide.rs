@@ -8,16 +8,19 @@
 //! - its warped chord misses the warped midpoint by more than `tolerance`:
 //!   `|W(m) − (W(a) + W(b))/2| > tolerance`,
 //!
-//! whichever is reached first, repeated pass after pass until no edge needs a split. An
+//! whichever is reached first, repeated pass after pass until no edge needs a split. (The
+//! midpoint is where a smooth warp's chord error is largest to second order, so the test
+//! bounds the whole edge's error up to third-order terms.) An
 //! affine warp keeps every chord exact (deviation = rounding noise), so it refines only to
 //! `max_edge`. Units: mm; the frame is whatever the mesh and the warp share (the model frame
 //! in the pipeline).
 //!
 //! ## One pass (red–green refinement, conforming)
-//! Edges are collected once per pass ([`EdgeTable`]), so an edge shared by any number of
-//! triangles is split at ONE new vertex: a closed mesh stays closed, no T-junctions. Each
-//! triangle `(a, b, c)` (counter-clockwise) is then replaced according to how many of its
-//! edges were split, keeping its orientation:
+//! Every edge has one id, whatever the number of triangles using it (the input's edges are
+//! found once with an edge table, `edges.rs`; later ones get ids as triangles are split), so
+//! a shared edge is split at ONE new vertex: a closed mesh stays closed, no T-junctions.
+//! Each triangle `(a, b, c)` (counter-clockwise) is then replaced according to how many of
+//! its edges were split, keeping its orientation:
 //!
 //! - 0: `(a, b, c)`;
 //! - 1 (`ab` at `m`): `(a, m, c)`, `(m, b, c)`;
@@ -57,9 +60,10 @@ use crate::tolerance::{DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
 /// edge by 2⁴⁰ ≈ 10¹²: a 1 km edge down to 1 nm. Reaching it means the bounds cannot be met
 /// (e.g. a warp that is not continuous).
 pub const MAX_PASSES: usize = 40;
-/// Most triangles subdivision may produce (≈ 240 MB of triangles + vertices + warped
-/// vertices; the wasm32 heap is at most 4 GiB).
-pub const MAX_TRIANGLES: usize = 20_000_000;
+/// Most triangles subdivision may produce. Peak memory is about 100 bytes per output
+/// triangle (triangles and their edge ids, vertices and their warped images, edges), so
+/// ≈ 1 GB at the cap; the wasm32 heap is at most 4 GiB and a 10 M-triangle STL is 500 MB.
+pub const MAX_TRIANGLES: usize = 10_000_000;
 
 /// When to split an edge.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
