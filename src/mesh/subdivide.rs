@@ -28,9 +28,9 @@
 //!   diagonal: `(a, p, q)`, `(a, q, c)` if `|a − q| ≤ |p − c|`, else `(a, p, c)`, `(p, q, c)`;
 //! - 3 (`ab`, `bc`, `ca` at `p`, `q`, `r`): `(a, p, r)`, `(p, b, q)`, `(r, q, c)`, `(p, q, r)`.
 //!
-//! Every new edge has a new vertex as an endpoint, so an edge whose two ends are both older
-//! than the last pass was already tested and kept: it is not tested again. Each vertex is
-//! warped exactly once ([`subdivide_warped`] returns those warped positions).
+//! An edge that was tested and kept never changes, so each pass tests only the edges the
+//! previous pass created (halves of split edges and inner edges of split triangles). Each
+//! vertex is warped exactly once ([`subdivide_warped`] returns those warped positions).
 //!
 //! ## Runaway guard
 //! A pass that would exceed [`MAX_TRIANGLES`] triangles, or a pass beyond [`MAX_PASSES`], is
