@@ -412,10 +412,17 @@ fn timing_sphere_report_stl() {
 #[test]
 fn repeated_vertex_triangle_split_made_a_nonmanifold_edge() {
     let m = Mesh {
-        vertices: vec![DVec3::ZERO, DVec3::ZERO, DVec3::new(0.0, 0.0, -3.0886960601137914)],
+        vertices: vec![
+            DVec3::ZERO,
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, -3.0886960601137914),
+        ],
         triangles: vec![[2, 2, 0]],
     };
-    let opts = SubdivideOptions { max_edge: 1.0, tolerance: 0.01 };
+    let opts = SubdivideOptions {
+        max_edge: 1.0,
+        tolerance: 0.01,
+    };
     let (out, s) = subdivide(&m, &opts, &curved);
     assert_eq!((s.dropped_triangles, out.triangles.len()), (1, 0));
     assert_eq!(report(&out).nonmanifold_edges, 0);
