@@ -11,28 +11,25 @@
 //! them. The slab lies inside the part's XY bounding box, so the slicer's centring and the
 //! registration are unaffected.
 //!
-//! The anchor is added when the warped part's bottom is not flat: when its vertices on the
-//! model's bottom face (z = 0) span more than [`FLAT_BOTTOM_TOLERANCE`] in z'.
+//! The anchor is added when the slicer's first layer would hold too little of the part: when
+//! the warped part's vertices within half a layer of its lowest point span less than
+//! [`MIN_FIRST_LAYER_SPAN`] in x or in y (a cone's tip, a crease line, a tilted edge). A flat
+//! warped bottom (the `--base` blend, or no warp at the bottom) needs none.
 
 use glam::{DVec2, DVec3};
 
-use crate::mesh::Mesh;
+use crate::mesh::{Aabb, Mesh};
 
-/// A warped bottom whose lowest vertices span less than this in z' (mm) counts as flat.
-pub const FLAT_BOTTOM_TOLERANCE: f64 = 1e-6;
+/// Smallest extent (mm) in both x and y of the part's first-layer region below which the
+/// anchor is added.
+pub const MIN_FIRST_LAYER_SPAN: f64 = 5.0;
 
-/// Whether the warped bottom needs an anchor: `model` and `warped` have the same vertices in
-/// the same order (model frame and T-space).
-pub fn needs_anchor(model: &Mesh, warped: &Mesh) -> bool {
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    for (m, w) in model.vertices.iter().zip(&warped.vertices) {
-        if m.z <= FLAT_BOTTOM_TOLERANCE {
-            lo = lo.min(w.z);
-            hi = hi.max(w.z);
-        }
-    }
-    hi - lo > FLAT_BOTTOM_TOLERANCE
+/// Whether the warped part (T-space) needs an anchor when sliced with `layer_height`.
+pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
+    let zmin = warped.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+    let first = Aabb::of_points(warped.vertices.iter().copied().filter(|v| v.z <= zmin + 0.5 * layer_height));
+    let s = first.size();
+    first.is_empty() || s.x < MIN_FIRST_LAYER_SPAN || s.y < MIN_FIRST_LAYER_SPAN
 }
 
 /// Convex hull (counter-clockwise, no repeated first point) of 2-D points (Andrew's monotone

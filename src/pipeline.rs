@@ -154,8 +154,8 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     let warp = params.build(&model_bbox)?;
 
     let sub = SubdivideOptions { max_edge: opts.max_edge, tolerance: opts.tolerance };
-    let (model, stats) = mesh::subdivide(&model, &sub, &|p| warp.forward(p));
-    let mut warped = Mesh { vertices: model.vertices.iter().map(|&p| warp.forward(p)).collect(), triangles: model.triangles.clone() };
+    let (model, warped_vertices, stats) = mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
+    let mut warped = Mesh { vertices: warped_vertices, triangles: model.triangles.clone() };
     let largest_tilt_deg = model
         .vertices
         .iter()
@@ -166,7 +166,7 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     let anchor = match opts.anchor {
         AnchorMode::On => true,
         AnchorMode::Off => false,
-        AnchorMode::Auto => anchor::needs_anchor(&model, &warped),
+        AnchorMode::Auto => anchor::needs_anchor(&warped, opts.layer_height),
     };
     let mut anchor_thickness = None;
     if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, opts.layer_height) {
