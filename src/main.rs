@@ -370,7 +370,7 @@ mod cli {
         match run() {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
-                esay!("error: {e}");
+                eprintln!("error: {e}");
                 ExitCode::FAILURE
             }
         }
