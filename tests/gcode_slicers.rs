@@ -49,7 +49,8 @@ fn has(tool: &str) -> bool {
 /// Slice the cube; `None` (with a message) when the slicer is not installed or fails.
 fn slice(slicer: &str, relative: bool) -> Option<Vec<u8>> {
     let dir = tmp_dir();
-    let stl = dir.join("cube.stl");
+    // One STL per call: tests run in parallel.
+    let stl = dir.join(format!("cube-{slicer}-{relative}.stl"));
     cube_stl(&stl);
     let out = dir.join(format!("{slicer}-{relative}.gcode"));
     let common = ["--layer-height", "0.2", "--first-layer-height", "0.2", "--nozzle-diameter", "0.4", "--filament-diameter", "1.75"];
