@@ -10,7 +10,13 @@ fn run(data: &[u8], cuts: &[usize]) -> (Vec<String>, Result<(), GcodeError>) {
     let mut out = Vec::new();
     let mut reader = Reader::new(ReadOptions::default());
     let mut sink = |line: warpslice::gcode::Line<'_>, state: &warpslice::gcode::State| {
-        out.push(format!("{:?} {:?} {:?} {}", line.raw, line.command, state, line.moves.len()));
+        out.push(format!(
+            "{:?} {:?} {:?} {}",
+            line.raw,
+            line.command,
+            state,
+            line.moves.len()
+        ));
         for m in line.moves {
             out.push(format!("{m:?}"));
         }
@@ -37,7 +43,9 @@ fn run(data: &[u8], cuts: &[usize]) -> (Vec<String>, Result<(), GcodeError>) {
 
 fuzz_target!(|input: &[u8]| {
     // First byte: a chunking seed; the rest is the G-code.
-    let Some((&seed, data)) = input.split_first() else { return };
+    let Some((&seed, data)) = input.split_first() else {
+        return;
+    };
     let whole = run(data, &[]);
     let step = usize::from(seed % 17) + 1;
     let cuts: Vec<usize> = (1..=data.len() / step).map(|k| k * step).collect();

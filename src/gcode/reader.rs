@@ -77,7 +77,9 @@ pub struct ReadOptions {
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE }
+        ReadOptions {
+            arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE,
+        }
     }
 }
 
@@ -241,10 +243,17 @@ impl Reader {
     /// Refuse an unfinished line that is already too long (an `\r` may still be dropped).
     fn check_pending<E: From<GcodeError>>(&mut self) -> Result<(), E> {
         let n = self.pending.len();
-        if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && self.pending.last() != Some(&b'\r'))
+        if n > MAX_LINE_BYTES + 1
+            || (n == MAX_LINE_BYTES + 1 && self.pending.last() != Some(&b'\r'))
         {
             let line = self.core.line_no;
-            return Err(self.core.fail(GcodeError::LineTooLong { line, bytes: MAX_LINE_BYTES }).into());
+            return Err(self
+                .core
+                .fail(GcodeError::LineTooLong {
+                    line,
+                    bytes: MAX_LINE_BYTES,
+                })
+                .into());
         }
         Ok(())
     }
@@ -259,7 +268,8 @@ impl Default for Reader {
 /// Position of the first `\n`.
 #[inline]
 fn find_newline(s: &[u8]) -> Option<usize> {
-    s.iter().position(|&b| b == b'\n')
+    let i = lexer::find_any(s, b"\n");
+    (i < s.len()).then_some(i)
 }
 
 /// Integer G/M code number, if the value is a whole number below 10000.
@@ -297,7 +307,12 @@ impl Core {
         self.line_no += 1;
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
         if raw.len() > MAX_LINE_BYTES {
-            return Err(self.fail(GcodeError::LineTooLong { line: number, bytes: MAX_LINE_BYTES }).into());
+            return Err(self
+                .fail(GcodeError::LineTooLong {
+                    line: number,
+                    bytes: MAX_LINE_BYTES,
+                })
+                .into());
         }
         self.moves.clear();
         let mut text = raw;
@@ -308,7 +323,16 @@ impl Core {
             Ok(c) => c,
             Err(e) => return Err(self.fail(e).into()),
         };
-        sink(Line { raw, number, command, moves: &self.moves, layer_start }, &self.state)
+        sink(
+            Line {
+                raw,
+                number,
+                command,
+                moves: &self.moves,
+                layer_start,
+            },
+            &self.state,
+        )
     }
 
     /// What the line does; updates the state and fills `self.moves`.
@@ -320,7 +344,11 @@ impl Core {
                 word: format!("*{}", String::from_utf8_lossy(digits)),
             })?;
             if found != xor {
-                return Err(GcodeError::Checksum { line, expected: xor, found });
+                return Err(GcodeError::Checksum {
+                    line,
+                    expected: xor,
+                    found,
+                });
             }
         }
         let mut words = Words::new(split.code);
@@ -388,7 +416,9 @@ impl Core {
             }
             (b'M', 82 | 83) => {
                 s.e_relative = code == 83;
-                Command::ExtrusionMode { relative: s.e_relative }
+                Command::ExtrusionMode {
+                    relative: s.e_relative,
+                }
             }
             _ => Command::Other,
         };
@@ -397,7 +427,9 @@ impl Core {
 
     /// A line with no code: markers in its `;` comment.
     fn comment(&mut self, comment: Option<&[u8]>) -> Command {
-        let Some(c) = comment else { return Command::Comment };
+        let Some(c) = comment else {
+            return Command::Comment;
+        };
         let c = trim_end(c);
         if let Some(label) = c.strip_prefix(b"TYPE:") {
             let f = self.feature_of(label);
@@ -480,7 +512,11 @@ impl Core {
         let mut to = from;
         for (k, v) in w.axes.iter().enumerate() {
             if let Some(v) = v {
-                to[k] = if s.positioning_relative { to[k] + v * u } else { v * u };
+                to[k] = if s.positioning_relative {
+                    to[k] + v * u
+                } else {
+                    v * u
+                };
             }
         }
         let mut e = 0.0;
@@ -542,19 +578,39 @@ impl Core {
                         reason: "no centre: give I and J, or R".into(),
                     })
                 }
-                (None, i, j) => Centre::Offset(DVec2::new(i.unwrap_or(0.0) * u, j.unwrap_or(0.0) * u)),
+                (None, i, j) => {
+                    Centre::Offset(DVec2::new(i.unwrap_or(0.0) * u, j.unwrap_or(0.0) * u))
+                }
             };
             let moves = &mut self.moves;
             let mut prev = from;
-            arc::linearise(from, to, centre, code == 2, self.opts.arc_chord_tolerance, |p| {
-                moves.push(Move { from: prev, to: p, e: 0.0, ..template });
-                prev = p;
-            })
+            arc::linearise(
+                from,
+                to,
+                centre,
+                code == 2,
+                self.opts.arc_chord_tolerance,
+                |p| {
+                    moves.push(Move {
+                        from: prev,
+                        to: p,
+                        e: 0.0,
+                        ..template
+                    });
+                    prev = p;
+                },
+            )
             .map_err(|reason| GcodeError::BadArc { line, reason })?;
             spread_e(moves, e);
         }
         self.state.position = to;
-        Ok((Command::Move { rapid: code == 0, arc }, layer_start))
+        Ok((
+            Command::Move {
+                rapid: code == 0,
+                arc,
+            },
+            layer_start,
+        ))
     }
 }
 
@@ -571,7 +627,11 @@ fn spread_e(moves: &mut [Move], e: f64) {
         if k + 1 == n {
             m.e = e - given;
         } else {
-            let share = if total > 0.0 { (m.to - m.from).length() / total } else { 1.0 / n as f64 };
+            let share = if total > 0.0 {
+                (m.to - m.from).length() / total
+            } else {
+                1.0 / n as f64
+            };
             m.e = e * share;
             given += m.e;
         }
