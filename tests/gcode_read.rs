@@ -594,3 +594,20 @@ fn steady_state_reuses_buffers_no_panics_on_odd_input() {
         );
     }
 }
+
+mod numbers {
+    use proptest::prelude::*;
+    use warpslice::gcode::lexer::Words;
+
+    proptest! {
+        /// Every decimal spelling is read as core's correctly rounded f64 (fast and slow paths).
+        #[test]
+        fn words_parse_like_core(neg in any::<bool>(), int in "[0-9]{0,24}", frac in proptest::option::of("[0-9]{0,24}")) {
+            prop_assume!(!int.is_empty() || frac.as_ref().is_some_and(|f| !f.is_empty()));
+            let text = format!("{}{}{}", if neg { "-" } else { "" }, int, frac.as_ref().map(|f| format!(".{f}")).unwrap_or_default());
+            let want: f64 = text.parse().unwrap();
+            let w = Words::new(format!("X{text}").as_bytes()).next().unwrap().unwrap();
+            prop_assert_eq!(w.value, Some(want));
+        }
+    }
+}

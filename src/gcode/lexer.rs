@@ -238,6 +238,9 @@ const POW10: [f64; 23] = [
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
+/// Most digits accumulated in a u64 without overflow (10^19 < 2^64).
+const MAX_FAST_DIGITS: usize = 19;
+
 /// Longest mantissa (2^53) for which `m / 10^k` is one correctly rounded division.
 const EXACT_MANTISSA: u64 = 1 << 53;
 
@@ -252,36 +255,29 @@ fn parse_number(s: &[u8]) -> Number {
             i = 1;
         }
     }
+    // Accumulate every digit (wrapping); more than MAX_FAST_DIGITS digits take the slow path,
+    // so a wrapped mantissa is never used.
     let mut mantissa: u64 = 0;
-    let mut overflow = false;
-    let mut frac_digits = 0usize;
-    let mut any = false;
-    while i < s.len() && s[i].is_ascii_digit() {
-        any = true;
-        if mantissa < (u64::MAX - 9) / 10 {
-            mantissa = mantissa * 10 + u64::from(s[i] - b'0');
-        } else {
-            overflow = true;
-        }
+    let int_start = i;
+    while let Some(d) = s.get(i).map(|&c| c.wrapping_sub(b'0')).filter(|&d| d <= 9) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
         i += 1;
     }
-    if i < s.len() && s[i] == b'.' {
+    let int_digits = i - int_start;
+    let mut frac_digits = 0usize;
+    if s.get(i) == Some(&b'.') {
         i += 1;
-        while i < s.len() && s[i].is_ascii_digit() {
-            any = true;
-            if mantissa < (u64::MAX - 9) / 10 {
-                mantissa = mantissa * 10 + u64::from(s[i] - b'0');
-                frac_digits += 1;
-            } else {
-                // Further fraction digits only matter for rounding: take the slow path.
-                overflow = true;
-            }
+        let frac_start = i;
+        while let Some(d) = s.get(i).map(|&c| c.wrapping_sub(b'0')).filter(|&d| d <= 9) {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
             i += 1;
         }
+        frac_digits = i - frac_start;
     }
-    if !any {
+    if int_digits + frac_digits == 0 {
         return if i == 0 { Number::None } else { Number::Bad(i) };
     }
+    let overflow = int_digits + frac_digits > MAX_FAST_DIGITS;
     let v = if !overflow && mantissa <= EXACT_MANTISSA && frac_digits < POW10.len() {
         // Both operands exact: one IEEE division is correctly rounded (Clinger 1990).
         mantissa as f64 / POW10[frac_digits]

@@ -123,6 +123,24 @@ impl Default for State {
 }
 
 /// Streaming reader: push byte chunks, get one [`Line`] per complete source line.
+///
+/// ```
+/// use warpslice::gcode::{GcodeError, Line, Reader, State};
+/// let mut extruded = 0.0;
+/// let mut sink = |line: Line<'_>, _state: &State| {
+///     extruded += line.moves.iter().map(|m| m.e).sum::<f64>();
+///     Ok::<(), GcodeError>(())
+/// };
+/// let mut reader = Reader::default();
+/// reader.push(b"M83\nG1 X10 E0.5\nG2 X20 I5 E", &mut sink)?;
+/// reader.push(b"1.0\nG1 X0 E0.25", &mut sink)?; // a line split across chunks
+/// reader.finish(&mut sink)?; // the last line has no terminator
+/// assert!((extruded - 1.75).abs() < 1e-12);
+/// # Ok::<(), GcodeError>(())
+/// ```
+///
+/// After an error (from the reader or the sink) stop using the reader: reader errors are
+/// returned again by every later call.
 pub struct Reader {
     /// The unfinished last line of the previous chunks.
     pending: Vec<u8>,
