@@ -14,7 +14,8 @@
 //! - G90/G91 set X Y Z **and E** absolute/relative; M82/M83 set E only. Whichever of the four
 //!   came last decides the E mode (Marlin 2 `set_relative_mode` clears the M82/M83 bits; RRF
 //!   behaves the same). So `M83` then `G91 … G90` leaves E absolute, as the printer would.
-//! - I/J are always offsets from the arc's start (not affected by G90/G91).
+//! - I/J are always offsets from the arc's start (not affected by G90/G91); a missing one of
+//!   I, J is 0; when R is given it wins over I/J (as in Marlin); `P` (turns) is not supported.
 //! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
 //!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
 //! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
