@@ -611,3 +611,88 @@ mod numbers {
         }
     }
 }
+
+mod chunking {
+    use super::*;
+    use proptest::prelude::*;
+
+    const TOKENS: &[&str] = &[
+        "G0 ",
+        "G1 ",
+        "G2 ",
+        "G3 ",
+        "G90\n",
+        "G91\n",
+        "M82\n",
+        "M83\n",
+        "G92 E0\n",
+        "G20\n",
+        "G21\n",
+        "X1 ",
+        "Y-2.5 ",
+        "Z.2 ",
+        "E.05 ",
+        "E12345.67891 ",
+        "F1800 ",
+        "I5 ",
+        "J-5 ",
+        "R3 ",
+        "R-3 ",
+        "\n",
+        "\r\n",
+        ";LAYER:0\n",
+        ";LAYER_CHANGE\n",
+        ";Z:0.4\n",
+        ";TYPE:Perimeter\n",
+        "(c) ",
+        "; x\n",
+        "*",
+        "N7 ",
+        "GCDE",
+        "M117 a*b\n",
+        "\u{feff}",
+        "x",
+        ".",
+        "-",
+    ];
+
+    proptest! {
+        /// Any chunking of any token soup gives the same lines, states and error as one chunk.
+        #[test]
+        fn any_chunking_reads_like_one_chunk(
+            toks in proptest::collection::vec(proptest::sample::select(TOKENS), 0..80),
+            step in 1usize..17,
+        ) {
+            let text = toks.concat();
+            let b = text.as_bytes();
+            let whole = read_chunks(&[b], ReadOptions::default());
+            let chunks: Vec<&[u8]> = b.chunks(step).collect();
+            prop_assert_eq!(read_chunks(&chunks, ReadOptions::default()), whole);
+        }
+    }
+}
+
+#[test]
+fn error_messages_name_the_line_and_what_to_do() {
+    let msgs = [
+        read_err("G1 X1\nG1 X1.2.3\n").to_string(),
+        read_err("G1 X0 Y0\nG2 X10 Y0 R4\n").to_string(),
+        read_err("N1 G1*0\n").to_string(),
+    ];
+    assert!(
+        msgs[0].contains("line 2") && msgs[0].contains(".3"),
+        "{}",
+        msgs[0]
+    );
+    assert!(
+        msgs[1].contains("line 2") && msgs[1].contains("arc fitting"),
+        "{}",
+        msgs[1]
+    );
+    assert!(
+        msgs[2].contains("line 1") && msgs[2].contains("checksum"),
+        "{}",
+        msgs[2]
+    );
+    assert!(GcodeError::Binary.to_string().contains("binary G-code"));
+}
