@@ -221,13 +221,9 @@ impl Reader {
         }
         if !self.pending.is_empty() {
             match find_newline(chunk) {
-                None => {
-                    self.pending.extend_from_slice(chunk);
-                    return self.check_pending();
-                }
+                None => return self.append(chunk),
                 Some(p) => {
-                    self.pending.extend_from_slice(&chunk[..p]);
-                    self.check_pending::<E>()?;
+                    self.append::<E>(&chunk[..p])?;
                     self.core.line(&self.pending, sink)?;
                     self.pending.clear();
                     chunk = &chunk[p + 1..];
@@ -238,8 +234,7 @@ impl Reader {
             self.core.line(&chunk[..p], sink)?;
             chunk = &chunk[p + 1..];
         }
-        self.pending.extend_from_slice(chunk);
-        self.check_pending()
+        self.append(chunk)
     }
 
     /// End of input: flush a last line without terminator.
@@ -259,21 +254,20 @@ impl Reader {
         Ok(())
     }
 
-    /// Refuse an unfinished line that is already too long (an `\r` may still be dropped).
-    fn check_pending<E: From<GcodeError>>(&mut self) -> Result<(), E> {
-        let n = self.pending.len();
-        if n > MAX_LINE_BYTES + 1
-            || (n == MAX_LINE_BYTES + 1 && self.pending.last() != Some(&b'\r'))
-        {
+    /// Add to the unfinished line, refusing it before copying if it gets too long (one `\r`
+    /// beyond the limit is allowed: it may be the CR of a CRLF).
+    fn append<E: From<GcodeError>>(&mut self, bytes: &[u8]) -> Result<(), E> {
+        let n = self.pending.len() + bytes.len();
+        let last = bytes.last().or(self.pending.last()).copied();
+        if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && last != Some(b'\r')) {
             let line = self.core.line_no;
-            return Err(self
-                .core
-                .fail(GcodeError::LineTooLong {
-                    line,
-                    bytes: MAX_LINE_BYTES,
-                })
-                .into());
+            let e = GcodeError::LineTooLong {
+                line,
+                bytes: MAX_LINE_BYTES,
+            };
+            return Err(self.core.fail(e).into());
         }
+        self.pending.extend_from_slice(bytes);
         Ok(())
     }
 }
@@ -701,4 +695,20 @@ fn trim_end(s: &[u8]) -> &[u8] {
         n -= 1;
     }
     &s[..n]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_huge_chunk_without_newline_is_refused_before_it_is_copied() {
+        let mut reader = Reader::default();
+        let mut sink = |_: Line<'_>, _: &State| Ok::<(), GcodeError>(());
+        reader.push(b"G1 X1\n;abc", &mut sink).unwrap();
+        let big = vec![b'a'; 4 * MAX_LINE_BYTES];
+        let r = reader.push(&big, &mut sink);
+        assert_eq!(r, Err(GcodeError::LineTooLong { line: 2, bytes: MAX_LINE_BYTES }));
+        assert!(reader.pending.capacity() < 2 * MAX_LINE_BYTES);
+    }
 }
