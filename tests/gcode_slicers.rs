@@ -346,4 +346,31 @@ fn throughput() {
         mb / dt,
         pieces
     );
+
+    // The writer on the pieces read (relative E output, unchanged words omitted).
+    let mut moves = Vec::new();
+    let mut reader = Reader::default();
+    let mut collect = |l: Line<'_>, _: &State| {
+        moves.extend_from_slice(l.moves);
+        Ok::<(), GcodeError>(())
+    };
+    reader.push(&bytes, &mut collect).unwrap();
+    reader.finish(&mut collect).unwrap();
+    let mut out = Vec::with_capacity(64 << 20);
+    let t = std::time::Instant::now();
+    let mut written = 0usize;
+    for _ in 0..reps {
+        out.clear();
+        let mut w = warpslice::gcode::MoveWriter::new();
+        for m in &moves {
+            w.linear(&mut out, m.rapid, m.to, m.e, m.f);
+        }
+        written += out.len();
+    }
+    let dt = t.elapsed().as_secs_f64();
+    eprintln!(
+        "wrote {:.1} MB in {dt:.3} s: {:.0} MB/s",
+        written as f64 / 1e6,
+        written as f64 / 1e6 / dt
+    );
 }
