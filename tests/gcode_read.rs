@@ -696,3 +696,11 @@ fn error_messages_name_the_line_and_what_to_do() {
     );
     assert!(GcodeError::Binary.to_string().contains("binary G-code"));
 }
+
+#[test]
+fn g28_homes_the_named_axes_even_without_values() {
+    let r = read("G1 X5 Y6 Z7\nG28 X\nG1 X5 Y6 Z7\nG28 W\nG1 X5 Y6 Z7\nG28 Y0 Z\n");
+    assert_eq!(r[1].state.position, DVec3::new(0.0, 6.0, 7.0));
+    assert_eq!(r[3].state.position, DVec3::ZERO);
+    assert_eq!(r[5].state.position, DVec3::new(5.0, 0.0, 0.0));
+}

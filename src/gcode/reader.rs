@@ -304,8 +304,8 @@ struct MoveWords {
     i: Option<f64>,
     j: Option<f64>,
     r: Option<f64>,
-    /// Whether any letter of X Y Z appeared (even without a value).
-    any_axis_letter: bool,
+    /// Which of X Y Z appeared (even without a value, `G28 X`).
+    axis_seen: [bool; 3],
 }
 
 impl Core {
@@ -398,8 +398,9 @@ impl Core {
             }
             (b'G', 28) => {
                 let w = read_words(&mut words, split.code, line)?;
-                for (k, v) in w.axes.iter().enumerate() {
-                    if v.is_some() || !w.any_axis_letter {
+                let any = w.axis_seen.contains(&true);
+                for (k, seen) in w.axis_seen.iter().enumerate() {
+                    if *seen || !any {
                         s.position[k] = 0.0;
                     }
                 }
@@ -663,15 +664,15 @@ fn read_words(words: &mut Words<'_>, text: &[u8], line: u64) -> Result<MoveWords
         match word.letter {
             b'X' => {
                 w.axes[0] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[0] = true;
             }
             b'Y' => {
                 w.axes[1] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[1] = true;
             }
             b'Z' => {
                 w.axes[2] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[2] = true;
             }
             b'E' => w.e = v,
             b'F' => w.f = v,
