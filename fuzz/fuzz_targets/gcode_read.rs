@@ -16,12 +16,12 @@ struct Seen {
     moves: Vec<u64>,
 }
 
-fn bits3(v: glam::DVec3) -> [u64; 3] {
-    [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+fn bits3(v: [f64; 3]) -> [u64; 3] {
+    v.map(f64::to_bits)
 }
 
 fn state_bits(s: &State) -> Vec<u64> {
-    let mut v = bits3(s.position).to_vec();
+    let mut v = bits3(s.position.to_array()).to_vec();
     v.extend([
         s.e.to_bits(),
         s.feed.to_bits(),
@@ -34,8 +34,8 @@ fn state_bits(s: &State) -> Vec<u64> {
 }
 
 fn move_bits(m: &Move, out: &mut Vec<u64>) {
-    out.extend(bits3(m.from));
-    out.extend(bits3(m.to));
+    out.extend(bits3(m.from.to_array()));
+    out.extend(bits3(m.to.to_array()));
     out.extend([
         m.e.to_bits(),
         m.f.to_bits(),
