@@ -1,4 +1,5 @@
 //! The streaming G-code reader: words, modal state, arcs, layers, chunking, errors.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use glam::{DVec2, DVec3};
 use warpslice::gcode::{

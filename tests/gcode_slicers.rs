@@ -5,6 +5,7 @@
 //!
 //! Also a throughput measurement (ignored by default):
 //! `WARPSLICE_GCODE_BENCH=file.gcode cargo test --release --test gcode_slicers -- --ignored --nocapture`
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use std::path::{Path, PathBuf};
 use std::process::Command as Process;

@@ -3,6 +3,7 @@
 //! counts and bounding box listed in INDEX.txt; every `broken/` model gives a named error or
 //! loads with its defect reported; nothing panics. Skipped (with a printed reason) when the
 //! corpus is absent.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use std::path::PathBuf;
 

@@ -1,5 +1,6 @@
 //! STL reading and writing: formats, malformed inputs (named errors, never a panic), round
 //! trips. Models are generated in code.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use glam::DVec3;
 use proptest::prelude::*;

@@ -1,5 +1,6 @@
 //! Subdivision laws: both bounds hold afterwards, closed stays closed, orientation and area
 //! are kept, an affine warp refines only to max_edge, bad input does not panic.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use std::collections::HashMap;
 
