@@ -156,11 +156,8 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     let sub = SubdivideOptions { max_edge: opts.max_edge, tolerance: opts.tolerance };
     let (model, warped_vertices, stats) = mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
     let mut warped = Mesh { vertices: warped_vertices, triangles: model.triangles.clone() };
-    let largest_tilt_deg = model
-        .vertices
-        .iter()
-        .map(|&p| crate::num::deg(crate::num::angle_between(warp.tool_axis(p), DVec3::Z)))
-        .fold(0.0, f64::max);
+    let min_nz = model.vertices.iter().map(|&p| warp.tool_axis(p).z).fold(1.0, f64::min);
+    let largest_tilt_deg = crate::num::deg(crate::num::acos(min_nz.clamp(-1.0, 1.0)));
 
     let part_bbox_t = warped.bbox();
     let anchor = match opts.anchor {

@@ -61,8 +61,8 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
                 let (wname, params) = &common::acceptance_warps()[wi];
                 let r = run_case(kind, e_mode, bytes, params, &dir.join(format!("{i}")));
                 match r {
-                    Ok(None) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required (base blend limit named)")),
-                    Ok(Some(st)) => table.lock().unwrap().push(format!(
+                    Ok(Err(why)) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required: {why}")),
+                    Ok(Ok(st)) => table.lock().unwrap().push(format!(
                         "{name:40} {wname:15} pts {:7} layer-dev {:.4} outside {:.3} E out {:.1} expected {:.1} slicer {:.1} (anchor {:.1}) min-z {:.3} clamped {}",
                         st.points, st.worst_layer_distance, st.worst_outside, st.e_out, st.e_expected, st.e_in, st.e_anchor, st.min_z, st.clamped
                     )),
@@ -88,12 +88,12 @@ fn run_case(
     bytes: &[u8],
     params: &warpslice::warp::WarpParams,
     stem: &std::path::Path,
-) -> Result<Option<common::CaseStats>, String> {
+) -> Result<Result<common::CaseStats, &'static str>, String> {
     let (model, _) = warpslice::mesh::read_stl(bytes).map_err(|e| e.to_string())?;
     let w = warp_model(bytes, &common::warp_options(params));
     if common::must_refuse(params, &model) {
         return match w {
-            Err(e) if e.to_string().contains("largest allowed") => Ok(None),
+            Err(e) if e.to_string().contains("largest allowed") => Ok(Err("the base blend's limit is named")),
             Err(e) => Err(format!("refused, but without naming the limit: {e}")),
             Ok(_) => Err("the base blend folds the layers over on this model but the warp was not refused".into()),
         };
@@ -105,10 +105,18 @@ fn run_case(
     let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
     slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
     let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
-    let out = unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }).map_err(|e| format!("unwarp: {e}"))?;
+    let out = match unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }) {
+        Ok(out) => out,
+        // a model thinner than a line width: the slicer printed nothing of it, and unwarp
+        // must say so by name
+        Err(e) if common::object_extrusions(&input) == 0 && e.to_string().contains("no object extrusions") => {
+            return Ok(Err("the slicer printed nothing of the model; named error"));
+        }
+        Err(e) => return Err(format!("unwarp: {e}")),
+    };
     let _ = std::fs::remove_file(&stl);
     let _ = std::fs::remove_file(&gcode);
-    common::check_unwarp(&model, &w.job, &input, &out).map(Some)
+    common::check_unwarp(&model, &w.job, &input, &out).map(Ok)
 }
 
 /// Slicer × E-mode combinations the corpus cases rotate through.

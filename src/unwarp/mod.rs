@@ -203,6 +203,8 @@ struct Core {
     grid: travel::HeightGrid,
     inside: bool,
     done_region: bool,
+    /// Smallest z component of an object extrusion's tool axis (cos of the largest tilt).
+    min_nz: f64,
     /// The file's E mode at the last line (M83 = relative).
     e_relative: bool,
     report: UnwarpReport,
@@ -282,6 +284,7 @@ impl Unwarper {
             grid: travel::HeightGrid::new(b.min.truncate(), b.max.truncate()),
             inside: false,
             done_region: false,
+            min_nz: 1.0,
             e_relative: false,
             report: UnwarpReport {
                 translation: reg.translation,
@@ -308,7 +311,14 @@ impl Unwarper {
 
     /// Drain the output written so far.
     pub fn take_output(&mut self) -> Vec<u8> {
-        self.core.as_mut().map(|c| std::mem::take(&mut c.out)).unwrap_or_default()
+        // hand over the buffer and start a new one of the same capacity (no regrowth)
+        self.core
+            .as_mut()
+            .map(|c| {
+                let cap = c.out.capacity();
+                std::mem::replace(&mut c.out, Vec::with_capacity(cap))
+            })
+            .unwrap_or_default()
     }
 
     /// Drain the toolpath collected so far (`collect_toolpath`).
@@ -326,6 +336,7 @@ impl Unwarper {
         if core.inside && !core.done_region {
             core.end_region();
         }
+        core.report.largest_tilt_deg = crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
         let start = core.out.len();
         core.emit.finish(&mut core.out);
         core.report.lines_out += core.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
@@ -571,11 +582,9 @@ impl Core {
     fn write_extrusion(&mut self, p: DVec3, n: DVec3, e: f64, m: &Move, feature: Feature, relative: bool, object: bool) {
         self.report.e_out += e;
         self.report.segments_out += 1;
-        if object {
-            let tilt = crate::num::deg(crate::num::angle_between(n, DVec3::Z));
-            if tilt > self.report.largest_tilt_deg {
-                self.report.largest_tilt_deg = tilt;
-            }
+        if object && n.z < self.min_nz {
+            // the angle itself is taken once, at the end (acos is monotonic)
+            self.min_nz = n.z;
         }
         if let Some((a, _)) = self.cur {
             self.grid.mark_segment(a, p);

@@ -220,6 +220,30 @@ pub fn expected_e(job: &Job, warp: &dyn Warp, input: &[u8], reg: &warpslice::reg
     total
 }
 
+/// Extrusions of the object in a slicer's G-code (typed files: object `;TYPE:`s; untyped: all
+/// but the first layer, which may be a skirt), counted independently of `register`.
+pub fn object_extrusions(input: &[u8]) -> usize {
+    let (mut typed, mut n_typed, mut n_upper) = (false, 0, 0);
+    let mut r = Reader::new(ReadOptions::default());
+    let mut sink = |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
+        if let Command::FeatureType(_) = l.command {
+            typed = true;
+        }
+        for m in l.moves.iter().filter(|m| m.is_extrusion()) {
+            if typed && m.feature.is_object() {
+                n_typed += 1;
+            }
+            if m.layer > 0 {
+                n_upper += 1;
+            }
+        }
+        Ok(())
+    };
+    let _ = r.push(input, &mut sink);
+    let _ = r.finish(&mut sink);
+    if typed { n_typed } else { n_upper }
+}
+
 /// Whether the acceptance requires this warp to be refused for this model (the base blend's
 /// monotonicity: 1 + w′(z)·g > 0 needs −g < (z1 − z0)/1.5 over the model's bbox), computed
 /// independently of the warp module.
