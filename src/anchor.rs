@@ -12,24 +12,29 @@
 //! registration are unaffected.
 //!
 //! The anchor is added when the slicer's first layer would hold too little of the part: when
-//! the warped part's vertices within half a layer of its lowest point span less than
-//! [`MIN_FIRST_LAYER_SPAN`] in x or in y (a cone's tip, a crease line, a tilted edge). A flat
-//! warped bottom (the `--base` blend, or no warp at the bottom) needs none.
+//! the XY area of the part's triangles lying within half a layer of its lowest point is below
+//! [`MIN_FIRST_LAYER_AREA`] (a cone's tip, a crease line, the corners of an inward cone). A
+//! flat warped bottom (the `--base` blend, or no warp at the bottom) needs none.
 
 use glam::{DVec2, DVec3};
 
-use crate::mesh::{Aabb, Mesh};
+use crate::mesh::Mesh;
 
-/// Smallest extent (mm) in both x and y of the part's first-layer region below which the
-/// anchor is added.
-pub const MIN_FIRST_LAYER_SPAN: f64 = 5.0;
+/// Smallest XY area (mm²) of the part's first-layer region below which the anchor is added.
+pub const MIN_FIRST_LAYER_AREA: f64 = 25.0;
 
 /// Whether the warped part (T-space) needs an anchor when sliced with `layer_height`.
 pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
     let zmin = warped.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
-    let first = Aabb::of_points(warped.vertices.iter().copied().filter(|v| v.z <= zmin + 0.5 * layer_height));
-    let s = first.size();
-    first.is_empty() || s.x < MIN_FIRST_LAYER_SPAN || s.y < MIN_FIRST_LAYER_SPAN
+    let limit = zmin + 0.5 * layer_height;
+    let area: f64 = warped
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| warped.vertices[i as usize]))
+        .filter(|[a, b, c]| a.z <= limit && b.z <= limit && c.z <= limit)
+        .map(|[a, b, c]| 0.5 * (b - a).truncate().perp_dot((c - a).truncate()).abs())
+        .sum();
+    !(area >= MIN_FIRST_LAYER_AREA)
 }
 
 /// Convex hull (counter-clockwise, no repeated first point) of 2-D points (Andrew's monotone

@@ -253,7 +253,7 @@ mod cli {
         say!("subdivided: {} → {} triangles", r.subdivide.triangles_before, r.subdivide.triangles_after);
         match r.anchor {
             Some(t) => say!("anchor: {t} mm slab under the warped bottom (slice with a first layer of {t} mm; unwarp drops it)"),
-            None => say!("anchor: none (the warped bottom is flat)"),
+            None => say!("anchor: none (the first layer holds enough of the part)"),
         }
         let s = r.warped_bbox.size();
         say!("warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°", s.x, s.y, s.z, r.largest_tilt_deg);

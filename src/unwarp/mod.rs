@@ -396,6 +396,9 @@ impl Core {
                 return Err(UnwarpError::Inches { line: n });
             }
             self.cur = Some((state_position_before(line, state), DVec3::Z));
+            // the firmware's E is the slicer's at this point (absolute files: E words continue
+            // from it)
+            self.emit.reset_e(self.slicer_e);
         }
         if !in_region && self.inside && !self.done_region {
             self.end_region();
