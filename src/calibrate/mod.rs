@@ -23,6 +23,9 @@
 //! mm and degrees at every interface, radians inside. No filesystem access: callers read files
 //! and pass text (so everything works in wasm).
 
+// `!(x >= tol)` on purpose: a NaN must fail the check.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use core::fmt;
 
 pub mod measurements;
