@@ -318,8 +318,8 @@ fn half_cylinder_x(r: f64, len: f64, n: u32) -> Mesh {
     for i in 0..m {
         let j = (i + 1) % m;
         let (a0, a1, b0, b1) = (i, j, m + i, m + j);
-        triangles.push([a0, b1, a1]);
-        triangles.push([a0, b0, b1]);
+        triangles.push([a0, a1, b1]);
+        triangles.push([a0, b1, b0]);
     }
     // Caps: fans (the profile is convex). −X cap seen from −X is clockwise → reverse.
     for i in 1..m - 1 {
