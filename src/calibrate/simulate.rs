@@ -266,17 +266,22 @@ fn view(points: &[DVec3]) -> [usize; 2] {
 }
 
 /// SVG: left the intended (green) and real (red) path with the error exaggerated `exaggerate`
-/// times (Fig. 6.12, 6.16), in the plane where the path spreads most; right the tip error along
-/// the path.
+/// times (Fig. 6.12, 6.16), in the plane where both paths spread most (the coordinate with the
+/// least extent is dropped); right the tip error along the path.
 pub fn svg(report: &SimReport, title: &str, exaggerate: f64) -> String {
     let ps: Vec<DVec3> = report.points.iter().map(|l| l.p).collect();
-    let [i, j] = view(&ps);
-    let names = ["X", "Y", "Z"];
     let k = if exaggerate.is_finite() && exaggerate > 0.0 {
         exaggerate
     } else {
         1.0
     };
+    let both: Vec<DVec3> = report
+        .points
+        .iter()
+        .flat_map(|l| [l.p, l.p + (l.real - l.p) * k])
+        .collect();
+    let [i, j] = view(&both);
+    let names = ["X", "Y", "Z"];
     let intended: Vec<[f64; 2]> = ps.iter().map(|p| [p[i], p[j]]).collect();
     let real: Vec<[f64; 2]> = report
         .points
