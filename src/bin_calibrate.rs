@@ -160,10 +160,20 @@ pub enum ProbeCommand {
     /// §5.1.6: Z bias and Z shift from the flats probed at A = ±90°.
     ZBias {
         /// z₉₀ values, comma separated.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
         z90: Vec<f64>,
         /// z₋₉₀ values, comma separated.
-        #[arg(long, value_delimiter = ',', allow_hyphen_values = true, required = true)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
         z_minus90: Vec<f64>,
         #[arg(long, default_value_t = probes::AXLE_FLATS)]
         d_f: f64,
@@ -359,8 +369,8 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
                 bias: bias.unwrap_or(DVec3::ZERO),
                 a_z_correction_deg: a_z_correction,
             };
-            let (report, spec) =
-                cal::calibrate_origin(&series, &opts, &machine(&base)?).map_err(|e| e.to_string())?;
+            let (report, spec) = cal::calibrate_origin(&series, &opts, &machine(&base)?)
+                .map_err(|e| e.to_string())?;
             if json {
                 println!(
                     "{}",
@@ -409,7 +419,10 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             println!("wrote {}", output.display());
             if let Some(b) = base {
                 write(&b, &patterns::base_stl(kind))?;
-                println!("wrote {} (the base object; print it planar first)", b.display());
+                println!(
+                    "wrote {} (the base object; print it planar first)",
+                    b.display()
+                );
             }
             if let Some(path) = svg {
                 let d = DVec3::new(b_offset[0], b_offset[1], 0.0);
@@ -488,10 +501,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
                 println!("wrote {}", path.display());
             }
             if let Some(path) = svg {
-                write(
-                    &path,
-                    simulate::svg(&report, &title, exaggerate).as_bytes(),
-                )?;
+                write(&path, simulate::svg(&report, &title, exaggerate).as_bytes())?;
                 println!("wrote {}", path.display());
             }
         }

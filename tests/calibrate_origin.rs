@@ -35,7 +35,13 @@ fn listing_4_1_parses_with_heading_and_listing_numbers() {
         .enumerate()
         .map(|(i, l)| format!("{} | {l}\n", i + 1))
         .collect();
-    assert_eq!(parse_measurements(&numbered).unwrap()[0], Series { line: 1, ..s[0].clone() });
+    assert_eq!(
+        parse_measurements(&numbered).unwrap()[0],
+        Series {
+            line: 1,
+            ..s[0].clone()
+        }
+    );
 }
 
 /// Eq. 5.7 on the listing 4.1 values, no corrections. Expected values computed independently
@@ -48,17 +54,29 @@ fn eq_5_7_listing_4_1_sample() {
     assert!((o.t2 - 9.784332966210691).abs() < 1e-12, "{}", o.t2);
     assert!(close(
         o.a_closest,
-        DVec3::new(-0.11964165342185162, -0.16897896909105417, -0.2139526106120982),
+        DVec3::new(
+            -0.11964165342185162,
+            -0.16897896909105417,
+            -0.2139526106120982
+        ),
         1e-12
     ));
     assert!(close(
         o.origin,
-        DVec3::new(-0.13020528268879303, 0.14870228413618114, -0.21584803193136004),
+        DVec3::new(
+            -0.13020528268879303,
+            0.14870228413618114,
+            -0.21584803193136004
+        ),
         1e-12
     ));
     assert!(close(
         o.a_from_b,
-        DVec3::new(0.010563629266941404, -0.3176812532272353, 0.0018954213192618474),
+        DVec3::new(
+            0.010563629266941404,
+            -0.3176812532272353,
+            0.0018954213192618474
+        ),
         1e-12
     ));
     assert!((o.theta_deg - 1.9043753148713238).abs() < 1e-10);
@@ -79,7 +97,11 @@ fn eq_5_7_listing_4_1_with_bias_and_a_z_correction() {
     let o = machine_origin(s, &opts).unwrap();
     assert!(close(
         o.a_closest,
-        DVec3::new(0.23065808244563438, -0.611371190717314, -0.16409486278841184),
+        DVec3::new(
+            0.23065808244563438,
+            -0.611371190717314,
+            -0.16409486278841184
+        ),
         1e-12
     ));
     assert!(close(
@@ -89,7 +111,11 @@ fn eq_5_7_listing_4_1_with_bias_and_a_z_correction() {
     ));
     assert!(close(
         o.a_from_b,
-        DVec3::new(0.034868860545043484, -1.213040537525291, 0.007242988274814566),
+        DVec3::new(
+            0.034868860545043484,
+            -1.213040537525291,
+            0.007242988274814566
+        ),
         1e-12
     ));
     assert!((o.theta_deg - 1.6463753361451505).abs() < 1e-10);
@@ -140,7 +166,11 @@ fn eq_5_7_hand_worked_bias_signs_and_rotation() {
     assert!(close(o.a_pos, DVec3::new(0.0, 0.8, 2.3), 1e-15));
     assert!(close(o.b_pos, DVec3::new(3.1, 4.2, -9.7), 1e-15));
     assert!(close(o.a_dir, DVec3::new(h, 0.5, 0.0), 1e-15));
-    assert!(close(o.a_closest, DVec3::new(t1 * h, 0.8 + t1 / 2.0, 2.3), 1e-12));
+    assert!(close(
+        o.a_closest,
+        DVec3::new(t1 * h, 0.8 + t1 / 2.0, 2.3),
+        1e-12
+    ));
     assert!(close(o.origin, DVec3::new(3.1, 4.2, 2.3), 1e-12));
     assert!((o.theta_deg - 30.0).abs() < 1e-12);
 }
@@ -170,7 +200,7 @@ fn round_trip_synthetic_measurements_recover_lines_and_origin() {
     let b_dir = DVec3::new(0.0010010, 0.0059996, 0.9999815).normalize();
     let a_point = DVec3::new(5.0, 0.37, -0.83); // some point of the A line
     let b_point = DVec3::new(-0.41, 0.29, 3.0); // some point of the B line
-    // The true origin: independently, by minimising |a(u) − b(v)|² (2×2 normal equations).
+                                                // The true origin: independently, by minimising |a(u) − b(v)|² (2×2 normal equations).
     let r = b_point - a_point;
     let (aa, ab, bb, ar, br) = (1.0, a_dir.dot(b_dir), 1.0, a_dir.dot(r), b_dir.dot(r));
     let det = aa * bb - ab * ab;
@@ -193,13 +223,24 @@ fn round_trip_synthetic_measurements_recover_lines_and_origin() {
     let parsed = parse_measurements(&text).unwrap();
     let base = preset("open5x-ab").unwrap();
     let (rep, spec) = calibrate_origin(&parsed, &OriginOptions::default(), &base).unwrap();
-    assert!(close(rep.result.origin, true_origin, 1e-9), "{} vs {true_origin}", rep.result.origin);
-    assert!(close(rep.result.a_from_b, true_a_closest - true_origin, 1e-9));
+    assert!(
+        close(rep.result.origin, true_origin, 1e-9),
+        "{} vs {true_origin}",
+        rep.result.origin
+    );
+    assert!(close(
+        rep.result.a_from_b,
+        true_a_closest - true_origin,
+        1e-9
+    ));
     assert!(close(rep.result.a_dir, a_dir, 1e-9));
     assert!(close(rep.result.b_dir, b_dir, 1e-9));
     // The calibrated machine is the true one shifted to the new origin: same kinematics.
     let json = spec.to_json();
-    let calibrated = MachineSpec::from_json(&json, "calibrated.json").unwrap().build().unwrap();
+    let calibrated = MachineSpec::from_json(&json, "calibrated.json")
+        .unwrap()
+        .build()
+        .unwrap();
     let mut truth = base.clone();
     if let warpslice::machine::spec::Kinematics::AbTable(p) = &mut truth.kinematics {
         p.a_pos = a_point;
@@ -225,7 +266,10 @@ fn calibrated_json_loads_builds_and_passes_the_machine_laws() {
     let s = parse_measurements(LISTING_4_1).unwrap();
     let (rep, spec) =
         calibrate_origin(&s, &OriginOptions::default(), &preset("open5x-ab").unwrap()).unwrap();
-    let m = MachineSpec::from_json(&spec.to_json(), "calibrated.json").unwrap().build().unwrap();
+    let m = MachineSpec::from_json(&spec.to_json(), "calibrated.json")
+        .unwrap()
+        .build()
+        .unwrap();
     assert_eq!(m.axis_names(), ["X", "Y", "Z", "A", "B"]);
     laws::check_round_trip(m.as_ref()).unwrap();
     laws::check_paths(m.as_ref()).unwrap();
@@ -238,8 +282,8 @@ fn calibrated_json_loads_builds_and_passes_the_machine_laws() {
 #[test]
 fn non_ab_table_base_is_refused() {
     let s = parse_measurements(LISTING_4_1).unwrap();
-    let e = calibrate_origin(&s, &OriginOptions::default(), &preset("cartesian").unwrap())
-        .unwrap_err();
+    let e =
+        calibrate_origin(&s, &OriginOptions::default(), &preset("cartesian").unwrap()).unwrap_err();
     assert!(e.to_string().contains("ab-table"), "{e}");
 }
 
@@ -264,11 +308,21 @@ fn repeated_series_statistics_like_table_6_2() {
     assert!((st.a_pos.y.mean - -0.155).abs() < 1e-12);
     assert!((st.a_pos.y.std - (0.0014f64 / 3.0).sqrt()).abs() < 1e-12);
     assert!((st.a_pos.y.max_diff - 0.05).abs() < 1e-12);
-    assert_eq!(st.b_pos.z, Stat { mean: -10.0, std: 0.0, max_diff: 0.0 });
+    assert_eq!(
+        st.b_pos.z,
+        Stat {
+            mean: -10.0,
+            std: 0.0,
+            max_diff: 0.0
+        }
+    );
     assert_eq!(rep.per_series.len(), 3);
     // The machine uses the mean series.
     let mean = machine_origin(
-        &Series { a_pos: DVec3::new(0.0, -0.155, -0.2140012), ..s[1].clone() },
+        &Series {
+            a_pos: DVec3::new(0.0, -0.155, -0.2140012),
+            ..s[1].clone()
+        },
         &OriginOptions::default(),
     )
     .unwrap();
@@ -282,7 +336,11 @@ fn malformed_files_name_the_line() {
         ("head\na_axis {0,1}\n", 2, "3"),
         ("head\na_axis {0,x,2}\n", 2, "not a number"),
         ("head\na_axis 0,1,2\n", 2, "not a vector"),
-        ("a_axis {0,1,2}\nb_axsi {0,1,2}\n", 2, "unknown component 'b_axsi'"),
+        (
+            "a_axis {0,1,2}\nb_axsi {0,1,2}\n",
+            2,
+            "unknown component 'b_axsi'",
+        ),
         ("head\n\na_z_in_y abc\n", 3, "not a number"),
         ("head\na_axis\n", 2, "no value"),
     ];
@@ -297,11 +355,22 @@ fn malformed_files_name_the_line() {
         assert!(msg.contains(what), "{msg}");
     }
     // Incomplete series: names the series' first line and the missing component.
-    let e = parse_measurements("head\na_axis {0,1,2}\na_axis_dir {1,0,0}\nb_axis {0,0,-10}\na_axis {0,1,2}\n")
-        .unwrap_err();
-    assert_eq!(e, CalibError::IncompleteSeries { line: 2, missing: "b_axis_dir" });
+    let e = parse_measurements(
+        "head\na_axis {0,1,2}\na_axis_dir {1,0,0}\nb_axis {0,0,-10}\na_axis {0,1,2}\n",
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        CalibError::IncompleteSeries {
+            line: 2,
+            missing: "b_axis_dir"
+        }
+    );
     assert!(e.to_string().contains("line 2"));
-    assert_eq!(parse_measurements("only a heading\n").unwrap_err(), CalibError::NoSeries);
+    assert_eq!(
+        parse_measurements("only a heading\n").unwrap_err(),
+        CalibError::NoSeries
+    );
     assert_eq!(parse_measurements("").unwrap_err(), CalibError::NoSeries);
 }
 

@@ -26,7 +26,10 @@ b_axis_dir {0.0010010,0.0059996,0.9999815}
 fn machines() -> Vec<MachineSpec> {
     let base = preset("open5x-ab").unwrap();
     let s = parse_measurements(LISTING_4_1).unwrap();
-    let opts = OriginOptions { bias: DVec3::new(0.326, 0.453, 0.05), a_z_correction_deg: -0.258 };
+    let opts = OriginOptions {
+        bias: DVec3::new(0.326, 0.453, 0.05),
+        a_z_correction_deg: -0.258,
+    };
     let (_, mut cal) = calibrate_origin(&s, &opts, &base).unwrap();
     if let Kinematics::AbTable(p) = &mut cal.kinematics {
         p.part_offset = DVec3::new(0.0, 0.0, 12.0);
@@ -42,22 +45,23 @@ fn read_moves(gcode: &[u8], names: &[String]) -> Vec<(Vec<f64>, f64)> {
     let mut out = Vec::new();
     let mut r = Reader::new(ReadOptions::default());
     let mut current = vec![f64::NAN; names.len()];
-    let mut sink = |line: warpslice::gcode::Line<'_>, _: &warpslice::gcode::State| -> Result<(), GcodeError> {
-        if let Command::Move { .. } = line.command {
-            let mut e = 0.0;
-            for w in Words::new(split(line.raw).code) {
-                let w = w.expect("word parses");
-                let v = w.value.unwrap_or(f64::NAN);
-                if w.letter == b'E' {
-                    e = v;
-                } else if let Some(k) = names.iter().position(|n| n.as_bytes() == [w.letter]) {
-                    current[k] = v;
+    let mut sink =
+        |line: warpslice::gcode::Line<'_>, _: &warpslice::gcode::State| -> Result<(), GcodeError> {
+            if let Command::Move { .. } = line.command {
+                let mut e = 0.0;
+                for w in Words::new(split(line.raw).code) {
+                    let w = w.expect("word parses");
+                    let v = w.value.unwrap_or(f64::NAN);
+                    if w.letter == b'E' {
+                        e = v;
+                    } else if let Some(k) = names.iter().position(|n| n.as_bytes() == [w.letter]) {
+                        current[k] = v;
+                    }
                 }
+                out.push((current.clone(), e));
             }
-            out.push((current.clone(), e));
-        }
-        Ok(())
-    };
+            Ok(())
+        };
     r.push(gcode, &mut sink).unwrap();
     r.finish(&mut sink).unwrap();
     out
@@ -73,10 +77,20 @@ fn distance_to_polyline(p: DVec3, line: &[DVec3]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-fn check_point(m: &dyn Machine, print: &TestPrint, axes: &[f64], what: &str, opts: &PrintOptions) -> f64 {
+fn check_point(
+    m: &dyn Machine,
+    print: &TestPrint,
+    axes: &[f64],
+    what: &str,
+    opts: &PrintOptions,
+) -> f64 {
     let (tip, _) = m.forward(axes).unwrap();
     let on_surface = (print.surface.distance(tip) - opts.layer_height).abs();
-    let on_line = print.paths.iter().map(|l| distance_to_polyline(tip, l)).fold(f64::INFINITY, f64::min);
+    let on_line = print
+        .paths
+        .iter()
+        .map(|l| distance_to_polyline(tip, l))
+        .fold(f64::INFINITY, f64::min);
     assert!(
         on_surface <= LINE_TOLERANCE && on_line <= LINE_TOLERANCE,
         "{} {}: {what} {axes:?} lands at {tip}: {on_surface} mm off the surface, {on_line} mm off the line",
@@ -97,15 +111,30 @@ fn check(spec: &MachineSpec, kind: TestKind) -> TestPrint {
     let mut worst: f64 = 0.0;
     let mut prev: Option<&Vec<f64>> = None;
     for (axes, e) in &moves {
-        assert!(axes.iter().all(|v| v.is_finite()), "{kind:?}: every move writes every axis: {axes:?}");
+        assert!(
+            axes.iter().all(|v| v.is_finite()),
+            "{kind:?}: every move writes every axis: {axes:?}"
+        );
         for (l, v) in m.limits().iter().zip(axes) {
-            assert!(*v >= l.min - 1e-9 && *v <= l.max + 1e-9, "{kind:?}: {} = {v} outside [{}, {}]", l.name, l.min, l.max);
+            assert!(
+                *v >= l.min - 1e-9 && *v <= l.max + 1e-9,
+                "{kind:?}: {} = {v} outside [{}, {}]",
+                l.name,
+                l.min,
+                l.max
+            );
         }
         if *e > 0.0 {
             worst = worst.max(check_point(m.as_ref(), &print, axes, "end", &opts));
             let p = prev.expect("an extruding move follows a positioning move");
             let mid: Vec<f64> = p.iter().zip(axes).map(|(a, b)| (a + b) / 2.0).collect();
-            worst = worst.max(check_point(m.as_ref(), &print, &mid, "interpolated midpoint", &opts));
+            worst = worst.max(check_point(
+                m.as_ref(),
+                &print,
+                &mid,
+                "interpolated midpoint",
+                &opts,
+            ));
         }
         prev = Some(axes);
     }
@@ -115,12 +144,21 @@ fn check(spec: &MachineSpec, kind: TestKind) -> TestPrint {
             assert!((a - b).abs() <= 0.0005 + 1e-12);
         }
     }
-    eprintln!("{} {}: worst deviation {worst:.5} mm, {} moves", spec.name, kind.name(), moves.len());
+    eprintln!(
+        "{} {}: worst deviation {worst:.5} mm, {} moves",
+        spec.name,
+        kind.name(),
+        moves.len()
+    );
     print
 }
 
 fn printing_axes(p: &TestPrint) -> Vec<&Vec<f64>> {
-    p.moves.iter().filter(|m| m.extrude).map(|m| &m.axes).collect()
+    p.moves
+        .iter()
+        .filter(|m| m.extrude)
+        .map(|m| &m.axes)
+        .collect()
 }
 
 #[test]
@@ -141,7 +179,10 @@ fn a_orientation_test_uses_a_only() {
         let p = check(&spec, TestKind::AOrientation);
         assert!(printing_axes(&p).iter().all(|x| x[4].abs() < 1e-6));
         let [lo, hi] = p.report.a_range;
-        assert!((lo + 60.0).abs() < 1e-6 && (hi - 60.0).abs() < 1e-6, "{lo} {hi}");
+        assert!(
+            (lo + 60.0).abs() < 1e-6 && (hi - 60.0).abs() < 1e-6,
+            "{lo} {hi}"
+        );
     }
 }
 
@@ -152,7 +193,9 @@ fn b_position_test_turns_b_two_revolutions_at_a_zero() {
         assert!(printing_axes(&p).iter().all(|x| x[3].abs() < 1e-6));
         assert!((p.report.b_range[0]).abs() < 1e-9 && (p.report.b_range[1] - 720.0).abs() < 1e-9);
         // A straight line on the plate: every intended tip has y = 0, z = 2 + layer height.
-        assert!(p.paths[0].iter().all(|t| t.y == 0.0 && (t.z - 2.2).abs() < 1e-12));
+        assert!(p.paths[0]
+            .iter()
+            .all(|t| t.y == 0.0 && (t.z - 2.2).abs() < 1e-12));
     }
 }
 
@@ -171,7 +214,10 @@ fn integrated_test_moves_a_between_0_and_90_with_b() {
     for spec in machines() {
         let p = check(&spec, TestKind::Integrated);
         let [lo, hi] = p.report.a_range;
-        assert!(lo > 0.0 && lo < 10.0 && hi > 75.0 && hi <= 90.0, "{lo} {hi}");
+        assert!(
+            lo > 0.0 && lo < 10.0 && hi > 75.0 && hi <= 90.0,
+            "{lo} {hi}"
+        );
         let [blo, bhi] = p.report.b_range;
         assert!(bhi - blo > 60.0, "{blo} {bhi}");
     }
@@ -203,19 +249,34 @@ fn base_objects_are_closed_outward_stls() {
         assert_eq!(rep.degenerate, 0, "{kind:?}");
         assert!(rep.bbox.min.z.abs() < 1e-6, "{kind:?} stands on the bed");
         let v = signed_volume(&mesh);
-        assert!((v - vol).abs() < 0.01 * vol, "{kind:?}: volume {v}, expected {vol}");
+        assert!(
+            (v - vol).abs() < 0.01 * vol,
+            "{kind:?}: volume {v}, expected {vol}"
+        );
     }
 }
 
 #[test]
 fn other_machine_kinds_are_refused_with_a_message() {
-    let e = patterns::test_print(&preset("pax-5axis").unwrap(), TestKind::APosition, &PrintOptions::default())
-        .unwrap_err();
+    let e = patterns::test_print(
+        &preset("pax-5axis").unwrap(),
+        TestKind::APosition,
+        &PrintOptions::default(),
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("ab-table"), "{e}");
-    let bad = PrintOptions { step_mm: 0.0, ..PrintOptions::default() };
-    assert!(patterns::test_print(&preset("open5x-ab").unwrap(), TestKind::APosition, &bad).is_err());
+    let bad = PrintOptions {
+        step_mm: 0.0,
+        ..PrintOptions::default()
+    };
+    assert!(
+        patterns::test_print(&preset("open5x-ab").unwrap(), TestKind::APosition, &bad).is_err()
+    );
     assert!("a-postion".parse::<TestKind>().is_err());
-    assert_eq!("b-orientation".parse::<TestKind>().unwrap(), TestKind::BOrientation);
+    assert_eq!(
+        "b-orientation".parse::<TestKind>().unwrap(),
+        TestKind::BOrientation
+    );
 }
 
 /// A limit the test cannot respect is an error, not G-code beyond it.

@@ -31,9 +31,16 @@ fn eq_5_3_a_position() {
 /// A_dir = (1, 0.005, 0.002)/√1.000029.
 #[test]
 fn eq_5_4_a_orientation() {
-    let (m_zx, m_zy, m_yx, d) =
-        probes::a_dir([1.02, 0.98], 10.0, [0.5, 0.52], 5.0, [-4.0, 4.1], [-4.0, 3.9], 20.0)
-            .unwrap();
+    let (m_zx, m_zy, m_yx, d) = probes::a_dir(
+        [1.02, 0.98],
+        10.0,
+        [0.5, 0.52],
+        5.0,
+        [-4.0, 4.1],
+        [-4.0, 3.9],
+        20.0,
+    )
+    .unwrap();
     assert!((m_zx - 0.002).abs() < 1e-15);
     assert!((m_zy - -0.002).abs() < 1e-15);
     assert!((m_yx - 0.005).abs() < 1e-15);
@@ -99,8 +106,14 @@ fn a_scaling_5_1_7() {
 /// ±90° and half of it at 45°.
 #[test]
 fn wobble_5_1_8_and_eq_5_1() {
-    let out = evaluate(&ProbeInput::Wobble { z_shift: 2.13, ab_z: 2.0 }).unwrap();
-    let ProbeOutput::Wobble { z_d, correction } = out else { panic!("{out:?}") };
+    let out = evaluate(&ProbeInput::Wobble {
+        z_shift: 2.13,
+        ab_z: 2.0,
+    })
+    .unwrap();
+    let ProbeOutput::Wobble { z_d, correction } = out else {
+        panic!("{out:?}")
+    };
     assert!((z_d - 0.13).abs() < 1e-12);
     let at = |a: f64| correction.iter().find(|c| c[0] == a).unwrap()[1];
     assert!((at(90.0) - z_d).abs() < 1e-15);
@@ -111,19 +124,28 @@ fn wobble_5_1_8_and_eq_5_1() {
 
 #[test]
 fn probe_inputs_from_json_with_defaults() {
-    let i: ProbeInput = serde_json::from_str(
-        r#"{"kind":"a-pos","z0":-5,"y90":4.2,"y_minus90":-3.8,"c_y":0.453}"#,
-    )
-    .unwrap();
+    let i: ProbeInput =
+        serde_json::from_str(r#"{"kind":"a-pos","z0":-5,"y90":4.2,"y_minus90":-3.8,"c_y":0.453}"#)
+            .unwrap();
     let out = evaluate(&i).unwrap();
-    let ProbeOutput::APos { a_pos, .. } = &out else { panic!() };
+    let ProbeOutput::APos { a_pos, .. } = &out else {
+        panic!()
+    };
     assert!((a_pos.z - -0.2265).abs() < 1e-15);
     assert!(out.to_text().contains("a_axis {0,0.2"), "{}", out.to_text());
     let i: ProbeInput =
         serde_json::from_str(r#"{"kind":"b-pos","x_p":[-2.14,1.86],"y_p":[2.09,-1.91]}"#).unwrap();
-    let ProbeOutput::BPos { b_pos } = evaluate(&i).unwrap() else { panic!() };
+    let ProbeOutput::BPos { b_pos } = evaluate(&i).unwrap() else {
+        panic!()
+    };
     assert_eq!(b_pos.z, -10.0);
-    let bad = evaluate(&ProbeInput::APos { z0: f64::NAN, y90: 0.0, y_minus90: 0.0, c_y: 0.0, r_p: 1.0 })
-        .unwrap_err();
+    let bad = evaluate(&ProbeInput::APos {
+        z0: f64::NAN,
+        y90: 0.0,
+        y_minus90: 0.0,
+        c_y: 0.0,
+        r_p: 1.0,
+    })
+    .unwrap_err();
     assert!(matches!(bad, CalibError::BadInput { .. }));
 }

@@ -15,7 +15,8 @@ use warpslice::machine::spec::Kinematics;
 fn fig_3_1_two_degrees_about_z_moves_a_20_mm_point_by_0_698_mm() {
     let e = simulate::fig_3_1(20.0, 2.0).unwrap();
     let (s, c) = (2f64.to_radians().sin(), 2f64.to_radians().cos());
-    let by_hand = (DVec3::new(20.0 * s * c, 20.0 * s * s, 20.0 * c) - DVec3::new(0.0, 0.0, 20.0)).length();
+    let by_hand =
+        (DVec3::new(20.0 * s * c, 20.0 * s * s, 20.0 * c) - DVec3::new(0.0, 0.0, 20.0)).length();
     assert!((e - by_hand).abs() < 1e-12, "{e} vs {by_hand}");
     assert_eq!(format!("{e:.3}"), "0.698");
     // Without the error, no error.
@@ -29,7 +30,10 @@ fn identical_machines_land_exactly() {
     let poses: Vec<Pose> = (0..20)
         .map(|i| {
             let t = i as f64 * 0.3;
-            Pose { p: DVec3::new(10.0 * t.cos(), 5.0 * t.sin(), 3.0 + t), n: DVec3::new(t.sin(), 0.2, 1.0) }
+            Pose {
+                p: DVec3::new(10.0 * t.cos(), 5.0 * t.sin(), 3.0 + t),
+                n: DVec3::new(t.sin(), 0.2, 1.0),
+            }
         })
         .collect();
     let r = simulate::simulate(&pair, &poses).unwrap();
@@ -42,14 +46,37 @@ fn identical_machines_land_exactly() {
 #[test]
 fn shifted_b_axis_does_not_move_unrotated_points() {
     let m = preset("open5x-ab").unwrap();
-    let t = simulate::deviate(&m, &Deviation { b_offset: DVec3::new(0.1, 0.0, 0.0), ..Deviation::default() }).unwrap();
-    assert_eq!(simulate::spec_origin(&t).unwrap(), DVec3::new(0.1, 0.0, 0.0));
+    let t = simulate::deviate(
+        &m,
+        &Deviation {
+            b_offset: DVec3::new(0.1, 0.0, 0.0),
+            ..Deviation::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        simulate::spec_origin(&t).unwrap(),
+        DVec3::new(0.1, 0.0, 0.0)
+    );
     let pair = Pair::new(&m, &t).unwrap();
-    let r = simulate::simulate(&pair, &[Pose { p: DVec3::new(7.0, -3.0, 2.0), n: DVec3::Z }]).unwrap();
+    let r = simulate::simulate(
+        &pair,
+        &[Pose {
+            p: DVec3::new(7.0, -3.0, 2.0),
+            n: DVec3::Z,
+        }],
+    )
+    .unwrap();
     assert!(r.max_error_mm < 1e-12, "{}", r.max_error_mm);
     // Turned by B = 180° (n = −X… B is the azimuth): a point moves by 2·0.1·sin(90°) = 0.2 mm.
-    let r = simulate::simulate(&pair, &[Pose { p: DVec3::new(7.0, -3.0, 2.0), n: DVec3::new(0.0, -1.0, 1.0) }])
-        .unwrap();
+    let r = simulate::simulate(
+        &pair,
+        &[Pose {
+            p: DVec3::new(7.0, -3.0, 2.0),
+            n: DVec3::new(0.0, -1.0, 1.0),
+        }],
+    )
+    .unwrap();
     assert!(r.max_error_mm > 0.01, "{}", r.max_error_mm);
 }
 
@@ -58,14 +85,28 @@ fn shifted_b_axis_does_not_move_unrotated_points() {
 #[test]
 fn fig_6_16_b_offset_makes_the_straight_line_wave() {
     let m = preset("open5x-ab").unwrap();
-    let (rep, svg) =
-        patterns::b_position_svg(&m, DVec3::new(0.0, -0.2, 0.0), &PrintOptions::default(), 10.0).unwrap();
-    assert!((rep.max_error_mm - 0.4).abs() < 1e-3, "{}", rep.max_error_mm);
+    let (rep, svg) = patterns::b_position_svg(
+        &m,
+        DVec3::new(0.0, -0.2, 0.0),
+        &PrintOptions::default(),
+        10.0,
+    )
+    .unwrap();
+    assert!(
+        (rep.max_error_mm - 0.4).abs() < 1e-3,
+        "{}",
+        rep.max_error_mm
+    );
     assert!(rep.points[0].error_mm < 1e-9 && rep.points.last().unwrap().error_mm < 1e-9);
-    assert!((rep.mean_error_mm - 0.4 * 2.0 / core::f64::consts::PI).abs() < 5e-3, "{}", rep.mean_error_mm);
+    assert!(
+        (rep.mean_error_mm - 0.4 * 2.0 / core::f64::consts::PI).abs() < 5e-3,
+        "{}",
+        rep.mean_error_mm
+    );
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert_eq!(svg.matches("<polyline").count(), 3);
-    let (zero, _) = patterns::b_position_svg(&m, DVec3::ZERO, &PrintOptions::default(), 10.0).unwrap();
+    let (zero, _) =
+        patterns::b_position_svg(&m, DVec3::ZERO, &PrintOptions::default(), 10.0).unwrap();
     assert!(zero.max_error_mm < 1e-9);
 }
 
@@ -78,14 +119,36 @@ fn small_orientation_errors_give_sub_millimetre_errors() {
         p.a_pos = DVec3::new(0.0, -0.3, 0.002);
         p.a_dir = DVec3::new(0.9994476, 0.0332315, -0.0004059);
     }
-    let t = simulate::deviate(&m, &Deviation { a_rot_z_deg: 0.2, ..Deviation::default() }).unwrap();
+    let t = simulate::deviate(
+        &m,
+        &Deviation {
+            a_rot_z_deg: 0.2,
+            ..Deviation::default()
+        },
+    )
+    .unwrap();
     let pair = Pair::new(&m, &t).unwrap();
     // A calibrated A axis cannot give exactly +Y within ±90°: tilt 80° toward +Y.
     let n = DVec3::new(0.0, 80f64.to_radians().sin(), 80f64.to_radians().cos());
-    let r = simulate::simulate(&pair, &[Pose { p: DVec3::new(0.0, 20.0, 0.0), n }]).unwrap();
+    let r = simulate::simulate(
+        &pair,
+        &[Pose {
+            p: DVec3::new(0.0, 20.0, 0.0),
+            n,
+        }],
+    )
+    .unwrap();
     // At most about 20 mm · 0.2° (in rad) = 0.0698 mm.
-    assert!(r.max_error_mm > 0.03 && r.max_error_mm < 0.0699, "{}", r.max_error_mm);
-    assert!(r.max_axis_error_deg > 0.1 && r.max_axis_error_deg < 0.2001, "{}", r.max_axis_error_deg);
+    assert!(
+        r.max_error_mm > 0.03 && r.max_error_mm < 0.0699,
+        "{}",
+        r.max_error_mm
+    );
+    assert!(
+        r.max_axis_error_deg > 0.1 && r.max_axis_error_deg < 0.2001,
+        "{}",
+        r.max_axis_error_deg
+    );
     let text = r.to_text();
     assert!(text.starts_with("points: 1, tip error max 0.0"), "{text}");
 }
@@ -95,8 +158,14 @@ fn toolpath_csv_errors_name_the_line() {
     let ok = simulate::parse_poses("x,y,z,nx,ny,nz\n1,2,3,0,0,1\n\n# c\n4,5,6,0,1,1\n").unwrap();
     assert_eq!(ok.len(), 2);
     let e = simulate::parse_poses("1,2,3,0,0,1\n1,2,3,0,0\n").unwrap_err();
-    assert!(matches!(&e, CalibError::BadInput { what, .. } if what == "toolpath line 2"), "{e}");
-    let nan = Deviation { a_offset: DVec3::new(f64::NAN, 0.0, 0.0), ..Deviation::default() };
+    assert!(
+        matches!(&e, CalibError::BadInput { what, .. } if what == "toolpath line 2"),
+        "{e}"
+    );
+    let nan = Deviation {
+        a_offset: DVec3::new(f64::NAN, 0.0, 0.0),
+        ..Deviation::default()
+    };
     assert!(simulate::deviate(&preset("open5x-ab").unwrap(), &nan).is_err());
     assert!(simulate::deviate(&preset("cartesian").unwrap(), &Deviation::default()).is_err());
 }

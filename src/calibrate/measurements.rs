@@ -107,7 +107,8 @@ fn vector(s: &str) -> Result<DVec3, String> {
     }
     let mut v = [0.0; 3];
     for (k, p) in parts.iter().enumerate() {
-        v[k] = number(p).ok_or_else(|| format!("component {} '{}' is not a number", k + 1, p.trim()))?;
+        v[k] = number(p)
+            .ok_or_else(|| format!("component {} '{}' is not a number", k + 1, p.trim()))?;
     }
     Ok(DVec3::from_array(v))
 }

@@ -55,10 +55,7 @@ pub enum CalibError {
         message: String,
     },
     /// A measurement series lacks a component (the series starts at `line`).
-    IncompleteSeries {
-        line: usize,
-        missing: &'static str,
-    },
+    IncompleteSeries { line: usize, missing: &'static str },
     /// The file holds no measurement series.
     NoSeries,
     /// The A and B lines are (nearly) parallel: no closest approach.

@@ -344,7 +344,8 @@ pub fn calibrate_origin(
     let mean = mean_series(series)?;
     let result = machine_origin(&mean, opts)?;
     let stats = (series.len() > 1).then(|| {
-        let col = |f: &dyn Fn(&Series) -> DVec3| VecStat::of(&series.iter().map(f).collect::<Vec<_>>());
+        let col =
+            |f: &dyn Fn(&Series) -> DVec3| VecStat::of(&series.iter().map(f).collect::<Vec<_>>());
         SeriesStats {
             a_pos: col(&|s| s.a_pos),
             b_pos: col(&|s| s.b_pos),

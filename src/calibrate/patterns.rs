@@ -464,11 +464,7 @@ struct Solved {
     how_last: How,
 }
 
-fn solve_path(
-    m: &dyn Machine,
-    f: &PathFn,
-    opts: &PrintOptions,
-) -> Result<Solved, CalibError> {
+fn solve_path(m: &dyn Machine, f: &PathFn, opts: &PrintOptions) -> Result<Solved, CalibError> {
     let mut n = MIN_POINTS;
     loop {
         let mut tips = Vec::with_capacity(n + 1);
@@ -485,7 +481,9 @@ fn solve_path(
             ns.push(real_n);
             hows.push(how);
         }
-        let fine = tips.windows(2).all(|w| (w[1] - w[0]).length() <= opts.step_mm)
+        let fine = tips
+            .windows(2)
+            .all(|w| (w[1] - w[0]).length() <= opts.step_mm)
             && axes
                 .windows(2)
                 .all(|w| (3..w[0].len()).all(|k| (w[1][k] - w[0][k]).abs() <= opts.step_deg));
@@ -519,7 +517,12 @@ impl Writer<'_> {
         f: f64,
         tip: Option<DVec3>,
     ) -> Result<(), CalibError> {
-        check_limits(self.m.name(), self.m.limits(), axes, tip.unwrap_or(DVec3::ZERO))?;
+        check_limits(
+            self.m.name(),
+            self.m.limits(),
+            axes,
+            tip.unwrap_or(DVec3::ZERO),
+        )?;
         self.out
             .extend_from_slice(if rapid { b"G0" } else { b"G1" });
         for (name, &v) in self.names.iter().zip(axes) {

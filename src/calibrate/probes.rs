@@ -76,10 +76,7 @@ pub enum ProbeInput {
         z: f64,
     },
     /// Eq. 5.6: four side points at each of two heights.
-    BDir {
-        p_z1: [DVec3; 4],
-        p_z2: [DVec3; 4],
-    },
+    BDir { p_z1: [DVec3; 4], p_z2: [DVec3; 4] },
     /// §5.1.6.
     ZBias {
         z90: Vec<f64>,
@@ -272,7 +269,9 @@ pub fn evaluate(input: &ProbeInput) -> Result<ProbeOutput, CalibError> {
         } => {
             finite(
                 "A orientation",
-                &[z_x[0], z_x[1], z_y[0], z_y[1], y_x1[0], y_x1[1], y_x2[0], y_x2[1]],
+                &[
+                    z_x[0], z_x[1], z_y[0], z_y[1], y_x1[0], y_x1[1], y_x2[0], y_x2[1],
+                ],
             )?;
             let (m_zx, m_zy, m_yx, d) = a_dir(*z_x, *d_zx, *z_y, *d_zy, *y_x1, *y_x2, *d_yx)?;
             ProbeOutput::ADir {
@@ -298,7 +297,11 @@ pub fn evaluate(input: &ProbeInput) -> Result<ProbeOutput, CalibError> {
             let (p1, p2, d) = b_dir(p_z1, p_z2)?;
             ProbeOutput::BDir { p1, p2, b_dir: d }
         }
-        ProbeInput::ZBias { z90, z_minus90, d_f } => {
+        ProbeInput::ZBias {
+            z90,
+            z_minus90,
+            d_f,
+        } => {
             finite("Z bias", z90)?;
             finite("Z bias", z_minus90)?;
             finite("Z bias d_f", &[*d_f])?;

@@ -232,7 +232,11 @@ pub fn simulate(pair: &Pair, poses: &[Pose]) -> Result<SimReport, CalibError> {
 }
 
 /// Simulate given believed axes and the tips they are meant to give.
-pub fn simulate_axes(pair: &Pair, axes: &[Vec<f64>], tips: &[DVec3]) -> Result<SimReport, CalibError> {
+pub fn simulate_axes(
+    pair: &Pair,
+    axes: &[Vec<f64>],
+    tips: &[DVec3],
+) -> Result<SimReport, CalibError> {
     let mut out = Vec::with_capacity(axes.len());
     for (a, &p) in axes.iter().zip(tips) {
         let (real, nr) = pair.land(a)?;

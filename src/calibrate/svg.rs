@@ -30,7 +30,9 @@ const H: f64 = 400.0;
 const MARGIN: f64 = 60.0;
 
 fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// Render panels side by side.
@@ -129,7 +131,11 @@ fn panel(s: &mut String, p: &Panel, x0: f64) {
     );
     for (i, c) in p.curves.iter().enumerate() {
         let mut d = String::new();
-        for q in c.points.iter().filter(|q| q[0].is_finite() && q[1].is_finite()) {
+        for q in c
+            .points
+            .iter()
+            .filter(|q| q[0].is_finite() && q[1].is_finite())
+        {
             let _ = write!(d, "{:.2},{:.2} ", px(q[0]), py(q[1]));
         }
         let _ = writeln!(
