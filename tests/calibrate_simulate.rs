@@ -68,7 +68,8 @@ fn shifted_b_axis_does_not_move_unrotated_points() {
     )
     .unwrap();
     assert!(r.max_error_mm < 1e-12, "{}", r.max_error_mm);
-    // Turned by B = 180° (n = −X… B is the azimuth): a point moves by 2·0.1·sin(90°) = 0.2 mm.
+    // n = (0, −1, 1): tilt 45° toward −Y, so A = 45°, B = 90° − (−90°) = 180°. Turning by 180°
+    // about a B line 0.1 mm off moves the point by |(I − R(180°)) d| = 0.2 mm (A is exact).
     let r = simulate::simulate(
         &pair,
         &[Pose {
@@ -77,7 +78,7 @@ fn shifted_b_axis_does_not_move_unrotated_points() {
         }],
     )
     .unwrap();
-    assert!(r.max_error_mm > 0.01, "{}", r.max_error_mm);
+    assert!((r.max_error_mm - 0.2).abs() < 1e-9, "{}", r.max_error_mm);
 }
 
 /// Fig. 6.16: the B position test with the B axis 0.2 mm off in −Y: the tip error is
@@ -168,4 +169,64 @@ fn toolpath_csv_errors_name_the_line() {
     };
     assert!(simulate::deviate(&preset("open5x-ab").unwrap(), &nan).is_err());
     assert!(simulate::deviate(&preset("cartesian").unwrap(), &Deviation::default()).is_err());
+}
+
+fn test_print_sim(kind: patterns::TestKind, dev: Deviation) -> simulate::SimReport {
+    let m = preset("open5x-ab").unwrap();
+    let t = simulate::deviate(&m, &dev).unwrap();
+    let pair = Pair::new(&m, &t).unwrap();
+    let tp = patterns::test_print(&m, kind, &PrintOptions::default()).unwrap();
+    let (axes, tips): (Vec<Vec<f64>>, Vec<DVec3>) = tp
+        .moves
+        .iter()
+        .filter_map(|mv| mv.tip.map(|p| (mv.axes.clone(), p)))
+        .unzip();
+    simulate::simulate_axes(&pair, &axes, &tips).unwrap()
+}
+
+/// §6.2.1 / Fig. 6.12 (a): an A axis 0.1 mm off in Y puts the line printed at A = +90° 0.1 mm
+/// higher and the one at A = −90° 0.1 mm lower: the test doubles the error (0.2 mm).
+#[test]
+fn a_position_test_shows_twice_the_y_error_as_a_height_difference() {
+    let r = test_print_sim(
+        patterns::TestKind::APosition,
+        Deviation {
+            a_offset: DVec3::new(0.0, 0.1, 0.0),
+            ..Deviation::default()
+        },
+    );
+    let z = |side: f64| {
+        let v: Vec<f64> = r
+            .points
+            .iter()
+            .filter(|l| l.p.y * side > 0.0)
+            .map(|l| l.real.z)
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    assert!(
+        (z(1.0) - z(-1.0) - 0.2).abs() < 1e-9,
+        "{} {}",
+        z(1.0),
+        z(-1.0)
+    );
+}
+
+/// §6.2.2 / Fig. 6.12 (b): A_dir turned 0.5° about Z shifts the ends of the arc sideways in
+/// opposite directions while its middle (on the vertical) stays.
+#[test]
+fn a_orientation_test_shifts_the_ends_sideways() {
+    let r = test_print_sim(
+        patterns::TestKind::AOrientation,
+        Deviation {
+            a_rot_z_deg: 0.5,
+            ..Deviation::default()
+        },
+    );
+    let first = r.points.first().unwrap().real.x;
+    let last = r.points.last().unwrap().real.x;
+    let mid = r.points[r.points.len() / 2].real.x;
+    assert!(first * last < 0.0, "{first} {last}");
+    assert!(first.abs() > 0.1 && last.abs() > 0.1, "{first} {last}");
+    assert!(mid.abs() < 0.01, "{mid}");
 }
