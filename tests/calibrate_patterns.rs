@@ -58,7 +58,10 @@ fn read_moves(gcode: &[u8], names: &[String]) -> Vec<(Vec<f64>, f64)> {
                         current[k] = v;
                     }
                 }
-                out.push((current.clone(), e));
+                // The first line lifts Z alone (the other axes are not known yet).
+                if current.iter().all(|v| v.is_finite()) {
+                    out.push((current.clone(), e));
+                }
             }
             Ok(())
         };

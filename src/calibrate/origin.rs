@@ -36,6 +36,9 @@ use crate::machine::spec::Kinematics;
 use crate::machine::MachineSpec;
 use crate::num;
 
+/// A measured direction shorter than this is refused (it has no direction).
+pub const MIN_DIRECTION_LENGTH: f64 = 1e-9;
+
 /// Corrections applied by Eq. 5.7.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -104,7 +107,7 @@ pub fn closest_approach(
 fn unit(what: &str, v: DVec3) -> Result<DVec3, CalibError> {
     finite(what, &v.to_array())?;
     let l = v.length();
-    if !(l > 1e-9) {
+    if !(l > MIN_DIRECTION_LENGTH) {
         return Err(CalibError::BadInput {
             what: what.to_string(),
             message: format!("the direction ({}, {}, {}) has zero length", v.x, v.y, v.z),

@@ -601,6 +601,15 @@ pub fn test_print(
         kind.what_to_check()
     );
     w.out.extend_from_slice(head.as_bytes());
+    // Up first, alone, wherever the nozzle is: nothing turns or moves sideways near the part.
+    if let Some(z) = w.names.get(2) {
+        let mut up = format!("G0 {z}").into_bytes();
+        push_mm(&mut up, z_safe);
+        up.extend_from_slice(b" F");
+        push_feed(&mut up, opts.travel_feed);
+        up.push(b'\n');
+        w.out.extend_from_slice(&up);
+    }
     let e_per_mm = opts.line_width * opts.layer_height
         / (core::f64::consts::PI * (opts.filament_diameter / 2.0).powi(2));
     let mut rep = PrintReport {
@@ -637,6 +646,12 @@ pub fn test_print(
         let (lift, _) = solve(m, lift_tip, s.n_last, s.how_last, Some(&s.axes[last]))?;
         w.line(true, &lift, 0.0, opts.travel_feed, None)?;
         w.line(true, &safe(&lift), 0.0, opts.travel_feed, None)?;
+    }
+    // Back to A = 0 at the safe height (B stays: it may have turned several revolutions).
+    if let Some(last) = w.moves.last().map(|m| m.axes.clone()) {
+        let mut home = last;
+        home[3] = 0.0;
+        w.line(true, &home, 0.0, opts.travel_feed, None)?;
     }
     rep.moves = w.moves.len();
     rep.print_moves = w.moves.iter().filter(|m| m.extrude).count();

@@ -10,7 +10,13 @@
 //! - Eq. 5.3: `A_pos = [0, (y₉₀ + y₋₉₀)/2, z₀ + (y_m − c_y)/2 + r_p]`, `y_m = |y₉₀ − y₋₉₀|`.
 //! - Eq. 5.4: `m_zx = (z_{x,1} − z_{x,2})/(2 d_zx)`, `m_zy = (z_{y,1} − z_{y,2})/(2 d_zy)`,
 //!   `m_yx = ((y_{x₁,2} − y_{x₁,1})/2 − (y_{x₂,2} − y_{x₂,1})/2)/d_yx`,
-//!   `A_dir = normalize([1, m_yx, m_zx])`.
+//!   `A_dir = normalize([1, m_yx, m_zx])`. Inputs as the thesis names them: `z_{x,1}`, `z_{x,2}`
+//!   probed from the top 2·d_zx apart along X (`z_{y,·}` 2·d_zy apart along Y), `y_{x_k,1}`,
+//!   `y_{x_k,2}` the two Y probes at the X position x_k, the positions x₁, x₂ d_yx apart. Note:
+//!   as printed, m_yx is the difference of the *half differences* of the two Y probes; it is
+//!   the slope of the centre line when the scripts record the two side probes with opposite
+//!   signs (e.g. as probe travel), not when both are plain Y coordinates (then the centre is
+//!   their half *sum*). The formula is kept as printed; check against your probe script.
 //! - Eq. 5.5: `B_pos = [(x_{p₁} + x_{p₂})/2, (y_{p₁} + y_{p₂})/2, −10]` (Z is the commanded probe
 //!   height, −10 mm by default).
 //! - Eq. 5.6: `p₁, p₂` = means of the four side points at the heights z₁, z₂;
