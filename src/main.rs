@@ -9,6 +9,10 @@ fn main() -> std::process::ExitCode {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
+#[path = "bin_calibrate.rs"]
+mod calibrate_cli;
+
+#[cfg(not(target_arch = "wasm32"))]
 mod cli {
     /// `println!` that ignores a closed stdout (`warpslice … | head`).
     macro_rules! say {
@@ -83,6 +87,8 @@ mod cli {
             #[arg(short, long)]
             output: PathBuf,
         },
+        /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
+        Calibrate { #[command(subcommand)] cmd: crate::calibrate_cli::CalibrateCommand },
         /// Write one of the generated example parts as STL (cube, cylinder, sphere, overhang).
         Example {
             name: String,
@@ -356,6 +362,7 @@ mod cli {
                 say!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
                 do_unwarp(&sliced, &w.job, &unwarp.options(opts.tolerance, None), &output)?;
             }
+            Command::Calibrate { cmd } => crate::calibrate_cli::run(cmd)?,
             Command::Example { name, output } => {
                 let m = warpslice::shapes::example(&name)
                     .ok_or_else(|| format!("unknown example '{name}': one of {}", warpslice::shapes::EXAMPLES.join(", ")))?;
