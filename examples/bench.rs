@@ -3,12 +3,14 @@
 //! 1. warp + subdivide: a 225 000-triangle sphere (radius 100 mm, edges ≈ 1–1.7 mm) warped
 //!    conic 30° outward with the default 1 mm / 0.01 mm subdivision (≥ 900 000 triangles out):
 //!    the core step (subdivide + warp) and the whole `warp_model` (read STL, …, write STL).
-//! 2. unwarp: a ≈ 4 MB G-code of a synthetic planar slicer (tests/common/synthetic.rs) for a
-//!    conic-warped 120 × 120 × 20 mm block, streamed in 1 MiB chunks through both passes into a
-//!    file (memory bounded by streaming): input MB/s and output lines/s.
+//! 2. unwarp: PrusaSlicer's G-code (≈ 4 MB) of a 64 mm sphere warped conic 30° outward —
+//!    or, without PrusaSlicer, a synthetic planar slicer's (tests/common/synthetic.rs), said so
+//!    in the output — streamed in 1 MiB chunks through both passes into a file (memory bounded
+//!    by streaming): input MB/s and output lines/s.
 //!    Peak memory: VmHWM of this process (Linux), printed after each step.
 //!
-//! The same work in Node wasm: `bash scripts/bench-wasm.sh`.
+//! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
+//! `bash scripts/bench-wasm.sh` (run this bench first).
 
 #[path = "../tests/common/synthetic.rs"]
 mod synthetic;
@@ -48,7 +50,7 @@ fn conic() -> WarpParams {
 
 fn main() {
     // 1. warp + subdivide
-    let sphere = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 100.0), 100.0, 301, 375);
+    let sphere = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
     let tris = sphere.triangles.len();
     let mut params = conic();
     let warp = params.build(&sphere.bbox()).expect("warp");
@@ -74,20 +76,38 @@ fn main() {
     );
 
     // 2. unwarp
-    let block = warpslice::shapes::cuboid(DVec3::new(-60.0, -60.0, 0.0), DVec3::new(60.0, 60.0, 20.0));
-    let w = warp_model(&mesh::write_stl(&block, "bench block"), &WarpOptions::new(conic())).expect("warp block");
-    let gcode = synthetic::gcode(&w.job, true, 3.2);
+    let ball = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 32.0), 32.0, 48, 96);
+    let w = warp_model(&mesh::write_stl(&ball, "bench ball"), &WarpOptions::new(conic())).expect("warp ball");
+    let dir = std::env::temp_dir().join(format!("warpslice-bench-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&dir);
+    let (stl_path, gcode_path) = (dir.join("ball.stl"), dir.join("ball.gcode"));
+    let sliced = std::fs::write(&stl_path, &w.stl).is_ok()
+        && warpslice::slicer::slice(&stl_path, &gcode_path, &warpslice::slicer::SliceOptions::default()).is_ok();
+    let gcode = if sliced {
+        println!("unwarp input: PrusaSlicer's G-code of a 64 mm sphere, conic 30° outward");
+        std::fs::read(&gcode_path).expect("sliced G-code")
+    } else {
+        println!("unwarp input: PrusaSlicer not available: a synthetic slicer's G-code instead");
+        synthetic::gcode(&w.job, true, 1.0).into_bytes()
+    };
+    let _ = std::fs::remove_dir_all(&dir);
+    let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
+    if std::fs::create_dir_all(&keep).is_ok() {
+        let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
+        let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
+        let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
+    }
     let path = std::env::temp_dir().join(format!("warpslice-bench-{}.gcode", std::process::id()));
     let mut lines_out = 0;
     let mut bytes_out = 0;
     let (t_unwarp, _) = best_of(3, || {
         let mut f = std::io::BufWriter::new(std::fs::File::create(&path).expect("temp file"));
         let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
-        for c in gcode.as_bytes().chunks(1 << 20) {
+        for c in gcode.chunks(1 << 20) {
             u.scan(c).expect("scan");
         }
         u.end_scan().expect("registration");
-        for c in gcode.as_bytes().chunks(1 << 20) {
+        for c in gcode.chunks(1 << 20) {
             u.push(c).expect("push");
             f.write_all(&u.take_output()).expect("write");
         }
