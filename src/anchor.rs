@@ -34,7 +34,7 @@ pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
         .filter(|[a, b, c]| a.z <= limit && b.z <= limit && c.z <= limit)
         .map(|[a, b, c]| 0.5 * (b - a).truncate().perp_dot((c - a).truncate()).abs())
         .sum();
-    !(area >= MIN_FIRST_LAYER_AREA)
+    area < MIN_FIRST_LAYER_AREA || area.is_nan()
 }
 
 /// Convex hull (counter-clockwise, no repeated first point) of 2-D points (Andrew's monotone
@@ -119,7 +119,7 @@ mod tests {
             triangles: vec![],
         };
         assert!(add_slab(&mut m, 1.0, 0.2));
-        assert_eq!(m.triangles.len(), 2 * (3 - 2) + 2 * 3);
+        assert_eq!(m.triangles.len(), 2 + 2 * 3); // top + bottom fans of a triangle, 3 side quads
         // volume by the divergence theorem = area · thickness = 2 · 0.2
         let vol: f64 = m
             .triangles

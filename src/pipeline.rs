@@ -1,5 +1,5 @@
 //! The two user-facing steps, as plain functions over bytes: [`warp_model`] (STL → warped STL
-//! + job) and [`crate::unwarp::unwarp`] (G-code + job → non-planar G-code). The CLI, the wasm
+//! and job) and [`crate::unwarp::unwarp`] (G-code and job → non-planar G-code). The CLI, the wasm
 //! module and the web worker are thin faces over these.
 
 use glam::DVec3;

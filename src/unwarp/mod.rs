@@ -517,7 +517,7 @@ impl Core {
         self.report.e_in += m.e;
         let kind = self.kind(line, m);
         if kind == Kind::Dropped {
-            if self.job.anchor.is_some() && m.feature.is_object() && !(!self.reg.typed && self.reg.in_skirt_run(line)) {
+            if self.job.anchor.is_some() && m.feature.is_object() && (self.reg.typed || !self.reg.in_skirt_run(line)) {
                 self.report.e_anchor += m.e;
             } else {
                 self.report.e_skirt += m.e;
