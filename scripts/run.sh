@@ -18,15 +18,13 @@ cargo build --release
 BIN="${CARGO_TARGET_DIR:-$ROOT/target}/release/warpslice"
 [[ -x "$BIN" ]] || { echo "run: the build produced no $BIN" >&2; exit 1; }
 
-echo "==== run: conic 30° outward on examples/cube20.stl with PrusaSlicer ===="
+echo "==== run: the generated overhang block, conic 30° outward, sliced by PrusaSlicer ===="
 OUT_DIR="$ROOT/examples/out"
 mkdir -p "$OUT_DIR"
-IN="$ROOT/examples/cube20.stl"
-OUT="$OUT_DIR/cube20-conic30.gcode"
+IN="$OUT_DIR/overhang.stl"
+OUT="$OUT_DIR/overhang-conic30.gcode"
 rm -f "$OUT"
-# TODO(lead): once the CLI has it, generate the example instead of using the bundled STL:
-#   "$BIN" example cube --out "$OUT_DIR/cube.stl" && IN="$OUT_DIR/cube.stl"
-# TODO(lead): adjust these flags to the final CLI.
+"$BIN" example overhang -o "$IN"
 "$BIN" run "$IN" --slicer prusaslicer --warp conic --angle 30 --direction outward -o "$OUT"
 
 if [[ ! -s "$OUT" ]]; then

@@ -11,28 +11,30 @@
 //! them. The slab lies inside the part's XY bounding box, so the slicer's centring and the
 //! registration are unaffected.
 //!
-//! The anchor is added when the warped part's bottom is not flat: when its vertices on the
-//! model's bottom face (z = 0) span more than [`FLAT_BOTTOM_TOLERANCE`] in z'.
+//! The anchor is added when the slicer's first layer would hold too little of the part: when
+//! the XY area of the part's triangles lying within half a layer of its lowest point is below
+//! [`MIN_FIRST_LAYER_AREA`] (a cone's tip, a crease line, the corners of an inward cone). A
+//! flat warped bottom (the `--base` blend, or no warp at the bottom) needs none.
 
 use glam::{DVec2, DVec3};
 
 use crate::mesh::Mesh;
 
-/// A warped bottom whose lowest vertices span less than this in z' (mm) counts as flat.
-pub const FLAT_BOTTOM_TOLERANCE: f64 = 1e-6;
+/// Smallest XY area (mm²) of the part's first-layer region below which the anchor is added.
+pub const MIN_FIRST_LAYER_AREA: f64 = 25.0;
 
-/// Whether the warped bottom needs an anchor: `model` and `warped` have the same vertices in
-/// the same order (model frame and T-space).
-pub fn needs_anchor(model: &Mesh, warped: &Mesh) -> bool {
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    for (m, w) in model.vertices.iter().zip(&warped.vertices) {
-        if m.z <= FLAT_BOTTOM_TOLERANCE {
-            lo = lo.min(w.z);
-            hi = hi.max(w.z);
-        }
-    }
-    hi - lo > FLAT_BOTTOM_TOLERANCE
+/// Whether the warped part (T-space) needs an anchor when sliced with `layer_height`.
+pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
+    let zmin = warped.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+    let limit = zmin + 0.5 * layer_height;
+    let area: f64 = warped
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| warped.vertices[i as usize]))
+        .filter(|[a, b, c]| a.z <= limit && b.z <= limit && c.z <= limit)
+        .map(|[a, b, c]| 0.5 * (b - a).truncate().perp_dot((c - a).truncate()).abs())
+        .sum();
+    area < MIN_FIRST_LAYER_AREA || area.is_nan()
 }
 
 /// Convex hull (counter-clockwise, no repeated first point) of 2-D points (Andrew's monotone
@@ -117,7 +119,7 @@ mod tests {
             triangles: vec![],
         };
         assert!(add_slab(&mut m, 1.0, 0.2));
-        assert_eq!(m.triangles.len(), 2 * (3 - 2) + 2 * 3);
+        assert_eq!(m.triangles.len(), 2 + 2 * 3); // top + bottom fans of a triangle, 3 side quads
         // volume by the divergence theorem = area · thickness = 2 · 0.2
         let vol: f64 = m
             .triangles

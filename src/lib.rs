@@ -40,6 +40,7 @@ pub mod unwarp;
 pub mod pipeline;
 pub mod machine;
 pub mod shapes;
+pub mod calibrate;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod slicer;

@@ -9,7 +9,19 @@ fn main() -> std::process::ExitCode {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
+#[path = "bin_calibrate.rs"]
+mod calibrate_cli;
+
+#[cfg(not(target_arch = "wasm32"))]
 mod cli {
+    /// `println!` that ignores a closed stdout (`warpslice … | head`).
+    macro_rules! say {
+        ($($t:tt)*) => {{
+            use std::io::Write as _;
+            let _ = writeln!(std::io::stdout(), $($t)*);
+        }};
+    }
+
     use std::fs;
     use std::io::{IsTerminal, Read, Write};
     use std::path::{Path, PathBuf};
@@ -75,6 +87,8 @@ mod cli {
             #[arg(short, long)]
             output: PathBuf,
         },
+        /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
+        Calibrate { #[command(subcommand)] cmd: crate::calibrate_cli::CalibrateCommand },
         /// Write one of the generated example parts as STL (cube, cylinder, sphere, overhang).
         Example {
             name: String,
@@ -235,21 +249,21 @@ mod cli {
         write(output, &out.stl)?;
         write(&job_path(output), out.job.to_json_pretty().as_bytes())?;
         let r = &out.report;
-        println!("model: {} ({} triangles, {} vertices)", model.display(), r.mesh.triangles, r.mesh.vertices);
+        say!("model: {} ({} triangles, {} vertices)", model.display(), r.mesh.triangles, r.mesh.vertices);
         if r.mesh.degenerate + r.mesh.open_edges + r.mesh.nonmanifold_edges > 0 {
-            println!(
+            say!(
                 "defects: {} degenerate triangles, {} open edges, {} non-manifold edges (reported, not repaired)",
                 r.mesh.degenerate, r.mesh.open_edges, r.mesh.nonmanifold_edges
             );
         }
-        println!("subdivided: {} → {} triangles", r.subdivide.triangles_before, r.subdivide.triangles_after);
+        say!("subdivided: {} → {} triangles", r.subdivide.triangles_before, r.subdivide.triangles_after);
         match r.anchor {
-            Some(t) => println!("anchor: {t} mm slab under the warped bottom (slice with a first layer of {t} mm; unwarp drops it)"),
-            None => println!("anchor: none (the warped bottom is flat)"),
+            Some(t) => say!("anchor: {t} mm slab under the warped bottom (slice with a first layer of {t} mm; unwarp drops it)"),
+            None => say!("anchor: none (the first layer holds enough of the part)"),
         }
         let s = r.warped_bbox.size();
-        println!("warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°", s.x, s.y, s.z, r.largest_tilt_deg);
-        println!("wrote {} and {} (job {})", output.display(), job_path(output).display(), out.job.hash);
+        say!("warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°", s.x, s.y, s.z, r.largest_tilt_deg);
+        say!("wrote {} and {} (job {})", output.display(), job_path(output).display(), out.job.hash);
         Ok(out)
     }
 
@@ -303,14 +317,14 @@ mod cli {
     }
 
     fn print_report(r: &UnwarpReport, output: &Path) {
-        println!(
+        say!(
             "registration: translation {:.3} {:.3} {:.3} mm, residual {:.3} mm",
             r.translation[0], r.translation[1], r.translation[2], r.residual
         );
-        println!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
-        println!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
-        println!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
-        println!("wrote {}", output.display());
+        say!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
+        say!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
+        say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
+        say!("wrote {}", output.display());
     }
 
     fn run() -> Result<(), String> {
@@ -345,14 +359,15 @@ mod cli {
                 if let Some(sp) = sp {
                     sp.finish_and_clear();
                 }
-                println!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
+                say!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
                 do_unwarp(&sliced, &w.job, &unwarp.options(opts.tolerance, None), &output)?;
             }
+            Command::Calibrate { cmd } => crate::calibrate_cli::run(cmd)?,
             Command::Example { name, output } => {
                 let m = warpslice::shapes::example(&name)
                     .ok_or_else(|| format!("unknown example '{name}': one of {}", warpslice::shapes::EXAMPLES.join(", ")))?;
                 write(&output, &warpslice::mesh::write_stl(&m, &format!("warpslice example {name}")))?;
-                println!("wrote {} ({} triangles)", output.display(), m.triangles.len());
+                say!("wrote {} ({} triangles)", output.display(), m.triangles.len());
             }
         }
         Ok(())

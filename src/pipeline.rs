@@ -1,5 +1,5 @@
 //! The two user-facing steps, as plain functions over bytes: [`warp_model`] (STL → warped STL
-//! + job) and [`crate::unwarp::unwarp`] (G-code + job → non-planar G-code). The CLI, the wasm
+//! and job) and [`crate::unwarp::unwarp`] (G-code and job → non-planar G-code). The CLI, the wasm
 //! module and the web worker are thin faces over these.
 
 use glam::DVec3;
@@ -154,19 +154,16 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     let warp = params.build(&model_bbox)?;
 
     let sub = SubdivideOptions { max_edge: opts.max_edge, tolerance: opts.tolerance };
-    let (model, stats) = mesh::subdivide(&model, &sub, &|p| warp.forward(p));
-    let mut warped = Mesh { vertices: model.vertices.iter().map(|&p| warp.forward(p)).collect(), triangles: model.triangles.clone() };
-    let largest_tilt_deg = model
-        .vertices
-        .iter()
-        .map(|&p| crate::num::deg(crate::num::angle_between(warp.tool_axis(p), DVec3::Z)))
-        .fold(0.0, f64::max);
+    let (model, warped_vertices, stats) = mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
+    let mut warped = Mesh { vertices: warped_vertices, triangles: model.triangles.clone() };
+    let min_nz = model.vertices.iter().map(|&p| warp.tool_axis(p).z).fold(1.0, f64::min);
+    let largest_tilt_deg = crate::num::deg(crate::num::acos(min_nz.clamp(-1.0, 1.0)));
 
     let part_bbox_t = warped.bbox();
     let anchor = match opts.anchor {
         AnchorMode::On => true,
         AnchorMode::Off => false,
-        AnchorMode::Auto => anchor::needs_anchor(&model, &warped),
+        AnchorMode::Auto => anchor::needs_anchor(&warped, opts.layer_height),
     };
     let mut anchor_thickness = None;
     if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, opts.layer_height) {

@@ -58,7 +58,11 @@ impl From<GcodeError> for RegisterError {
 impl std::fmt::Display for RegisterError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RegisterError::NoExtrusions => write!(f, "the G-code has no object extrusions: slice the warped STL and export plain G-code"),
+            RegisterError::NoExtrusions => write!(
+                f,
+                "the G-code has no object extrusions: the slicer printed nothing of the model (is it thinner than a line width? \
+                 then scale it up or enable thin walls), or this is not the G-code of the warped STL"
+            ),
             RegisterError::Mismatch { residual, gcode_size, mesh_size } => write!(
                 f,
                 "this G-code does not match the warped model: its object is {:.2} × {:.2} × {:.2} mm but the warped mesh is \

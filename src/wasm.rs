@@ -116,6 +116,129 @@ impl UnwarpStream {
     }
 }
 
+// ── Calibration of A/B tables (seed 004), `crate::calibrate` ────────────────────────────────
+
+/// A machine argument: a JSON object text, a preset name, or empty for `open5x-ab`.
+fn calibrate_machine(arg: &str) -> Result<crate::machine::MachineSpec, JsError> {
+    let a = arg.trim();
+    if a.is_empty() {
+        crate::machine::preset("open5x-ab").map_err(js)
+    } else if a.starts_with('{') {
+        crate::machine::MachineSpec::from_json(a, "machine JSON").map_err(js)
+    } else {
+        crate::machine::preset(a).map_err(js)
+    }
+}
+
+fn parse_or_default<T: serde::de::DeserializeOwned + Default>(what: &str, json: &str) -> Result<T, JsError> {
+    if json.trim().is_empty() {
+        Ok(T::default())
+    } else {
+        parse(what, json)
+    }
+}
+
+/// `calibrate_origin(measurementsText, optionsJson, machine)` → `{ report: object, text: string,
+/// machineJson: string }`. Options: `{ "bias": [x, y, z], "a_z_correction_deg": α }` (or "");
+/// machine: the base machine (JSON text, preset name, or "" for open5x-ab).
+#[wasm_bindgen]
+pub fn calibrate_origin(measurements: &str, options_json: &str, machine: &str) -> Result<JsValue, JsError> {
+    let series = crate::calibrate::parse_measurements(measurements).map_err(js)?;
+    let opts: crate::calibrate::OriginOptions = parse_or_default("origin options", options_json)?;
+    let (report, spec) = crate::calibrate::calibrate_origin(&series, &opts, &calibrate_machine(machine)?).map_err(js)?;
+    let obj = js_sys::Object::new();
+    set(&obj, "report", &to_js(&report)?)?;
+    set(&obj, "text", &JsValue::from_str(&report.to_text()))?;
+    set(&obj, "machineJson", &JsValue::from_str(&spec.to_json()))?;
+    Ok(obj.into())
+}
+
+/// `calibrate_probe(inputJson)` → `{ result: object, text: string }`; input e.g.
+/// `{"kind": "a-pos", "z0": -5, "y90": 4.2, "y_minus90": -3.8, "c_y": 0.453}` (kinds: a-pos-error,
+/// a-pos, a-dir, b-pos, b-dir, z-bias, a-scaling, wobble).
+#[wasm_bindgen]
+pub fn calibrate_probe(input_json: &str) -> Result<JsValue, JsError> {
+    let input: crate::calibrate::probes::ProbeInput = parse("probe input", input_json)?;
+    let out = crate::calibrate::probes::evaluate(&input).map_err(js)?;
+    let obj = js_sys::Object::new();
+    set(&obj, "result", &to_js(&out)?)?;
+    set(&obj, "text", &JsValue::from_str(&out.to_text()))?;
+    Ok(obj.into())
+}
+
+/// `calibrate_test_print(machine, kind, optionsJson)` → `{ gcode: Uint8Array, stl: Uint8Array,
+/// report: object }`; kind: a-position, a-orientation, b-position, b-orientation, integrated.
+#[wasm_bindgen]
+pub fn calibrate_test_print(machine: &str, kind: &str, options_json: &str) -> Result<JsValue, JsError> {
+    use crate::calibrate::patterns;
+    let kind: patterns::TestKind = kind.parse().map_err(js)?;
+    let opts: patterns::PrintOptions = parse_or_default("print options", options_json)?;
+    let tp = patterns::test_print(&calibrate_machine(machine)?, kind, &opts).map_err(js)?;
+    let obj = js_sys::Object::new();
+    set(&obj, "gcode", &js_sys::Uint8Array::from(tp.gcode.as_slice()).into())?;
+    set(&obj, "stl", &js_sys::Uint8Array::from(patterns::base_stl(kind).as_slice()).into())?;
+    set(&obj, "report", &to_js(&tp.report)?)?;
+    Ok(obj.into())
+}
+
+fn sim_result(rep: &crate::calibrate::simulate::SimReport, svg: String) -> Result<JsValue, JsError> {
+    let obj = js_sys::Object::new();
+    let errors: Vec<f64> = rep.points.iter().map(|l| l.error_mm).collect();
+    set(&obj, "errors", &js_sys::Float64Array::from(errors.as_slice()).into())?;
+    set(&obj, "maxErrorMm", &JsValue::from_f64(rep.max_error_mm))?;
+    set(&obj, "meanErrorMm", &JsValue::from_f64(rep.mean_error_mm))?;
+    set(&obj, "maxAxisErrorDeg", &JsValue::from_f64(rep.max_axis_error_deg))?;
+    set(&obj, "svg", &JsValue::from_str(&svg))?;
+    set(&obj, "text", &JsValue::from_str(&rep.to_text()))?;
+    Ok(obj.into())
+}
+
+/// `calibrate_b_position_svg(machine, dx, dy, optionsJson, exaggerate)` → `{ errors: Float64Array,
+/// maxErrorMm, meanErrorMm, maxAxisErrorDeg, svg, text }`: the B position test run by a machine
+/// whose B axis is off by (dx, dy) mm (Fig. 6.16).
+#[wasm_bindgen]
+pub fn calibrate_b_position_svg(machine: &str, dx: f64, dy: f64, options_json: &str, exaggerate: f64) -> Result<JsValue, JsError> {
+    let opts: crate::calibrate::patterns::PrintOptions = parse_or_default("print options", options_json)?;
+    let (rep, svg) = crate::calibrate::patterns::b_position_svg(&calibrate_machine(machine)?, glam::DVec3::new(dx, dy, 0.0), &opts, exaggerate).map_err(js)?;
+    sim_result(&rep, svg)
+}
+
+/// `calibrate_simulate(believed, truth, deviationJson, toolpathCsv, testKind, exaggerate)` →
+/// `{ errors: Float64Array, maxErrorMm, meanErrorMm, maxAxisErrorDeg, svg, text }`. The true
+/// machine is `truth` (JSON/preset) or, when "", the believed one with the deviation
+/// (`{"a_rot_z_deg": 2, "b_offset": [0, -0.2, 0], …}`); the toolpath is the CSV
+/// (`x,y,z,nx,ny,nz` lines) or, when "", the path of the test print `testKind`.
+#[wasm_bindgen]
+pub fn calibrate_simulate(believed: &str, truth: &str, deviation_json: &str, toolpath_csv: &str, test_kind: &str, exaggerate: f64) -> Result<JsValue, JsError> {
+    use crate::calibrate::{patterns, simulate};
+    let b = calibrate_machine(believed)?;
+    let t = if truth.trim().is_empty() {
+        let d: simulate::Deviation = parse_or_default("deviation", deviation_json)?;
+        simulate::deviate(&b, &d).map_err(js)?
+    } else {
+        calibrate_machine(truth)?
+    };
+    let pair = simulate::Pair::new(&b, &t).map_err(js)?;
+    let (rep, title) = if toolpath_csv.trim().is_empty() {
+        let kind: patterns::TestKind = test_kind.parse().map_err(js)?;
+        let tp = patterns::test_print(&b, kind, &patterns::PrintOptions::default()).map_err(js)?;
+        let (axes, tips): (Vec<Vec<f64>>, Vec<glam::DVec3>) = tp.moves.iter().filter_map(|m| m.tip.map(|p| (m.axes.clone(), p))).unzip();
+        (simulate::simulate_axes(&pair, &axes, &tips).map_err(js)?, format!("{} test", kind.name()))
+    } else {
+        let poses = simulate::parse_poses(toolpath_csv).map_err(js)?;
+        (simulate::simulate(&pair, &poses).map_err(js)?, "toolpath".to_string())
+    };
+    let svg = simulate::svg(&rep, &title, exaggerate);
+    sim_result(&rep, svg)
+}
+
+/// Fig. 3.1 in numbers: a point `radius` mm from an A axis believed along X but truly turned
+/// `aRotZDeg` about Z, turned 90°: how far it lands from where it should, mm (20, 2 → 0.698).
+#[wasm_bindgen]
+pub fn calibrate_fig_3_1(radius: f64, a_rot_z_deg: f64) -> Result<f64, JsError> {
+    crate::calibrate::simulate::fig_3_1(radius, a_rot_z_deg).map_err(js)
+}
+
 /// The mesh report of an STL (format, triangles, bbox, defects), without warping it.
 #[wasm_bindgen]
 pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsError> {

@@ -5,6 +5,7 @@
 //!
 //! Also a throughput measurement (ignored by default):
 //! `WARPSLICE_GCODE_BENCH=file.gcode cargo test --release --test gcode_slicers -- --ignored --nocapture`
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use std::path::{Path, PathBuf};
 use std::process::Command as Process;
@@ -17,11 +18,27 @@ const SIZE: f64 = 20.0;
 
 fn cube_stl(path: &Path) {
     let s = SIZE;
-    let v = |i: usize| -> [f64; 3] { [((i & 1) as f64) * s, ((i >> 1 & 1) as f64) * s, ((i >> 2) as f64) * s] };
+    let v = |i: usize| -> [f64; 3] {
+        [
+            ((i & 1) as f64) * s,
+            ((i >> 1 & 1) as f64) * s,
+            ((i >> 2) as f64) * s,
+        ]
+    };
     // 12 triangles, outward (counter-clockwise seen from outside).
     let tris: [[usize; 3]; 12] = [
-        [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
-        [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5],
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
     ];
     let mut t = String::from("solid cube\n");
     for tri in tris {
@@ -43,21 +60,37 @@ fn tmp_dir() -> PathBuf {
 }
 
 fn has(tool: &str) -> bool {
-    Process::new("sh").args(["-c", &format!("command -v {tool}")]).output().map(|o| o.status.success()).unwrap_or(false)
+    Process::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
 }
 
 /// Slice the cube; `None` (with a message) when the slicer is not installed or fails.
 fn slice(slicer: &str, relative: bool) -> Option<Vec<u8>> {
     let dir = tmp_dir();
-    let stl = dir.join("cube.stl");
+    // One STL per call: tests run in parallel.
+    let stl = dir.join(format!("cube-{slicer}-{relative}.stl"));
     cube_stl(&stl);
     let out = dir.join(format!("{slicer}-{relative}.gcode"));
-    let common = ["--layer-height", "0.2", "--first-layer-height", "0.2", "--nozzle-diameter", "0.4", "--filament-diameter", "1.75"];
+    let common = [
+        "--layer-height",
+        "0.2",
+        "--first-layer-height",
+        "0.2",
+        "--nozzle-diameter",
+        "0.4",
+        "--filament-diameter",
+        "1.75",
+    ];
     let mut cmd;
     match slicer {
         "prusa-slicer" => {
             cmd = Process::new(slicer);
-            cmd.args(["--loglevel", "1", "--export-gcode"]).args(common).args(["--gcode-flavor", "marlin2"]);
+            cmd.args(["--loglevel", "1", "--export-gcode"])
+                .args(common)
+                .args(["--gcode-flavor", "marlin2"]);
             if relative {
                 cmd.args(["--use-relative-e-distances", "--layer-gcode", "G92 E0"]);
             }
@@ -70,23 +103,47 @@ fn slice(slicer: &str, relative: bool) -> Option<Vec<u8>> {
             }
         }
         "CuraEngine" => {
-            let res = std::env::var("CURA_RES").unwrap_or_else(|_| "/opt/cura-res/usr/share/cura/resources".into());
-            if !Path::new(&res).join("definitions/fdmprinter.def.json").exists() {
+            let res = std::env::var("CURA_RES")
+                .unwrap_or_else(|_| "/opt/cura-res/usr/share/cura/resources".into());
+            if !Path::new(&res)
+                .join("definitions/fdmprinter.def.json")
+                .exists()
+            {
                 eprintln!("skipped: Cura definitions not found (set CURA_RES)");
                 return None;
             }
             cmd = Process::new(slicer);
-            cmd.env("CURA_ENGINE_SEARCH_PATH", format!("{res}/definitions:{res}/extruders"));
-            cmd.args(["slice", "-j", &format!("{res}/definitions/fdmprinter.def.json")]);
+            cmd.env(
+                "CURA_ENGINE_SEARCH_PATH",
+                format!("{res}/definitions:{res}/extruders"),
+            );
+            cmd.args([
+                "slice",
+                "-j",
+                &format!("{res}/definitions/fdmprinter.def.json"),
+            ]);
             for s in [
-                "machine_width=200", "machine_depth=200", "machine_height=200", "center_object=true",
-                "layer_height=0.2", "layer_height_0=0.2", "infill_sparse_thickness=0.2",
-                "machine_nozzle_size=0.4", "material_diameter=1.75",
+                "machine_width=200",
+                "machine_depth=200",
+                "machine_height=200",
+                "center_object=true",
+                "layer_height=0.2",
+                "layer_height_0=0.2",
+                "infill_sparse_thickness=0.2",
+                "machine_nozzle_size=0.4",
+                "material_diameter=1.75",
             ] {
                 cmd.args(["-s", s]);
             }
             cmd.args(["-s", &format!("relative_extrusion={relative}")]);
-            cmd.args(["-e0", "-s", "material_diameter=1.75", "-s", "machine_nozzle_size=0.4", "-l"]);
+            cmd.args([
+                "-e0",
+                "-s",
+                "material_diameter=1.75",
+                "-s",
+                "machine_nozzle_size=0.4",
+                "-l",
+            ]);
             cmd.arg(&stl).arg("-o").arg(&out);
             return run(cmd, slicer, &out);
         }
@@ -103,7 +160,10 @@ fn run(mut cmd: Process, slicer: &str, out: &Path) -> Option<Vec<u8>> {
     }
     let o = cmd.output().ok()?;
     if !o.status.success() {
-        eprintln!("skipped: {slicer} failed: {}", String::from_utf8_lossy(&o.stderr));
+        eprintln!(
+            "skipped: {slicer} failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         return None;
     }
     std::fs::read(out).ok()
@@ -117,7 +177,12 @@ struct Summary {
 }
 
 fn read(bytes: &[u8], chunk: usize) -> Summary {
-    let mut s = Summary { moves: Vec::new(), layer_starts: 0, explicit: 0, lines: 0 };
+    let mut s = Summary {
+        moves: Vec::new(),
+        layer_starts: 0,
+        explicit: 0,
+        lines: 0,
+    };
     let mut reader = Reader::default();
     let mut sink = |l: Line<'_>, _: &State| {
         s.moves.extend_from_slice(l.moves);
@@ -138,13 +203,27 @@ fn check(name: &str, bytes: &[u8], explicit_markers: bool) -> Summary {
     let s = read(bytes, bytes.len().max(1));
     let layers = (SIZE / LAYER).round() as usize;
     assert_eq!(s.layer_starts, layers, "{name}: layer starts");
-    assert_eq!(s.explicit, if explicit_markers { layers } else { 0 }, "{name}");
-    assert_eq!(s.moves.iter().map(|m| m.layer).max(), Some(layers as u32 - 1));
+    assert_eq!(
+        s.explicit,
+        if explicit_markers { layers } else { 0 },
+        "{name}"
+    );
+    assert_eq!(
+        s.moves.iter().map(|m| m.layer).max(),
+        Some(layers as u32 - 1)
+    );
     // Planar slicing: every object extrusion of layer k lies at z = 0.2·(k + 1).
     let mut object = 0;
-    for m in s.moves.iter().filter(|m| m.is_extrusion() && m.feature.is_object()) {
+    for m in s
+        .moves
+        .iter()
+        .filter(|m| m.is_extrusion() && m.feature.is_object())
+    {
         let want = LAYER * (m.layer + 1) as f64;
-        assert!((m.to.z - want).abs() < 1e-6 && (m.from.z - want).abs() < 1e-6, "{name}: {m:?}");
+        assert!(
+            (m.to.z - want).abs() < 1e-6 && (m.from.z - want).abs() < 1e-6,
+            "{name}: {m:?}"
+        );
         object += 1;
     }
     assert!(object > 1000, "{name}: {object} object extrusions");
@@ -164,7 +243,10 @@ fn same_path(a: &Summary, b: &Summary) {
     let b: Vec<&Move> = b.moves.iter().filter(keep).collect();
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(&b) {
-        assert_eq!((x.from, x.to, x.layer, x.feature), (y.from, y.to, y.layer, y.feature));
+        assert_eq!(
+            (x.from, x.to, x.layer, x.feature),
+            (y.from, y.to, y.layer, y.feature)
+        );
         assert!((x.e - y.e).abs() < 2.1e-5, "{x:?} {y:?}");
     }
 }
@@ -173,8 +255,14 @@ fn same_path(a: &Summary, b: &Summary) {
 fn reported_filament(bytes: &[u8], key: &str) -> Option<f64> {
     let t = String::from_utf8_lossy(bytes);
     let line = t.lines().find(|l| l.starts_with(key))?;
-    let v = line[key.len()..].trim().trim_end_matches(|c: char| !c.is_ascii_digit());
-    v.split_whitespace().next()?.trim_end_matches("mm").parse().ok()
+    let v = line[key.len()..]
+        .trim()
+        .trim_end_matches(|c: char| !c.is_ascii_digit());
+    v.split_whitespace()
+        .next()?
+        .trim_end_matches("mm")
+        .parse()
+        .ok()
 }
 
 /// Net E (pushes minus retractions) is the slicer's reported total minus the final
@@ -187,29 +275,41 @@ fn net_e(s: &Summary) -> f64 {
 
 #[test]
 fn prusaslicer_cube_absolute_and_relative() {
-    let (Some(abs), Some(rel)) = (slice("prusa-slicer", false), slice("prusa-slicer", true)) else { return };
+    let (Some(abs), Some(rel)) = (slice("prusa-slicer", false), slice("prusa-slicer", true)) else {
+        return;
+    };
     let a = check("prusa abs", &abs, true);
     let r = check("prusa rel", &rel, true);
     same_path(&a, &r);
     let reported = reported_filament(&abs, "; filament used [mm] =").unwrap();
     let net = net_e(&a);
-    assert!((net + END_RETRACT - reported).abs() < 0.06, "net {net} reported {reported}");
+    assert!(
+        (net + END_RETRACT - reported).abs() < 0.06,
+        "net {net} reported {reported}"
+    );
 }
 
 #[test]
 fn slic3r_cube_infers_layers() {
-    let (Some(abs), Some(rel)) = (slice("slic3r", false), slice("slic3r", true)) else { return };
+    let (Some(abs), Some(rel)) = (slice("slic3r", false), slice("slic3r", true)) else {
+        return;
+    };
     let a = check("slic3r abs", &abs, false);
     let r = check("slic3r rel", &rel, false);
     same_path(&a, &r);
     let reported = reported_filament(&abs, "; filament used =").unwrap();
     let net = net_e(&a);
-    assert!((net + END_RETRACT - reported).abs() < 0.06, "net {net} reported {reported}");
+    assert!(
+        (net + END_RETRACT - reported).abs() < 0.06,
+        "net {net} reported {reported}"
+    );
 }
 
 #[test]
 fn curaengine_cube_absolute_and_relative() {
-    let (Some(abs), Some(rel)) = (slice("CuraEngine", false), slice("CuraEngine", true)) else { return };
+    let (Some(abs), Some(rel)) = (slice("CuraEngine", false), slice("CuraEngine", true)) else {
+        return;
+    };
     let a = check("cura abs", &abs, true);
     let r = check("cura rel", &rel, true);
     same_path(&a, &r);
@@ -242,5 +342,36 @@ fn throughput() {
     }
     let dt = t.elapsed().as_secs_f64();
     let mb = (bytes.len() * reps) as f64 / 1e6;
-    eprintln!("read {mb:.1} MB in {dt:.3} s: {:.0} MB/s ({} pieces)", mb / dt, pieces);
+    eprintln!(
+        "read {mb:.1} MB in {dt:.3} s: {:.0} MB/s ({} pieces)",
+        mb / dt,
+        pieces
+    );
+
+    // The writer on the pieces read (relative E output, unchanged words omitted).
+    let mut moves = Vec::new();
+    let mut reader = Reader::default();
+    let mut collect = |l: Line<'_>, _: &State| {
+        moves.extend_from_slice(l.moves);
+        Ok::<(), GcodeError>(())
+    };
+    reader.push(&bytes, &mut collect).unwrap();
+    reader.finish(&mut collect).unwrap();
+    let mut out = Vec::with_capacity(64 << 20);
+    let t = std::time::Instant::now();
+    let mut written = 0usize;
+    for _ in 0..reps {
+        out.clear();
+        let mut w = warpslice::gcode::MoveWriter::new();
+        for m in &moves {
+            w.linear(&mut out, m.rapid, m.to, m.e, m.f);
+        }
+        written += out.len();
+    }
+    let dt = t.elapsed().as_secs_f64();
+    eprintln!(
+        "wrote {:.1} MB in {dt:.3} s: {:.0} MB/s",
+        written as f64 / 1e6,
+        written as f64 / 1e6 / dt
+    );
 }

@@ -33,7 +33,10 @@ fn same(a: &[Move], b: &[Move]) {
     let b: Vec<&Move> = b.iter().filter(keep).collect();
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(&b) {
-        assert!((x.to - y.to).abs().max_element() <= 5e-4 + 1e-12, "{x:?} {y:?}");
+        assert!(
+            (x.to - y.to).abs().max_element() <= 5e-4 + 1e-12,
+            "{x:?} {y:?}"
+        );
         assert!((x.e - y.e).abs() <= 5e-6 + 1e-12, "{x:?} {y:?}");
         assert_eq!(x.rapid, y.rapid);
     }

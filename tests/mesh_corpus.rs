@@ -3,6 +3,7 @@
 //! counts and bounding box listed in INDEX.txt; every `broken/` model gives a named error or
 //! loads with its defect reported; nothing panics. Skipped (with a printed reason) when the
 //! corpus is absent.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use std::path::PathBuf;
 
@@ -13,7 +14,9 @@ const BBOX_TOLERANCE: f64 = 0.01;
 
 fn corpus_dir() -> Option<PathBuf> {
     let rel = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/stl");
-    [rel, PathBuf::from("/work/shared/corpus/stl")].into_iter().find(|d| d.join("INDEX.txt").is_file())
+    [rel, PathBuf::from("/work/shared/corpus/stl")]
+        .into_iter()
+        .find(|d| d.join("INDEX.txt").is_file())
 }
 
 #[derive(Debug)]
@@ -30,12 +33,18 @@ struct Entry {
 }
 
 fn triple(s: &str) -> [f64; 3] {
-    let v: Vec<f64> = s.trim_matches(['[', ']']).split(',').map(|x| x.trim().parse().unwrap()).collect();
+    let v: Vec<f64> = s
+        .trim_matches(['[', ']'])
+        .split(',')
+        .map(|x| x.trim().parse().unwrap())
+        .collect();
     [v[0], v[1], v[2]]
 }
 
 fn count(cols: &[&str], key: &str) -> Option<usize> {
-    cols.iter().find_map(|c| c.strip_prefix(key)).map(|v| v.parse().unwrap())
+    cols.iter()
+        .find_map(|c| c.strip_prefix(key))
+        .map(|v| v.parse().unwrap())
 }
 
 fn entries(dir: &std::path::Path) -> Vec<Entry> {
@@ -44,7 +53,10 @@ fn entries(dir: &std::path::Path) -> Vec<Entry> {
         .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
         .map(|l| {
             let cols: Vec<&str> = l.split('\t').collect();
-            let bbox = cols.get(3).and_then(|b| b.split_once("..")).map(|(a, b)| (triple(a), triple(b)));
+            let bbox = cols
+                .get(3)
+                .and_then(|b| b.split_once(".."))
+                .map(|(a, b)| (triple(a), triple(b)));
             Entry {
                 file: cols[0].to_string(),
                 format: cols[1].to_string(),
@@ -74,7 +86,10 @@ fn mismatches(e: &Entry, r: &MeshReport) -> Vec<String> {
         out.push(format!("format {:?} (listed {})", r.format, e.format));
     }
     if r.triangles != e.triangles {
-        out.push(format!("triangles {} (listed {})", r.triangles, e.triangles));
+        out.push(format!(
+            "triangles {} (listed {})",
+            r.triangles, e.triangles
+        ));
     }
     for (name, got, want) in [
         ("open", r.open_edges, e.open),
@@ -103,7 +118,9 @@ fn mismatches(e: &Entry, r: &MeshReport) -> Vec<String> {
 #[test]
 fn corpus_accept_models_match_index() {
     let Some(dir) = corpus_dir() else {
-        println!("SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared");
+        println!(
+            "SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared"
+        );
         return;
     };
     let mut failures = Vec::new();
@@ -129,11 +146,16 @@ fn corpus_accept_models_match_index() {
 #[test]
 fn corpus_broken_models_are_refused_by_name_or_reported() {
     let Some(dir) = corpus_dir() else {
-        println!("SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared");
+        println!(
+            "SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared"
+        );
         return;
     };
     let mut n = 0;
-    for e in entries(&dir).iter().filter(|e| e.file.starts_with("broken/")) {
+    for e in entries(&dir)
+        .iter()
+        .filter(|e| e.file.starts_with("broken/"))
+    {
         let bytes = std::fs::read(dir.join(&e.file)).unwrap();
         let result = std::panic::catch_unwind(|| read_stl(&bytes));
         let result = result.unwrap_or_else(|_| panic!("{}: read_stl panicked", e.file));
@@ -150,7 +172,11 @@ fn corpus_broken_models_are_refused_by_name_or_reported() {
                     || r.zero_normals > 0
                     || r.flipped_normals > 0
                     || !r.warnings.is_empty();
-                assert!(reported, "{}: loaded with no defect reported: {r:?}", e.file);
+                assert!(
+                    reported,
+                    "{}: loaded with no defect reported: {r:?}",
+                    e.file
+                );
                 if e.triangles > 0 {
                     let m = mismatches(e, &r);
                     assert!(m.is_empty(), "{}: {}", e.file, m.join(", "));
@@ -175,7 +201,10 @@ fn corpus_broken_models_specific_outcomes() {
     // header says 66 (0x42) facets, the file holds 4 whole records
     assert_eq!(
         read("sm_incorrectFaceCounter.bin.stl").unwrap_err(),
-        MeshError::FaceCountMismatch { header_count: 66, bytes_for: 4 }
+        MeshError::FaceCountMismatch {
+            header_count: 66,
+            bytes_for: 4
+        }
     );
     let (_, r) = read("sm_missingEndsolid.ascii.stl").unwrap();
     assert!(r.warnings.iter().any(|w| w.contains("endsolid")), "{r:?}");
@@ -205,10 +234,15 @@ fn corpus_agrees_with_stl_io() {
         let theirs = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).unwrap();
         assert_eq!(theirs.faces.len(), mesh.triangles.len(), "{}", e.file);
         for (f, t) in theirs.faces.iter().zip(&mesh.triangles) {
-            for k in 0..3 {
-                let a = theirs.vertices[f.vertices[k]].0;
-                let b = mesh.vertices[t[k] as usize];
-                assert_eq!([a[0] as f64, a[1] as f64, a[2] as f64], b.to_array(), "{}", e.file);
+            for (&i, &j) in f.vertices.iter().zip(t) {
+                let a = theirs.vertices[i].0;
+                let b = mesh.vertices[j as usize];
+                assert_eq!(
+                    [a[0] as f64, a[1] as f64, a[2] as f64],
+                    b.to_array(),
+                    "{}",
+                    e.file
+                );
             }
         }
     }

@@ -1,5 +1,6 @@
 //! STL reading and writing: formats, malformed inputs (named errors, never a panic), round
 //! trips. Models are generated in code.
+#![cfg(not(target_arch = "wasm32"))] // native only: proptest, files and processes
 
 use glam::DVec3;
 use proptest::prelude::*;
@@ -34,7 +35,16 @@ fn cube() -> Mesh {
 fn ascii_cube_welds_to_eight_vertices_and_is_closed() {
     let (m, r) = read_stl(ascii(&facets(&cube())).as_bytes()).unwrap();
     assert_eq!(r.format, StlFormat::Ascii);
-    assert_eq!((r.triangles, r.vertices, r.open_edges, r.nonmanifold_edges, r.degenerate), (12, 8, 0, 0, 0));
+    assert_eq!(
+        (
+            r.triangles,
+            r.vertices,
+            r.open_edges,
+            r.nonmanifold_edges,
+            r.degenerate
+        ),
+        (12, 8, 0, 0, 0)
+    );
     assert_eq!(m.bbox().max, DVec3::splat(20.0));
 }
 
@@ -47,10 +57,13 @@ fn ascii_with_crlf_reads_like_lf() {
     assert_eq!(a, b);
     // and an error's line number counts CRLF lines
     let bad = crlf.replacen("vertex", "vertexx", 1);
-    assert_eq!(read_stl(bad.as_bytes()).unwrap_err(), MeshError::Syntax {
-        line: 4,
-        message: "expected `vertex` or `endloop`, found `vertexx`".into()
-    });
+    assert_eq!(
+        read_stl(bad.as_bytes()).unwrap_err(),
+        MeshError::Syntax {
+            line: 4,
+            message: "expected `vertex` or `endloop`, found `vertexx`".into()
+        }
+    );
 }
 
 #[test]
@@ -68,13 +81,19 @@ fn binary_with_solid_header_and_utf8_clean_body_is_binary() {
     // Coordinates 0 and 2 (0x40000000) and zero normals (as many exporters write them): every
     // byte is ASCII, so a reader that decides by the first word and UTF-8 validity (stl_io)
     // takes the file for ASCII; the size decides here.
-    let mut bytes = write_stl(&shapes::cuboid(DVec3::ZERO, DVec3::splat(2.0)), "solid cube");
+    let mut bytes = write_stl(
+        &shapes::cuboid(DVec3::ZERO, DVec3::splat(2.0)),
+        "solid cube",
+    );
     for t in 0..12 {
         bytes[84 + 50 * t..84 + 50 * t + 12].fill(0);
     }
     assert!(std::str::from_utf8(&bytes).is_ok());
     let (m, r) = read_stl(&bytes).unwrap();
-    assert_eq!((r.format, m.triangles.len(), r.zero_normals), (StlFormat::BinarySolidHeader, 12, 12));
+    assert_eq!(
+        (r.format, m.triangles.len(), r.zero_normals),
+        (StlFormat::BinarySolidHeader, 12, 12)
+    );
     assert!(r.is_watertight());
     let theirs = stl_io::read_stl(&mut std::io::Cursor::new(bytes));
     assert!(!matches!(theirs, Ok(m) if m.faces.len() == 12));
@@ -97,10 +116,19 @@ fn truncated_binary_is_named_with_sizes() {
     let cut = &bytes[..bytes.len() - 7];
     assert_eq!(
         read_stl(cut).unwrap_err(),
-        MeshError::Truncated { expected_bytes: 84 + 12 * 50, actual_bytes: 84 + 12 * 50 - 7 }
+        MeshError::Truncated {
+            expected_bytes: 84 + 12 * 50,
+            actual_bytes: 84 + 12 * 50 - 7
+        }
     );
     let bytes = write_stl(&cube(), "\0binary");
-    assert_eq!(read_stl(&bytes[..40]).unwrap_err(), MeshError::Truncated { expected_bytes: 84, actual_bytes: 40 });
+    assert_eq!(
+        read_stl(&bytes[..40]).unwrap_err(),
+        MeshError::Truncated {
+            expected_bytes: 84,
+            actual_bytes: 40
+        }
+    );
     // a file of spaces only holds no triangles
     assert_eq!(read_stl(&[b' '; 40]).unwrap_err(), MeshError::NoTriangles);
 }
@@ -109,9 +137,21 @@ fn truncated_binary_is_named_with_sizes() {
 fn face_count_mismatch_is_named() {
     let mut bytes = write_stl(&cube(), "");
     bytes[80..84].copy_from_slice(&20u32.to_le_bytes());
-    assert_eq!(read_stl(&bytes).unwrap_err(), MeshError::FaceCountMismatch { header_count: 20, bytes_for: 12 });
+    assert_eq!(
+        read_stl(&bytes).unwrap_err(),
+        MeshError::FaceCountMismatch {
+            header_count: 20,
+            bytes_for: 12
+        }
+    );
     bytes[80..84].copy_from_slice(&5u32.to_le_bytes());
-    assert_eq!(read_stl(&bytes).unwrap_err(), MeshError::FaceCountMismatch { header_count: 5, bytes_for: 12 });
+    assert_eq!(
+        read_stl(&bytes).unwrap_err(),
+        MeshError::FaceCountMismatch {
+            header_count: 5,
+            bytes_for: 12
+        }
+    );
 }
 
 #[test]
@@ -120,27 +160,46 @@ fn few_trailing_bytes_after_binary_are_tolerated_and_noted() {
     bytes.extend_from_slice(&[0; 3]);
     let (m, r) = read_stl(&bytes).unwrap();
     assert_eq!(m.triangles.len(), 12);
-    assert!(r.warnings.iter().any(|w| w.contains("3 bytes")), "{:?}", r.warnings);
+    assert!(
+        r.warnings.iter().any(|w| w.contains("3 bytes")),
+        "{:?}",
+        r.warnings
+    );
 }
 
 #[test]
 fn zero_triangles_is_named_for_both_formats() {
-    assert_eq!(read_stl(&write_stl(&Mesh::default(), "")).unwrap_err(), MeshError::NoTriangles);
-    assert_eq!(read_stl(b"solid empty\nendsolid empty\n").unwrap_err(), MeshError::NoTriangles);
+    assert_eq!(
+        read_stl(&write_stl(&Mesh::default(), "")).unwrap_err(),
+        MeshError::NoTriangles
+    );
+    assert_eq!(
+        read_stl(b"solid empty\nendsolid empty\n").unwrap_err(),
+        MeshError::NoTriangles
+    );
 }
 
 #[test]
 fn non_finite_coordinates_are_named_with_the_triangle() {
     let mut f = facets(&cube());
     f[5][1][2] = f32::NAN;
-    assert_eq!(read_stl(ascii(&f).as_bytes()).unwrap_err(), MeshError::NonFinite { triangle: 5 });
+    assert_eq!(
+        read_stl(ascii(&f).as_bytes()).unwrap_err(),
+        MeshError::NonFinite { triangle: 5 }
+    );
     let mut bytes = write_stl(&cube(), "");
     let at = 84 + 7 * 50 + 12; // triangle 7, first vertex x
     bytes[at..at + 4].copy_from_slice(&f32::INFINITY.to_le_bytes());
-    assert_eq!(read_stl(&bytes).unwrap_err(), MeshError::NonFinite { triangle: 7 });
+    assert_eq!(
+        read_stl(&bytes).unwrap_err(),
+        MeshError::NonFinite { triangle: 7 }
+    );
     // a number too large for f32 is infinite too
     let big = ascii(&facets(&cube())).replacen("vertex 0e0", "vertex 1e39", 1);
-    assert!(matches!(read_stl(big.as_bytes()).unwrap_err(), MeshError::NonFinite { .. }));
+    assert!(matches!(
+        read_stl(big.as_bytes()).unwrap_err(),
+        MeshError::NonFinite { .. }
+    ));
 }
 
 #[test]
@@ -151,9 +210,20 @@ fn quad_facet_is_not_a_triangle_with_line_number() {
     assert!(lines[8].contains("facet normal"));
     lines.insert(13, "      vertex 1 2 3");
     let s = lines.join("\n");
-    assert_eq!(read_stl(s.as_bytes()).unwrap_err(), MeshError::NotATriangle { line: 9, vertices: 4 });
-    let two = s.replacen("      vertex 1 2 3\n", "", 1).replacen("      vertex 2e1 0e0 2e1\n", "", 1);
-    assert!(matches!(read_stl(two.as_bytes()).unwrap_err(), MeshError::NotATriangle { .. } | MeshError::Syntax { .. }));
+    assert_eq!(
+        read_stl(s.as_bytes()).unwrap_err(),
+        MeshError::NotATriangle {
+            line: 9,
+            vertices: 4
+        }
+    );
+    let two =
+        s.replacen("      vertex 1 2 3\n", "", 1)
+            .replacen("      vertex 2e1 0e0 2e1\n", "", 1);
+    assert!(matches!(
+        read_stl(two.as_bytes()).unwrap_err(),
+        MeshError::NotATriangle { .. } | MeshError::Syntax { .. }
+    ));
 }
 
 #[test]
@@ -161,10 +231,19 @@ fn syntax_errors_carry_line_numbers_and_say_what_was_found() {
     let s = ascii(&facets(&cube()));
     let bad = s.replacen("outer loop", "outer lop", 1);
     let e = read_stl(bad.as_bytes()).unwrap_err();
-    assert_eq!(e, MeshError::Syntax { line: 3, message: "expected `loop` after `outer`, found `lop`".into() });
+    assert_eq!(
+        e,
+        MeshError::Syntax {
+            line: 3,
+            message: "expected `loop` after `outer`, found `lop`".into()
+        }
+    );
     assert!(e.to_string().starts_with("line 3: "));
     let bad = s.replacen("endfacet", "endfacett", 1);
-    assert!(matches!(read_stl(bad.as_bytes()).unwrap_err(), MeshError::Syntax { line: 8, .. }));
+    assert!(matches!(
+        read_stl(bad.as_bytes()).unwrap_err(),
+        MeshError::Syntax { line: 8, .. }
+    ));
 }
 
 #[test]
@@ -178,7 +257,10 @@ fn ascii_cut_short_names_the_facet() {
     let s = ascii(&facets(&cube()));
     // the file ends after the last facet's third vertex
     let cut = &s[..s.rfind("endloop").unwrap()];
-    assert!(matches!(read_stl(cut.as_bytes()).unwrap_err(), MeshError::Syntax { .. }));
+    assert!(matches!(
+        read_stl(cut.as_bytes()).unwrap_err(),
+        MeshError::Syntax { .. }
+    ));
 }
 
 #[test]
@@ -206,32 +288,33 @@ fn one_degenerate_triangle_loads_and_is_reported() {
 /// An arbitrary mesh with f32-representable coordinates, vertices numbered in order of first
 /// use and all used (what read_stl returns), possibly with repeated vertices.
 fn arb_mesh() -> impl Strategy<Value = Mesh> {
-    (1usize..40).prop_flat_map(|nv| {
-        let coord = (-1.0e4f32..1.0e4).prop_map(f64::from);
-        (
-            prop::collection::vec((coord.clone(), coord.clone(), coord), nv),
-            prop::collection::vec(prop::array::uniform3(0..nv as u32), 1..60),
-        )
-    })
-    .prop_map(|(v, t)| {
-        // renumber in order of first use, dropping duplicates of position and unused vertices
-        let pts: Vec<DVec3> = v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect();
-        let mut out = Mesh::default();
-        for tri in t {
-            let tri = tri.map(|i| {
-                let p = pts[i as usize];
-                match out.vertices.iter().position(|&q| q == p) {
-                    Some(k) => k as u32,
-                    None => {
-                        out.vertices.push(p);
-                        (out.vertices.len() - 1) as u32
+    (1usize..40)
+        .prop_flat_map(|nv| {
+            let coord = (-1.0e4f32..1.0e4).prop_map(f64::from);
+            (
+                prop::collection::vec((coord.clone(), coord.clone(), coord), nv),
+                prop::collection::vec(prop::array::uniform3(0..nv as u32), 1..60),
+            )
+        })
+        .prop_map(|(v, t)| {
+            // renumber in order of first use, dropping duplicates of position and unused vertices
+            let pts: Vec<DVec3> = v.into_iter().map(|(x, y, z)| DVec3::new(x, y, z)).collect();
+            let mut out = Mesh::default();
+            for tri in t {
+                let tri = tri.map(|i| {
+                    let p = pts[i as usize];
+                    match out.vertices.iter().position(|&q| q == p) {
+                        Some(k) => k as u32,
+                        None => {
+                            out.vertices.push(p);
+                            (out.vertices.len() - 1) as u32
+                        }
                     }
-                }
-            });
-            out.triangles.push(tri);
-        }
-        out
-    })
+                });
+                out.triangles.push(tri);
+            }
+            out
+        })
 }
 
 proptest! {

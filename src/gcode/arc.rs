@@ -143,7 +143,9 @@ fn r_centre(s: DVec2, e: DVec2, r: f64, clockwise: bool) -> Result<DVec2, String
     let half = d / 2.0;
     let ra = r.abs();
     if ra < half - ARC_RADIUS_SLACK {
-        return Err(format!("radius {ra:.3} mm is less than half the chord {half:.3} mm"));
+        return Err(format!(
+            "radius {ra:.3} mm is less than half the chord {half:.3} mm"
+        ));
     }
     let h = (ra * ra - half * half).max(0.0).sqrt();
     let u = chord / d;
@@ -190,6 +192,14 @@ mod tests {
         assert!(linearise(s, e, Centre::Radius(0.0), false, 0.01, |_| {}).is_err());
         assert!(linearise(s, s, Centre::Radius(5.0), false, 0.01, |_| {}).is_err());
         assert!(linearise(s, e, Centre::Offset(DVec2::ZERO), false, 0.01, |_| {}).is_err());
-        assert!(linearise(s, e, Centre::Offset(DVec2::new(1.0, 0.0)), false, 0.01, |_| {}).is_err());
+        assert!(linearise(
+            s,
+            e,
+            Centre::Offset(DVec2::new(1.0, 0.0)),
+            false,
+            0.01,
+            |_| {}
+        )
+        .is_err());
     }
 }

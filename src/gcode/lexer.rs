@@ -35,9 +35,46 @@ pub struct Split<'a> {
     pub checksum: Option<(u8, &'a [u8])>,
 }
 
+/// Eight copies of a byte.
+#[inline]
+const fn splat(b: u8) -> u64 {
+    (b as u64) * 0x0101_0101_0101_0101
+}
+
+/// Whether any byte of `x` is zero (exact: Mycroft's SWAR test).
+#[inline]
+const fn has_zero(x: u64) -> bool {
+    (x.wrapping_sub(splat(1)) & !x & splat(0x80)) != 0
+}
+
+/// Index of the first byte of `s` equal to one of `needles` (1–3 bytes), or `s.len()`.
+/// Eight bytes at a time (SWAR), so long comment-free lines are skipped quickly.
+#[inline]
+pub fn find_any(s: &[u8], needles: &[u8]) -> usize {
+    let masks: [u64; 3] = [
+        splat(needles.first().copied().unwrap_or(0)),
+        splat(needles.get(1).or(needles.first()).copied().unwrap_or(0)),
+        splat(needles.get(2).or(needles.first()).copied().unwrap_or(0)),
+    ];
+    let mut i = 0;
+    while i + 8 <= s.len() {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(&s[i..i + 8]);
+        let x = u64::from_le_bytes(w);
+        if has_zero(x ^ masks[0]) || has_zero(x ^ masks[1]) || has_zero(x ^ masks[2]) {
+            break;
+        }
+        i += 8;
+    }
+    while i < s.len() && !needles.contains(&s[i]) {
+        i += 1;
+    }
+    i
+}
+
 /// Split a line (no terminator) into code, comment and checksum.
 pub fn split(line: &[u8]) -> Split<'_> {
-    let mut i = 0;
+    let mut i = find_any(line, b";(*");
     let mut in_paren = false;
     while i < line.len() {
         let b = line[i];
@@ -48,7 +85,11 @@ pub fn split(line: &[u8]) -> Split<'_> {
         } else if b == b'(' {
             in_paren = true;
         } else if b == b';' {
-            return Split { code: &line[..i], comment: Some(&line[i + 1..]), checksum: None };
+            return Split {
+                code: &line[..i],
+                comment: Some(&line[i + 1..]),
+                checksum: None,
+            };
         } else if b == b'*' {
             // A checksum is '*' and digits, then only blanks or a comment; otherwise the '*' is
             // part of the code (free text of M117, or a bad word the command will report).
@@ -68,12 +109,20 @@ pub fn split(line: &[u8]) -> Split<'_> {
             if !digits.is_empty() && (j == rest.len() || rest[j] == b';') {
                 let xor = line[..i].iter().fold(0u8, |a, &c| a ^ c);
                 let comment = rest.get(j + 1..).filter(|_| j < rest.len());
-                return Split { code: &line[..i], comment, checksum: Some((xor, digits)) };
+                return Split {
+                    code: &line[..i],
+                    comment,
+                    checksum: Some((xor, digits)),
+                };
             }
         }
         i += 1;
     }
-    Split { code: line, comment: None, checksum: None }
+    Split {
+        code: line,
+        comment: None,
+        checksum: None,
+    }
 }
 
 /// Parse the checksum digits: a decimal integer 0–255.
@@ -112,12 +161,10 @@ impl<'a> Words<'a> {
         while self.i < self.s.len() {
             match self.s[self.i] {
                 b' ' | b'\t' | b'\r' => self.i += 1,
-                b'(' => {
-                    match self.s[self.i..].iter().position(|&c| c == b')') {
-                        Some(p) => self.i += p + 1,
-                        None => self.i = self.s.len(),
-                    }
-                }
+                b'(' => match self.s[self.i..].iter().position(|&c| c == b')') {
+                    Some(p) => self.i += p + 1,
+                    None => self.i = self.s.len(),
+                },
                 _ => break,
             }
         }
@@ -154,11 +201,17 @@ impl Iterator for Words<'_> {
         match parse_number(&self.s[self.i..]) {
             Number::None => {
                 self.i = num_start;
-                Some(Ok(Word { letter, value: None }))
+                Some(Ok(Word {
+                    letter,
+                    value: None,
+                }))
             }
             Number::Ok(v, n) => {
                 self.i = num_start + n;
-                Some(Ok(Word { letter, value: Some(v) }))
+                Some(Ok(Word {
+                    letter,
+                    value: Some(v),
+                }))
             }
             Number::Bad(n) => {
                 self.i = num_start + n;
@@ -185,6 +238,9 @@ const POW10: [f64; 23] = [
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 ];
 
+/// Most digits accumulated in a u64 without overflow (10^19 < 2^64).
+const MAX_FAST_DIGITS: usize = 19;
+
 /// Longest mantissa (2^53) for which `m / 10^k` is one correctly rounded division.
 const EXACT_MANTISSA: u64 = 1 << 53;
 
@@ -199,36 +255,29 @@ fn parse_number(s: &[u8]) -> Number {
             i = 1;
         }
     }
+    // Accumulate every digit (wrapping); more than MAX_FAST_DIGITS digits take the slow path,
+    // so a wrapped mantissa is never used.
     let mut mantissa: u64 = 0;
-    let mut overflow = false;
-    let mut frac_digits = 0usize;
-    let mut any = false;
-    while i < s.len() && s[i].is_ascii_digit() {
-        any = true;
-        if mantissa < (u64::MAX - 9) / 10 {
-            mantissa = mantissa * 10 + u64::from(s[i] - b'0');
-        } else {
-            overflow = true;
-        }
+    let int_start = i;
+    while let Some(d) = s.get(i).map(|&c| c.wrapping_sub(b'0')).filter(|&d| d <= 9) {
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
         i += 1;
     }
-    if i < s.len() && s[i] == b'.' {
+    let int_digits = i - int_start;
+    let mut frac_digits = 0usize;
+    if s.get(i) == Some(&b'.') {
         i += 1;
-        while i < s.len() && s[i].is_ascii_digit() {
-            any = true;
-            if mantissa < (u64::MAX - 9) / 10 {
-                mantissa = mantissa * 10 + u64::from(s[i] - b'0');
-                frac_digits += 1;
-            } else {
-                // Further fraction digits only matter for rounding: take the slow path.
-                overflow = true;
-            }
+        let frac_start = i;
+        while let Some(d) = s.get(i).map(|&c| c.wrapping_sub(b'0')).filter(|&d| d <= 9) {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
             i += 1;
         }
+        frac_digits = i - frac_start;
     }
-    if !any {
+    if int_digits + frac_digits == 0 {
         return if i == 0 { Number::None } else { Number::Bad(i) };
     }
+    let overflow = int_digits + frac_digits > MAX_FAST_DIGITS;
     let v = if !overflow && mantissa <= EXACT_MANTISSA && frac_digits < POW10.len() {
         // Both operands exact: one IEEE division is correctly rounded (Clinger 1990).
         mantissa as f64 / POW10[frac_digits]
@@ -271,8 +320,10 @@ mod tests {
     #[test]
     fn numbers_in_every_spelling() {
         let w = words("g1 x.5 Y5. Z -1.25 e+2 F 1800");
-        let v: Vec<(u8, Option<f64>)> =
-            w.into_iter().map(|r| r.map(|w| (w.letter, w.value)).unwrap()).collect();
+        let v: Vec<(u8, Option<f64>)> = w
+            .into_iter()
+            .map(|r| r.map(|w| (w.letter, w.value)).unwrap())
+            .collect();
         assert_eq!(
             v,
             vec![
@@ -289,10 +340,22 @@ mod tests {
     #[test]
     fn letters_without_value_and_packed_words() {
         let v: Vec<Word> = words("G28 X Y").into_iter().map(|r| r.unwrap()).collect();
-        assert_eq!(v[1], Word { letter: b'X', value: None });
+        assert_eq!(
+            v[1],
+            Word {
+                letter: b'X',
+                value: None
+            }
+        );
         let v: Vec<Word> = words("G1X1E5").into_iter().map(|r| r.unwrap()).collect();
         assert_eq!(v.len(), 3);
-        assert_eq!(v[2], Word { letter: b'E', value: Some(5.0) });
+        assert_eq!(
+            v[2],
+            Word {
+                letter: b'E',
+                value: Some(5.0)
+            }
+        );
     }
 
     #[test]
@@ -317,7 +380,9 @@ mod tests {
         assert!(words("X-").iter().any(|r| r.is_err()));
         assert!(words("X.").iter().any(|r| r.is_err()));
         assert!(words("1 G1").iter().any(|r| r.is_err()));
-        assert!(words(&format!("X{}", "9".repeat(400))).iter().any(|r| r.is_err()));
+        assert!(words(&format!("X{}", "9".repeat(400)))
+            .iter()
+            .any(|r| r.is_err()));
     }
 
     #[test]
@@ -333,5 +398,27 @@ mod tests {
         assert_eq!(parse_checksum(b"255"), Some(255));
         assert_eq!(parse_checksum(b"256"), None);
         assert_eq!(parse_checksum(b""), None);
+    }
+}
+
+#[cfg(test)]
+mod find_tests {
+    use super::find_any;
+
+    #[test]
+    fn find_any_matches_a_plain_scan_at_every_position() {
+        let base = b"G1 X10.5 Y20 E0.1234 F1800 ".repeat(3);
+        for k in 0..base.len() {
+            for needle in [b';', b'(', b'*', b'\n'] {
+                let mut s = base.clone();
+                s[k] = needle;
+                let want = s.iter().position(|b| b";(*".contains(b)).unwrap_or(s.len());
+                assert_eq!(find_any(&s, b";(*"), want);
+                let want = s.iter().position(|&b| b == b'\n').unwrap_or(s.len());
+                assert_eq!(find_any(&s, b"\n"), want);
+            }
+        }
+        assert_eq!(find_any(b"", b"\n"), 0);
+        assert_eq!(find_any(&[0x80, 0xff, 0x0a], b"\n"), 2);
     }
 }

@@ -4,6 +4,12 @@
 //! in order, with the raw bytes (for verbatim pass-through), what the line did, and — for
 //! G0/G1/G2/G3 — the straight pieces it moves along in absolute millimetres (arcs linearised).
 //! Values are parsed as f64 (absolute E such as `E12345.67891` keeps every digit).
+//!
+//! - [`lexer`]: one line's bytes → words, `;`/`( )` comments, `*` checksum.
+//! - [`reader`]: the streaming [`Reader`] and the modal [`State`] (the semantics chosen for
+//!   G90/G91 vs M82/M83, layers, G28, … are documented there).
+//! - [`arc`]: G2/G3 → straight pieces within the chord tolerance.
+//! - [`write`](mod@write): deterministic number formatting and [`MoveWriter`].
 
 use glam::DVec3;
 

@@ -14,7 +14,8 @@
 //! - G90/G91 set X Y Z **and E** absolute/relative; M82/M83 set E only. Whichever of the four
 //!   came last decides the E mode (Marlin 2 `set_relative_mode` clears the M82/M83 bits; RRF
 //!   behaves the same). So `M83` then `G91 … G90` leaves E absolute, as the printer would.
-//! - I/J are always offsets from the arc's start (not affected by G90/G91).
+//! - I/J are always offsets from the arc's start (not affected by G90/G91); a missing one of
+//!   I, J is 0; when R is given it wins over I/J (as in Marlin); `P` (turns) is not supported.
 //! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
 //!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
 //! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
@@ -77,7 +78,9 @@ pub struct ReadOptions {
 
 impl Default for ReadOptions {
     fn default() -> Self {
-        ReadOptions { arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE }
+        ReadOptions {
+            arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE,
+        }
     }
 }
 
@@ -121,6 +124,24 @@ impl Default for State {
 }
 
 /// Streaming reader: push byte chunks, get one [`Line`] per complete source line.
+///
+/// ```
+/// use warpslice::gcode::{GcodeError, Line, Reader, State};
+/// let mut extruded = 0.0;
+/// let mut sink = |line: Line<'_>, _state: &State| {
+///     extruded += line.moves.iter().map(|m| m.e).sum::<f64>();
+///     Ok::<(), GcodeError>(())
+/// };
+/// let mut reader = Reader::default();
+/// reader.push(b"M83\nG1 X10 E0.5\nG2 X20 I5 E", &mut sink)?;
+/// reader.push(b"1.0\nG1 X0 E0.25", &mut sink)?; // a line split across chunks
+/// reader.finish(&mut sink)?; // the last line has no terminator
+/// assert!((extruded - 1.75).abs() < 1e-12);
+/// # Ok::<(), GcodeError>(())
+/// ```
+///
+/// After an error (from the reader or the sink) stop using the reader: reader errors are
+/// returned again by every later call.
 pub struct Reader {
     /// The unfinished last line of the previous chunks.
     pending: Vec<u8>,
@@ -200,13 +221,9 @@ impl Reader {
         }
         if !self.pending.is_empty() {
             match find_newline(chunk) {
-                None => {
-                    self.pending.extend_from_slice(chunk);
-                    return self.check_pending();
-                }
+                None => return self.append(chunk),
                 Some(p) => {
-                    self.pending.extend_from_slice(&chunk[..p]);
-                    self.check_pending::<E>()?;
+                    self.append::<E>(&chunk[..p])?;
                     self.core.line(&self.pending, sink)?;
                     self.pending.clear();
                     chunk = &chunk[p + 1..];
@@ -217,8 +234,7 @@ impl Reader {
             self.core.line(&chunk[..p], sink)?;
             chunk = &chunk[p + 1..];
         }
-        self.pending.extend_from_slice(chunk);
-        self.check_pending()
+        self.append(chunk)
     }
 
     /// End of input: flush a last line without terminator.
@@ -238,14 +254,20 @@ impl Reader {
         Ok(())
     }
 
-    /// Refuse an unfinished line that is already too long (an `\r` may still be dropped).
-    fn check_pending<E: From<GcodeError>>(&mut self) -> Result<(), E> {
-        let n = self.pending.len();
-        if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && self.pending.last() != Some(&b'\r'))
-        {
+    /// Add to the unfinished line, refusing it before copying if it gets too long (one `\r`
+    /// beyond the limit is allowed: it may be the CR of a CRLF).
+    fn append<E: From<GcodeError>>(&mut self, bytes: &[u8]) -> Result<(), E> {
+        let n = self.pending.len() + bytes.len();
+        let last = bytes.last().or(self.pending.last()).copied();
+        if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && last != Some(b'\r')) {
             let line = self.core.line_no;
-            return Err(self.core.fail(GcodeError::LineTooLong { line, bytes: MAX_LINE_BYTES }).into());
+            let e = GcodeError::LineTooLong {
+                line,
+                bytes: MAX_LINE_BYTES,
+            };
+            return Err(self.core.fail(e).into());
         }
+        self.pending.extend_from_slice(bytes);
         Ok(())
     }
 }
@@ -259,7 +281,8 @@ impl Default for Reader {
 /// Position of the first `\n`.
 #[inline]
 fn find_newline(s: &[u8]) -> Option<usize> {
-    s.iter().position(|&b| b == b'\n')
+    let i = lexer::find_any(s, b"\n");
+    (i < s.len()).then_some(i)
 }
 
 /// Integer G/M code number, if the value is a whole number below 10000.
@@ -281,8 +304,8 @@ struct MoveWords {
     i: Option<f64>,
     j: Option<f64>,
     r: Option<f64>,
-    /// Whether any letter of X Y Z appeared (even without a value).
-    any_axis_letter: bool,
+    /// Which of X Y Z appeared (even without a value, `G28 X`).
+    axis_seen: [bool; 3],
 }
 
 impl Core {
@@ -297,7 +320,12 @@ impl Core {
         self.line_no += 1;
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
         if raw.len() > MAX_LINE_BYTES {
-            return Err(self.fail(GcodeError::LineTooLong { line: number, bytes: MAX_LINE_BYTES }).into());
+            return Err(self
+                .fail(GcodeError::LineTooLong {
+                    line: number,
+                    bytes: MAX_LINE_BYTES,
+                })
+                .into());
         }
         self.moves.clear();
         let mut text = raw;
@@ -308,7 +336,16 @@ impl Core {
             Ok(c) => c,
             Err(e) => return Err(self.fail(e).into()),
         };
-        sink(Line { raw, number, command, moves: &self.moves, layer_start }, &self.state)
+        sink(
+            Line {
+                raw,
+                number,
+                command,
+                moves: &self.moves,
+                layer_start,
+            },
+            &self.state,
+        )
     }
 
     /// What the line does; updates the state and fills `self.moves`.
@@ -320,7 +357,11 @@ impl Core {
                 word: format!("*{}", String::from_utf8_lossy(digits)),
             })?;
             if found != xor {
-                return Err(GcodeError::Checksum { line, expected: xor, found });
+                return Err(GcodeError::Checksum {
+                    line,
+                    expected: xor,
+                    found,
+                });
             }
         }
         let mut words = Words::new(split.code);
@@ -357,8 +398,9 @@ impl Core {
             }
             (b'G', 28) => {
                 let w = read_words(&mut words, split.code, line)?;
-                for (k, v) in w.axes.iter().enumerate() {
-                    if v.is_some() || !w.any_axis_letter {
+                let any = w.axis_seen.contains(&true);
+                for (k, seen) in w.axis_seen.iter().enumerate() {
+                    if *seen || !any {
                         s.position[k] = 0.0;
                     }
                 }
@@ -388,7 +430,9 @@ impl Core {
             }
             (b'M', 82 | 83) => {
                 s.e_relative = code == 83;
-                Command::ExtrusionMode { relative: s.e_relative }
+                Command::ExtrusionMode {
+                    relative: s.e_relative,
+                }
             }
             _ => Command::Other,
         };
@@ -397,7 +441,9 @@ impl Core {
 
     /// A line with no code: markers in its `;` comment.
     fn comment(&mut self, comment: Option<&[u8]>) -> Command {
-        let Some(c) = comment else { return Command::Comment };
+        let Some(c) = comment else {
+            return Command::Comment;
+        };
         let c = trim_end(c);
         if let Some(label) = c.strip_prefix(b"TYPE:") {
             let f = self.feature_of(label);
@@ -480,7 +526,11 @@ impl Core {
         let mut to = from;
         for (k, v) in w.axes.iter().enumerate() {
             if let Some(v) = v {
-                to[k] = if s.positioning_relative { to[k] + v * u } else { v * u };
+                to[k] = if s.positioning_relative {
+                    to[k] + v * u
+                } else {
+                    v * u
+                };
             }
         }
         let mut e = 0.0;
@@ -542,19 +592,39 @@ impl Core {
                         reason: "no centre: give I and J, or R".into(),
                     })
                 }
-                (None, i, j) => Centre::Offset(DVec2::new(i.unwrap_or(0.0) * u, j.unwrap_or(0.0) * u)),
+                (None, i, j) => {
+                    Centre::Offset(DVec2::new(i.unwrap_or(0.0) * u, j.unwrap_or(0.0) * u))
+                }
             };
             let moves = &mut self.moves;
             let mut prev = from;
-            arc::linearise(from, to, centre, code == 2, self.opts.arc_chord_tolerance, |p| {
-                moves.push(Move { from: prev, to: p, e: 0.0, ..template });
-                prev = p;
-            })
+            arc::linearise(
+                from,
+                to,
+                centre,
+                code == 2,
+                self.opts.arc_chord_tolerance,
+                |p| {
+                    moves.push(Move {
+                        from: prev,
+                        to: p,
+                        e: 0.0,
+                        ..template
+                    });
+                    prev = p;
+                },
+            )
             .map_err(|reason| GcodeError::BadArc { line, reason })?;
             spread_e(moves, e);
         }
         self.state.position = to;
-        Ok((Command::Move { rapid: code == 0, arc }, layer_start))
+        Ok((
+            Command::Move {
+                rapid: code == 0,
+                arc,
+            },
+            layer_start,
+        ))
     }
 }
 
@@ -571,7 +641,11 @@ fn spread_e(moves: &mut [Move], e: f64) {
         if k + 1 == n {
             m.e = e - given;
         } else {
-            let share = if total > 0.0 { (m.to - m.from).length() / total } else { 1.0 / n as f64 };
+            let share = if total > 0.0 {
+                (m.to - m.from).length() / total
+            } else {
+                1.0 / n as f64
+            };
             m.e = e * share;
             given += m.e;
         }
@@ -590,15 +664,15 @@ fn read_words(words: &mut Words<'_>, text: &[u8], line: u64) -> Result<MoveWords
         match word.letter {
             b'X' => {
                 w.axes[0] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[0] = true;
             }
             b'Y' => {
                 w.axes[1] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[1] = true;
             }
             b'Z' => {
                 w.axes[2] = v;
-                w.any_axis_letter = true;
+                w.axis_seen[2] = true;
             }
             b'E' => w.e = v,
             b'F' => w.f = v,
@@ -622,4 +696,20 @@ fn trim_end(s: &[u8]) -> &[u8] {
         n -= 1;
     }
     &s[..n]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_huge_chunk_without_newline_is_refused_before_it_is_copied() {
+        let mut reader = Reader::default();
+        let mut sink = |_: Line<'_>, _: &State| Ok::<(), GcodeError>(());
+        reader.push(b"G1 X1\n;abc", &mut sink).unwrap();
+        let big = vec![b'a'; 4 * MAX_LINE_BYTES];
+        let r = reader.push(&big, &mut sink);
+        assert_eq!(r, Err(GcodeError::LineTooLong { line: 2, bytes: MAX_LINE_BYTES }));
+        assert!(reader.pending.capacity() < 2 * MAX_LINE_BYTES);
+    }
 }

@@ -219,9 +219,11 @@ mod tests {
         String::from_utf8(o).unwrap()
     }
 
+    type Push = fn(&mut Vec<u8>, f64);
+
     #[test]
     fn formatting_table() {
-        let cases: &[(fn(&mut Vec<u8>, f64), f64, &str)] = &[
+        let cases: &[(Push, f64, &str)] = &[
             (push_mm, 0.0, "0"),
             (push_mm, -0.0, "0"),
             (push_mm, -0.0004, "0"),
@@ -253,7 +255,14 @@ mod tests {
         assert!(w.linear(&mut o, false, DVec3::new(1.0, 2.0, 0.2), 0.5, 1800.0));
         assert!(w.linear(&mut o, false, DVec3::new(3.0, 2.0004, 0.2), 0.0, 1800.0));
         assert!(!w.linear(&mut o, false, DVec3::new(3.0, 2.0, 0.2), 0.000001, 1800.0));
-        assert!(w.linear_axes(&mut o, true, DVec3::new(3.0, 2.0, 0.2), &[(b'B', -15.0)], 0.0, 7200.0));
+        assert!(w.linear_axes(
+            &mut o,
+            true,
+            DVec3::new(3.0, 2.0, 0.2),
+            &[(b'B', -15.0)],
+            0.0,
+            7200.0
+        ));
         w.forget();
         assert!(w.linear(&mut o, false, DVec3::new(3.0, 2.0, 0.2), -0.8, 7200.0));
         assert_eq!(

@@ -113,7 +113,12 @@ impl EdgeTable {
                 while n < e && (self.entries[n] >> 32) as u32 == hi {
                     n += 1;
                 }
-                f(Edge { id: k as u32, lo: v as u32, hi, uses: (n - k) as u32 });
+                f(Edge {
+                    id: k as u32,
+                    lo: v as u32,
+                    hi,
+                    uses: (n - k) as u32,
+                });
                 k = n;
             }
         }
@@ -135,7 +140,10 @@ mod tests {
         let t = EdgeTable::build(4, &[[0, 1, 2], [0, 2, 3]]);
         let mut edges = Vec::new();
         t.for_each(|e| edges.push((e.lo, e.hi, e.uses)));
-        assert_eq!(edges, vec![(0, 1, 1), (0, 2, 2), (0, 3, 1), (1, 2, 1), (2, 3, 1)]);
+        assert_eq!(
+            edges,
+            vec![(0, 1, 1), (0, 2, 2), (0, 3, 1), (1, 2, 1), (2, 3, 1)]
+        );
         // half-edge 2 of triangle 0 (2→0) and half-edge 0 of triangle 1 (0→2) share an id
         assert_eq!(t.edge_of(2), t.edge_of(3));
         assert_ne!(t.edge_of(0), t.edge_of(3));

@@ -79,6 +79,10 @@ mod tests {
         for i in 0..1024u32 {
             low.insert(b.hash_one((i as f32).to_bits()) & 1023);
         }
-        assert!(low.len() > 500, "only {} distinct low-bit buckets", low.len());
+        assert!(
+            low.len() > 500,
+            "only {} distinct low-bit buckets",
+            low.len()
+        );
     }
 }

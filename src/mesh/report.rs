@@ -51,7 +51,10 @@ pub struct MeshReport {
 
 /// Whether triangle `(a, b, c)` is degenerate (see [`DEGENERATE_ALTITUDE`]).
 pub fn is_degenerate(a: glam::DVec3, b: glam::DVec3, c: glam::DVec3) -> bool {
-    let l2 = (b - a).length_squared().max((c - b).length_squared()).max((a - c).length_squared());
+    let l2 = (b - a)
+        .length_squared()
+        .max((c - b).length_squared())
+        .max((a - c).length_squared());
     let twice_area = (b - a).cross(c - a).length();
     // h = 2A / ℓ_max < ε  ⇔  2A < ε ℓ_max  (no division; ℓ_max = 0 counts as degenerate)
     !(twice_area >= DEGENERATE_ALTITUDE * l2.sqrt() && l2 > 0.0)
@@ -120,9 +123,24 @@ mod tests {
     #[test]
     fn closed_tetrahedron_has_no_defects() {
         let r = MeshReport::of(&tetra(), StlFormat::Binary);
-        assert_eq!((r.triangles, r.vertices, r.degenerate, r.open_edges, r.nonmanifold_edges), (4, 4, 0, 0, 0));
+        assert_eq!(
+            (
+                r.triangles,
+                r.vertices,
+                r.degenerate,
+                r.open_edges,
+                r.nonmanifold_edges
+            ),
+            (4, 4, 0, 0, 0)
+        );
         assert!(r.is_watertight());
-        assert_eq!(r.bbox, Aabb { min: DVec3::ZERO, max: DVec3::ONE });
+        assert_eq!(
+            r.bbox,
+            Aabb {
+                min: DVec3::ZERO,
+                max: DVec3::ONE
+            }
+        );
     }
 
     #[test]
@@ -145,17 +163,29 @@ mod tests {
     #[test]
     fn repeated_vertex_and_collinear_triangles_are_degenerate() {
         let m = Mesh {
-            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.5, 1e-9, 0.0)],
+            vertices: vec![
+                DVec3::ZERO,
+                DVec3::X,
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(0.5, 1e-9, 0.0),
+            ],
             triangles: vec![[0, 0, 1], [0, 1, 2], [0, 1, 3]],
         };
         assert_eq!(MeshReport::of(&m, StlFormat::Ascii).degenerate, 3);
         // and a thin but real triangle is not
-        assert!(!is_degenerate(DVec3::ZERO, DVec3::X, DVec3::new(0.5, 1e-3, 0.0)));
+        assert!(!is_degenerate(
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(0.5, 1e-3, 0.0)
+        ));
     }
 
     #[test]
     fn out_of_range_index_is_counted_not_a_panic() {
-        let m = Mesh { vertices: vec![DVec3::ZERO, DVec3::X], triangles: vec![[0, 1, 5]] };
+        let m = Mesh {
+            vertices: vec![DVec3::ZERO, DVec3::X],
+            triangles: vec![[0, 1, 5]],
+        };
         let r = MeshReport::of(&m, StlFormat::Binary);
         assert_eq!(r.degenerate, 1);
         assert!(r.bbox.is_empty());

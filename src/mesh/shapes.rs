@@ -28,7 +28,10 @@ pub fn cuboid(min: DVec3, max: DVec3) -> Mesh {
         triangles.push([a, b, c]);
         triangles.push([a, c, d]);
     }
-    Mesh { vertices: (0..8).map(v).collect(), triangles }
+    Mesh {
+        vertices: (0..8).map(v).collect(),
+        triangles,
+    }
 }
 
 /// A closed UV sphere about `center`: `rings ≥ 2` latitude bands, `segments ≥ 3` longitude
@@ -43,7 +46,10 @@ pub fn uv_sphere(center: DVec3, radius: f64, rings: u32, segments: u32) -> Mesh 
         let (st, ct) = (crate::num::sin(theta), crate::num::cos(theta));
         for j in 0..segments {
             let phi = 2.0 * core::f64::consts::PI * f64::from(j) / f64::from(segments);
-            vertices.push(center + radius * DVec3::new(st * crate::num::cos(phi), st * crate::num::sin(phi), ct));
+            vertices.push(
+                center
+                    + radius * DVec3::new(st * crate::num::cos(phi), st * crate::num::sin(phi), ct),
+            );
         }
     }
     let south = vertices.len() as u32;
@@ -55,7 +61,12 @@ pub fn uv_sphere(center: DVec3, radius: f64, rings: u32, segments: u32) -> Mesh 
     }
     for i in 1..rings - 1 {
         for j in 0..segments {
-            let (a, b, c, d) = (ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1));
+            let (a, b, c, d) = (
+                ring(i, j),
+                ring(i + 1, j),
+                ring(i + 1, j + 1),
+                ring(i, j + 1),
+            );
             triangles.push([a, b, c]);
             triangles.push([a, c, d]);
         }
@@ -63,7 +74,10 @@ pub fn uv_sphere(center: DVec3, radius: f64, rings: u32, segments: u32) -> Mesh 
     for j in 0..segments {
         triangles.push([south, ring(rings - 1, j + 1), ring(rings - 1, j)]);
     }
-    Mesh { vertices, triangles }
+    Mesh {
+        vertices,
+        triangles,
+    }
 }
 
 /// A flat open sheet in the plane z = 0: `nx × ny` square cells of side `cell` from the
@@ -84,7 +98,10 @@ pub fn grid(nx: u32, ny: u32, cell: f64) -> Mesh {
             triangles.push([a, c, d]);
         }
     }
-    Mesh { vertices, triangles }
+    Mesh {
+        vertices,
+        triangles,
+    }
 }
 
 #[cfg(test)]
@@ -127,6 +144,9 @@ mod tests {
     fn grid_is_open_on_its_rim() {
         let m = grid(3, 2, 1.0);
         let r = MeshReport::of(&m, StlFormat::Binary);
-        assert_eq!((r.triangles, r.open_edges, r.nonmanifold_edges), (12, 10, 0));
+        assert_eq!(
+            (r.triangles, r.open_edges, r.nonmanifold_edges),
+            (12, 10, 0)
+        );
     }
 }

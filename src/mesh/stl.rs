@@ -73,7 +73,10 @@ impl Welder {
         let mut index = HashMap::with_hasher(FxBuild::default());
         index.reserve(vertices);
         Welder {
-            mesh: Mesh { vertices: Vec::with_capacity(vertices), triangles: Vec::with_capacity(triangles) },
+            mesh: Mesh {
+                vertices: Vec::with_capacity(vertices),
+                triangles: Vec::with_capacity(triangles),
+            },
             index,
             zero_normals: 0,
             flipped_normals: 0,
@@ -93,14 +96,18 @@ impl Welder {
             let v = v.map(|c| c + 0.0);
             let next = self.mesh.vertices.len() as u32;
             let i = *self.index.entry(Key(v.map(f32::to_bits))).or_insert(next);
+            p[k] = DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]));
             if i == next {
-                self.mesh.vertices.push(DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2])));
+                self.mesh.vertices.push(p[k]);
             }
             tri[k] = i;
-            p[k] = self.mesh.vertices[i as usize];
         }
         self.mesh.triangles.push(tri);
-        let n = DVec3::new(f64::from(f.normal[0]), f64::from(f.normal[1]), f64::from(f.normal[2]));
+        let n = DVec3::new(
+            f64::from(f.normal[0]),
+            f64::from(f.normal[1]),
+            f64::from(f.normal[2]),
+        );
         if n == DVec3::ZERO {
             self.zero_normals += 1;
         } else if n.dot((p[1] - p[0]).cross(p[2] - p[0])) < 0.0 {
@@ -109,7 +116,11 @@ impl Welder {
         Ok(())
     }
 
-    fn finish(self, format: StlFormat, mut warnings: Vec<String>) -> Result<(Mesh, MeshReport), MeshError> {
+    fn finish(
+        self,
+        format: StlFormat,
+        mut warnings: Vec<String>,
+    ) -> Result<(Mesh, MeshReport), MeshError> {
         if self.mesh.triangles.is_empty() {
             return Err(MeshError::NoTriangles);
         }
@@ -149,15 +160,28 @@ fn looks_binary(bytes: &[u8]) -> bool {
 
 /// Read a binary STL of `count` facets (the length was checked by the caller; at most
 /// `BINARY_FACET_BYTES − 1` trailing bytes are ignored).
-fn read_binary(bytes: &[u8], count: u64, format: StlFormat, warnings: Vec<String>) -> Result<(Mesh, MeshReport), MeshError> {
+fn read_binary(
+    bytes: &[u8],
+    count: u64,
+    format: StlFormat,
+    warnings: Vec<String>,
+) -> Result<(Mesh, MeshReport), MeshError> {
     let body = bytes.get(BINARY_PREFIX_BYTES..).unwrap_or(&[]);
-    let count = usize::try_from(count).unwrap_or(usize::MAX).min(body.len() / BINARY_FACET_BYTES);
+    let count = usize::try_from(count)
+        .unwrap_or(usize::MAX)
+        .min(body.len() / BINARY_FACET_BYTES);
     let mut w = Welder::with_capacity(count);
-    let f = |r: &[u8], k: usize| f32::from_le_bytes([r[4 * k], r[4 * k + 1], r[4 * k + 2], r[4 * k + 3]]);
+    let f = |r: &[u8], k: usize| {
+        f32::from_le_bytes([r[4 * k], r[4 * k + 1], r[4 * k + 2], r[4 * k + 3]])
+    };
     for r in body.chunks_exact(BINARY_FACET_BYTES).take(count) {
         w.add(RawFacet {
             normal: [f(r, 0), f(r, 1), f(r, 2)],
-            vertices: [[f(r, 3), f(r, 4), f(r, 5)], [f(r, 6), f(r, 7), f(r, 8)], [f(r, 9), f(r, 10), f(r, 11)]],
+            vertices: [
+                [f(r, 3), f(r, 4), f(r, 5)],
+                [f(r, 6), f(r, 7), f(r, 8)],
+                [f(r, 9), f(r, 10), f(r, 11)],
+            ],
         })?;
     }
     w.finish(format, warnings)
@@ -167,14 +191,23 @@ fn read_binary(bytes: &[u8], count: u64, format: StlFormat, warnings: Vec<String
 fn binary_size_error(bytes: &[u8]) -> MeshError {
     let actual = bytes.len() as u64;
     let Some(count) = binary_count(bytes) else {
-        return MeshError::Truncated { expected_bytes: BINARY_PREFIX_BYTES as u64, actual_bytes: actual };
+        return MeshError::Truncated {
+            expected_bytes: BINARY_PREFIX_BYTES as u64,
+            actual_bytes: actual,
+        };
     };
     let expected = binary_len(count);
     let body = actual - BINARY_PREFIX_BYTES as u64;
     if actual < expected && body % BINARY_FACET_BYTES as u64 != 0 {
-        MeshError::Truncated { expected_bytes: expected, actual_bytes: actual }
+        MeshError::Truncated {
+            expected_bytes: expected,
+            actual_bytes: actual,
+        }
     } else {
-        MeshError::FaceCountMismatch { header_count: count, bytes_for: body / BINARY_FACET_BYTES as u64 }
+        MeshError::FaceCountMismatch {
+            header_count: count,
+            bytes_for: body / BINARY_FACET_BYTES as u64,
+        }
     }
 }
 
@@ -184,13 +217,22 @@ fn read_ascii(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
     let notes = stl_ascii::parse(bytes, |f| w.add(f))?;
     let mut warnings = Vec::new();
     if notes.missing_endsolid {
-        warnings.push("the ASCII STL ends without `endsolid` (tolerated; the file may be cut short)".to_string());
+        warnings.push(
+            "the ASCII STL ends without `endsolid` (tolerated; the file may be cut short)"
+                .to_string(),
+        );
     }
     if notes.facets_without_normal > 0 {
-        warnings.push(format!("{} facets have no `normal` clause (tolerated)", notes.facets_without_normal));
+        warnings.push(format!(
+            "{} facets have no `normal` clause (tolerated)",
+            notes.facets_without_normal
+        ));
     }
     if notes.solids > 1 {
-        warnings.push(format!("the file holds {} solids; they are read as one mesh", notes.solids));
+        warnings.push(format!(
+            "the file holds {} solids; they are read as one mesh",
+            notes.solids
+        ));
     }
     w.finish(StlFormat::Ascii, warnings)
 }
@@ -214,7 +256,11 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
     let count = binary_count(bytes);
     let actual = bytes.len() as u64;
     let exact = count.is_some_and(|n| binary_len(n) == actual);
-    let binary_format = if solid { StlFormat::BinarySolidHeader } else { StlFormat::Binary };
+    let binary_format = if solid {
+        StlFormat::BinarySolidHeader
+    } else {
+        StlFormat::Binary
+    };
     if exact {
         let n = count.unwrap_or(0);
         if solid {
@@ -237,7 +283,9 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
         if actual > expected && actual - expected < BINARY_FACET_BYTES as u64 {
             let extra = actual - expected;
             let mut w = solid_header_note(binary_format);
-            w.push(format!("{extra} bytes after the last binary facet were ignored"));
+            w.push(format!(
+                "{extra} bytes after the last binary facet were ignored"
+            ));
             return read_binary(bytes, n, binary_format, w);
         }
     }
@@ -270,7 +318,11 @@ pub fn write_stl(mesh: &Mesh, header: &str) -> Vec<u8> {
         let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
         let n = (b - a).cross(c - a);
         let len = n.length();
-        let n = if len > 0.0 && len.is_finite() { n / len } else { DVec3::ZERO };
+        let n = if len > 0.0 && len.is_finite() {
+            n / len
+        } else {
+            DVec3::ZERO
+        };
         put(&mut out, n);
         put(&mut out, a);
         put(&mut out, b);
@@ -324,7 +376,10 @@ mod tests {
 
     #[test]
     fn degenerate_triangle_gets_zero_normal() {
-        let m = Mesh { vertices: vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0], triangles: vec![[0, 1, 2]] };
+        let m = Mesh {
+            vertices: vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0],
+            triangles: vec![[0, 1, 2]],
+        };
         let b = write_stl(&m, "");
         assert!(b[84..96].iter().all(|&x| x == 0));
     }

@@ -45,7 +45,11 @@ fn is_space(c: u8) -> bool {
 impl<'a> Lexer<'a> {
     fn new(b: &'a [u8]) -> Self {
         // UTF-8 byte-order mark
-        let pos = if b.starts_with(&[0xef, 0xbb, 0xbf]) { 3 } else { 0 };
+        let pos = if b.starts_with(&[0xef, 0xbb, 0xbf]) {
+            3
+        } else {
+            0
+        };
         Lexer { b, pos, line: 1 }
     }
 
@@ -76,7 +80,9 @@ impl<'a> Lexer<'a> {
 
     /// Whether only whitespace and NUL padding remain.
     fn rest_is_blank(&self) -> bool {
-        self.b[self.pos.min(self.b.len())..].iter().all(|&c| is_space(c) || c == 0)
+        self.b[self.pos.min(self.b.len())..]
+            .iter()
+            .all(|&c| is_space(c) || c == 0)
     }
 }
 
@@ -97,8 +103,14 @@ fn syntax(line: usize, message: String) -> MeshError {
 fn expect_kw(lx: &mut Lexer<'_>, kw: &str, context: &str) -> Result<usize, MeshError> {
     match lx.next() {
         Some((t, line)) if t.eq_ignore_ascii_case(kw.as_bytes()) => Ok(line),
-        Some((t, line)) => Err(syntax(line, format!("expected `{kw}` {context}, found `{}`", show(t)))),
-        None => Err(syntax(lx.line, format!("unexpected end of file: expected `{kw}` {context}"))),
+        Some((t, line)) => Err(syntax(
+            line,
+            format!("expected `{kw}` {context}, found `{}`", show(t)),
+        )),
+        None => Err(syntax(
+            lx.line,
+            format!("unexpected end of file: expected `{kw}` {context}"),
+        )),
     }
 }
 
@@ -107,8 +119,16 @@ fn number(lx: &mut Lexer<'_>, what: &str) -> Result<f32, MeshError> {
         Some((t, line)) => std::str::from_utf8(t)
             .ok()
             .and_then(|s| s.parse::<f32>().ok())
-            .ok_or_else(|| syntax(line, format!("expected a number ({what}), found `{}`", show(t)))),
-        None => Err(syntax(lx.line, format!("unexpected end of file: expected a number ({what})"))),
+            .ok_or_else(|| {
+                syntax(
+                    line,
+                    format!("expected a number ({what}), found `{}`", show(t)),
+                )
+            }),
+        None => Err(syntax(
+            lx.line,
+            format!("unexpected end of file: expected a number ({what})"),
+        )),
     }
 }
 
@@ -121,7 +141,9 @@ fn xyz(lx: &mut Lexer<'_>, what: &str) -> Result<[f32; 3], MeshError> {
 pub(crate) fn starts_with_solid(bytes: &[u8]) -> bool {
     let mut lx = Lexer::new(bytes);
     matches!(lx.next(), Some((t, _)) if t.eq_ignore_ascii_case(b"solid"))
-        || bytes.get(..5).is_some_and(|h| h.eq_ignore_ascii_case(b"solid"))
+        || bytes
+            .get(..5)
+            .is_some_and(|h| h.eq_ignore_ascii_case(b"solid"))
 }
 
 /// Parse an ASCII STL, handing every facet to `sink` in file order.
@@ -134,7 +156,10 @@ pub(crate) fn parse(
     match lx.next() {
         Some((t, _)) if t.eq_ignore_ascii_case(b"solid") => {}
         Some((t, line)) => {
-            return Err(syntax(line, format!("an ASCII STL must start with `solid`, found `{}`", show(t))))
+            return Err(syntax(
+                line,
+                format!("an ASCII STL must start with `solid`, found `{}`", show(t)),
+            ))
         }
         None => return Err(MeshError::NoTriangles),
     }
@@ -158,18 +183,31 @@ pub(crate) fn parse(
                     notes.solids += 1;
                 }
                 Some((t, line)) => {
-                    return Err(syntax(line, format!("expected `solid` or the end of the file after `endsolid`, found `{}`", show(t))))
+                    return Err(syntax(
+                        line,
+                        format!(
+                            "expected `solid` or the end of the file after `endsolid`, found `{}`",
+                            show(t)
+                        ),
+                    ))
                 }
                 None => return Ok(notes),
             }
         } else {
-            return Err(syntax(line, format!("expected `facet` or `endsolid`, found `{}`", show(tok))));
+            return Err(syntax(
+                line,
+                format!("expected `facet` or `endsolid`, found `{}`", show(tok)),
+            ));
         }
     }
 }
 
 /// The rest of a facet after its `facet` keyword (on line `facet_line`).
-fn facet(lx: &mut Lexer<'_>, facet_line: usize, notes: &mut AsciiNotes) -> Result<RawFacet, MeshError> {
+fn facet(
+    lx: &mut Lexer<'_>,
+    facet_line: usize,
+    notes: &mut AsciiNotes,
+) -> Result<RawFacet, MeshError> {
     let mut normal = [0.0f32; 3];
     match lx.next() {
         Some((t, _)) if t.eq_ignore_ascii_case(b"normal") => {
@@ -177,8 +215,18 @@ fn facet(lx: &mut Lexer<'_>, facet_line: usize, notes: &mut AsciiNotes) -> Resul
             expect_kw(lx, "outer", "after the facet normal")?;
         }
         Some((t, _)) if t.eq_ignore_ascii_case(b"outer") => notes.facets_without_normal += 1,
-        Some((t, line)) => return Err(syntax(line, format!("expected `normal` after `facet`, found `{}`", show(t)))),
-        None => return Err(syntax(lx.line, "unexpected end of file inside a facet".into())),
+        Some((t, line)) => {
+            return Err(syntax(
+                line,
+                format!("expected `normal` after `facet`, found `{}`", show(t)),
+            ))
+        }
+        None => {
+            return Err(syntax(
+                lx.line,
+                "unexpected end of file inside a facet".into(),
+            ))
+        }
     }
     expect_kw(lx, "loop", "after `outer`")?;
     let mut vertices = [[0.0f32; 3]; 3];
@@ -194,18 +242,26 @@ fn facet(lx: &mut Lexer<'_>, facet_line: usize, notes: &mut AsciiNotes) -> Resul
             }
             Some((t, _)) if t.eq_ignore_ascii_case(b"endloop") => break,
             Some((t, line)) => {
-                return Err(syntax(line, format!("expected `vertex` or `endloop`, found `{}`", show(t))))
+                return Err(syntax(
+                    line,
+                    format!("expected `vertex` or `endloop`, found `{}`", show(t)),
+                ))
             }
             None => {
                 return Err(syntax(
                     lx.line,
-                    format!("unexpected end of file inside the facet that starts on line {facet_line}"),
+                    format!(
+                        "unexpected end of file inside the facet that starts on line {facet_line}"
+                    ),
                 ))
             }
         }
     }
     if n != 3 {
-        return Err(MeshError::NotATriangle { line: facet_line, vertices: n });
+        return Err(MeshError::NotATriangle {
+            line: facet_line,
+            vertices: n,
+        });
     }
     expect_kw(lx, "endfacet", "after `endloop`")?;
     Ok(RawFacet { normal, vertices })
@@ -245,7 +301,13 @@ mod tests {
     #[test]
     fn quad_facet_is_not_a_triangle_with_its_line() {
         let src = ONE.replace("   vertex 0 1 0\n", "   vertex 0 1 0\n   vertex 1 1 0\n");
-        assert_eq!(all(&src).unwrap_err(), MeshError::NotATriangle { line: 2, vertices: 4 });
+        assert_eq!(
+            all(&src).unwrap_err(),
+            MeshError::NotATriangle {
+                line: 2,
+                vertices: 4
+            }
+        );
     }
 
     #[test]
@@ -288,7 +350,9 @@ mod tests {
             all(&src).unwrap_err(),
             MeshError::Syntax {
                 line: 10,
-                message: "expected `solid` or the end of the file after `endsolid`, found `garbage`".into()
+                message:
+                    "expected `solid` or the end of the file after `endsolid`, found `garbage`"
+                        .into()
             }
         );
     }

@@ -24,7 +24,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::gcode::write::{push_e, push_feed, push_mm};
+use crate::gcode::write::push_e;
 use crate::gcode::{Command, GcodeError, Line, Move, ReadOptions, Reader, State};
 use crate::job::Job;
 use crate::pipeline::Error;
@@ -35,10 +35,12 @@ use crate::tolerance::{
 use crate::toolpath::{Feature, ToolPoint};
 use crate::warp::Warp;
 
+pub mod emit;
 pub mod extrusion;
 pub mod segment;
 pub mod travel;
 
+pub use emit::{Cartesian, Emitter};
 pub use extrusion::{EWriter, Flow};
 
 /// Feed for the retractions warpslice adds, mm/min (40 mm/s).
@@ -190,7 +192,7 @@ struct Core {
     dx: f64,
     dy: f64,
     out: Vec<u8>,
-    ew: EWriter,
+    emit: Box<dyn Emitter>,
     /// The slicer's own E position (absolute files), to re-synchronise after the region.
     slicer_e: f64,
     /// Output position and tool axis, output frame.
@@ -198,10 +200,13 @@ struct Core {
     pending: Option<Pending>,
     /// Filament the slicer retracted and has not yet pushed back, mm.
     retracted: f64,
-    last_f: f64,
     grid: travel::HeightGrid,
     inside: bool,
     done_region: bool,
+    /// Smallest z component of an object extrusion's tool axis (cos of the largest tilt).
+    min_nz: f64,
+    /// The file's E mode at the last line (M83 = relative).
+    e_relative: bool,
     report: UnwarpReport,
     toolpath: Vec<ToolPoint>,
     stack: Vec<(f64, DVec3, u32)>,
@@ -271,15 +276,16 @@ impl Unwarper {
             dx,
             dy,
             out: Vec::with_capacity(1 << 16),
-            ew: EWriter::default(),
+            emit: Box::new(Cartesian::new()),
             slicer_e: 0.0,
             cur: None,
             pending: None,
             retracted: 0.0,
-            last_f: f64::NAN,
             grid: travel::HeightGrid::new(b.min.truncate(), b.max.truncate()),
             inside: false,
             done_region: false,
+            min_nz: 1.0,
+            e_relative: false,
             report: UnwarpReport {
                 translation: reg.translation,
                 residual: reg.residual,
@@ -305,7 +311,14 @@ impl Unwarper {
 
     /// Drain the output written so far.
     pub fn take_output(&mut self) -> Vec<u8> {
-        self.core.as_mut().map(|c| std::mem::take(&mut c.out)).unwrap_or_default()
+        // hand over the buffer and start a new one of the same capacity (no regrowth)
+        self.core
+            .as_mut()
+            .map(|c| {
+                let cap = c.out.capacity();
+                std::mem::replace(&mut c.out, Vec::with_capacity(cap))
+            })
+            .unwrap_or_default()
     }
 
     /// Drain the toolpath collected so far (`collect_toolpath`).
@@ -323,6 +336,10 @@ impl Unwarper {
         if core.inside && !core.done_region {
             core.end_region();
         }
+        core.report.largest_tilt_deg = crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
+        let start = core.out.len();
+        core.emit.finish(&mut core.out);
+        core.report.lines_out += core.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
         self.finished = true;
         Ok(core.report.clone())
     }
@@ -370,6 +387,7 @@ impl Core {
 
     fn line(&mut self, line: &Line<'_>, state: &State) -> Result<(), UnwarpError> {
         self.report.lines_in = line.number;
+        self.e_relative = state.e_relative;
         let n = line.number;
         let in_region = n >= self.reg.region[0] && n <= self.reg.region[1];
         if in_region && !self.inside {
@@ -378,6 +396,9 @@ impl Core {
                 return Err(UnwarpError::Inches { line: n });
             }
             self.cur = Some((state_position_before(line, state), DVec3::Z));
+            // the firmware's E is the slicer's at this point (absolute files: E words continue
+            // from it)
+            self.emit.reset_e(self.slicer_e);
         }
         if !in_region && self.inside && !self.done_region {
             self.end_region();
@@ -398,7 +419,7 @@ impl Core {
             Command::Units { inch: true } => return Err(UnwarpError::Inches { line: n }),
             Command::SetPosition { xyz: true, .. } => return Err(UnwarpError::AxisReset { line: n }),
             Command::SetPosition { e: Some(v), .. } => {
-                self.ew.reset(v);
+                self.emit.reset_e(v);
                 self.passthrough(line.raw);
             }
             Command::Move { .. } => {
@@ -415,8 +436,21 @@ impl Core {
     }
 
     fn passthrough(&mut self, raw: &[u8]) {
-        self.out.extend_from_slice(raw);
-        self.nl();
+        self.emit.raw(&mut self.out, raw);
+        self.report.lines_out += 1;
+    }
+
+    /// Hand a point to the emitter (counting the lines it writes) and keep it.
+    fn emit_point(&mut self, tp: ToolPoint, relative: bool) {
+        let start = self.out.len();
+        self.emit.point(&mut self.out, &tp, relative);
+        self.report.lines_out += self.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
+        if !tp.travel || tp.e == 0.0 {
+            self.cur = Some((tp.p, tp.n));
+        }
+        if self.opts.collect_toolpath {
+            self.toolpath.push(tp);
+        }
     }
 
     fn kind(&self, line: u64, m: &Move) -> Kind {
@@ -483,7 +517,7 @@ impl Core {
         self.report.e_in += m.e;
         let kind = self.kind(line, m);
         if kind == Kind::Dropped {
-            if self.job.anchor.is_some() && m.feature.is_object() && !(!self.reg.typed && self.reg.in_skirt_run(line)) {
+            if self.job.anchor.is_some() && m.feature.is_object() && (self.reg.typed || !self.reg.in_skirt_run(line)) {
                 self.report.e_anchor += m.e;
             } else {
                 self.report.e_skirt += m.e;
@@ -542,71 +576,27 @@ impl Core {
         self.pieces = pieces;
     }
 
-    fn write_feed(&mut self, f: f64) {
-        if f != self.last_f && f.is_finite() && f > 0.0 {
-            self.out.extend_from_slice(b" F");
-            push_feed(&mut self.out, f);
-            self.last_f = f;
-        }
-    }
-
     fn write_e_only(&mut self, e: f64, f: f64, relative: bool) {
-        let v = self.ew.advance(e, relative);
-        self.out.extend_from_slice(b"G1 E");
-        push_e(&mut self.out, v);
-        self.write_feed(f);
-        self.nl();
-        if self.opts.collect_toolpath {
-            if let Some((p, n)) = self.cur {
-                self.toolpath.push(ToolPoint { p, n, e, f, layer: 0, feature: Feature::Unknown, travel: true });
-            }
-        }
-    }
-
-    fn write_xyz(&mut self, p: DVec3) {
-        self.out.extend_from_slice(b" X");
-        push_mm(&mut self.out, p.x);
-        self.out.extend_from_slice(b" Y");
-        push_mm(&mut self.out, p.y);
-        self.out.extend_from_slice(b" Z");
-        push_mm(&mut self.out, p.z);
+        let (p, n) = self.cur.unwrap_or((DVec3::ZERO, DVec3::Z));
+        self.emit_point(ToolPoint { p, n, e, f, layer: 0, feature: Feature::Unknown, travel: true }, relative);
     }
 
     #[allow(clippy::too_many_arguments)]
     fn write_extrusion(&mut self, p: DVec3, n: DVec3, e: f64, m: &Move, feature: Feature, relative: bool, object: bool) {
-        let v = self.ew.advance(e, relative);
-        self.out.extend_from_slice(b"G1");
-        self.write_xyz(p);
-        self.out.extend_from_slice(b" E");
-        push_e(&mut self.out, v);
-        self.write_feed(m.f);
-        self.nl();
         self.report.e_out += e;
         self.report.segments_out += 1;
-        if object {
-            let tilt = crate::num::deg(crate::num::angle_between(n, DVec3::Z));
-            if tilt > self.report.largest_tilt_deg {
-                self.report.largest_tilt_deg = tilt;
-            }
+        if object && n.z < self.min_nz {
+            // the angle itself is taken once, at the end (acos is monotonic)
+            self.min_nz = n.z;
         }
         if let Some((a, _)) = self.cur {
             self.grid.mark_segment(a, p);
         }
-        self.cur = Some((p, n));
-        if self.opts.collect_toolpath {
-            self.toolpath.push(ToolPoint { p, n, e, f: m.f, layer: m.layer, feature, travel: false });
-        }
+        self.emit_point(ToolPoint { p, n, e, f: m.f, layer: m.layer, feature, travel: false }, relative);
     }
 
     fn write_travel(&mut self, p: DVec3, n: DVec3, f: f64) {
-        self.out.extend_from_slice(b"G0");
-        self.write_xyz(p);
-        self.write_feed(f);
-        self.nl();
-        self.cur = Some((p, n));
-        if self.opts.collect_toolpath {
-            self.toolpath.push(ToolPoint { p, n, e: 0.0, f, layer: 0, feature: Feature::Unknown, travel: true });
-        }
+        self.emit_point(ToolPoint { p, n, e: 0.0, f, layer: 0, feature: Feature::Unknown, travel: true }, true);
     }
 
     /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend.
@@ -661,11 +651,10 @@ impl Core {
                 self.write_travel(DVec3::new(cur.x, cur.y, z), n, DEFAULT_TRAVEL_FEED);
             }
         }
-        if (self.ew.current() - self.slicer_e).abs() > extrusion::E_QUANTUM {
+        if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > extrusion::E_QUANTUM {
             let line = format!("G92 E{} ; warpslice: back to the slicer's E", fmt_e(self.slicer_e));
-            self.out.extend_from_slice(line.as_bytes());
-            self.nl();
-            self.ew.reset(self.slicer_e);
+            self.passthrough(line.as_bytes());
+            self.emit.reset_e(self.slicer_e);
         }
     }
 }

@@ -14,8 +14,10 @@ pub const FD_STEP: f64 = 1e-5;
 /// (truncation O(h²·T‴) plus rounding O(ε·|T|/h)).
 pub const FD_TOLERANCE: f64 = 1e-6;
 
-/// Check the warp laws at `p` (model frame). Points within `2·FD_STEP` of a kink (crease, apex)
+/// Check the warp laws at `p` (model frame). (Comparisons are written `!(err <= tol)` so that a
+/// NaN fails them.) Points within `2·FD_STEP` of a kink (crease, apex)
 /// must be excluded by the caller from the derivative checks: pass `check_derivatives = false`.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn check_point(warp: &dyn Warp, p: DVec3, check_derivatives: bool) -> Result<(), String> {
     let q = warp.forward(p);
     let back = warp.inverse(q);

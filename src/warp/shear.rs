@@ -124,6 +124,18 @@ impl Warp for Shear {
         )
     }
 
+    fn tool_axis(&self, p: DVec3) -> DVec3 {
+        let d = self.height.grad(p.x, p.y);
+        let v = match self.blend {
+            None => DVec3::new(d.x, d.y, 1.0),
+            Some(b) => {
+                let w = b.w(p.z);
+                DVec3::new(w * d.x, w * d.y, 1.0 + b.dw(p.z) * self.height.g(p.x, p.y))
+            }
+        };
+        v / v.length()
+    }
+
     fn jacobian_det(&self, p: DVec3) -> f64 {
         match self.blend {
             None => 1.0,

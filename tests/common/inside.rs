@@ -80,7 +80,7 @@ impl Inside {
     fn index(&self, p: DVec3) -> Option<[usize; 3]> {
         let c = ((p - self.origin) / self.cell).floor();
         (c.x >= 0.0 && c.y >= 0.0 && c.z >= 0.0 && (c.x as usize) < self.dims[0] && (c.y as usize) < self.dims[1] && (c.z as usize) < self.dims[2])
-            .then(|| [c.x as usize, c.y as usize, c.z as usize])
+            .then_some([c.x as usize, c.y as usize, c.z as usize])
     }
 
     /// Parity of crossings of the ray from p toward +z (x and y nudged off edges).

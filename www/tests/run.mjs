@@ -72,10 +72,9 @@ for (const [what, p, fix] of [
     process.exit(1);
   }
 }
-if (!existsSync(CLI)) {
-  console.log(`building the CLI (${CLI})`);
-  execFileSync('cargo', ['build', '--release'], { cwd: ROOT, stdio: 'inherit' });
-}
+// The CLI the browser is compared with: built from the same tree as www/pkg (a no-op when fresh).
+console.log(`building the CLI (${CLI})`);
+execFileSync('cargo', ['build', '--release', '--bin', 'warpslice'], { cwd: ROOT, stdio: 'inherit' });
 
 // The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
 const wasm = await import(join(WWW, 'pkg', 'warpslice.js'));

@@ -1,0 +1,75 @@
+//! Unwarp regressions, each named after what it caught (synthetic slicer G-code, no slicer
+//! needed; they run under wasm too).
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+#[path = "common/synthetic.rs"]
+mod synthetic;
+
+use warpslice::gcode::{ReadOptions, Reader};
+use warpslice::pipeline::{warp_model, WarpOptions};
+use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+fn conic_cube() -> warpslice::pipeline::WarpOutput {
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let p = WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None };
+    warp_model(&stl, &WarpOptions::new(p)).unwrap()
+}
+
+/// Sum of E over the extruding moves of a G-code, read back with the crate's reader.
+fn extruded(gcode: &[u8]) -> f64 {
+    let mut e = 0.0;
+    let mut r = Reader::new(ReadOptions::default());
+    let mut sink = |l: warpslice::gcode::Line<'_>, _: &warpslice::gcode::State| -> Result<(), warpslice::gcode::GcodeError> {
+        e += l.moves.iter().filter(|m| m.is_extrusion()).map(|m| m.e).sum::<f64>();
+        Ok(())
+    };
+    r.push(gcode, &mut sink).unwrap();
+    r.finish(&mut sink).unwrap();
+    e
+}
+
+/// Found on PrusaSlicer's absolute-E files: the slicer retracts (`G1 E-2`) before the first
+/// object extrusion; the output's E words must continue from the firmware's E there, or the
+/// first extrusion pushes the retraction back in one blob.
+#[test]
+fn absolute_e_continues_from_the_slicers_e_at_the_region_start() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, false, 2.0).replacen(";TYPE:Skirt/Brim", "G1 E-2 F2400\n;TYPE:Skirt/Brim", 1);
+    let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
+    let read_back = extruded(&u.gcode);
+    assert!((read_back - u.report.e_out).abs() < 1e-3, "written E {read_back} vs report {}", u.report.e_out);
+}
+
+/// Relative files must not get a `G92 E` at the end of the region (it means nothing there and
+/// surprised a reader of the output).
+#[test]
+fn relative_e_gets_no_resync_line() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
+    assert!(!String::from_utf8_lossy(&u.gcode).contains("back to the slicer's E"));
+    assert!((extruded(&u.gcode) - u.report.e_out).abs() < 1e-3);
+}
+
+/// The G-code of the unwarped model (or another model) is refused by registration.
+#[test]
+fn gcode_of_the_unwarped_model_is_refused() {
+    let w = conic_cube();
+    let mut job = w.job.clone();
+    // pretend the slicer was given the original 20 mm cube: its bbox is 8 mm lower
+    job.warped_bbox.max.z -= 8.0;
+    let g = synthetic::gcode(&job, true, 2.0);
+    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("does not match the warped model"), "{e}");
+}
+
+/// Binary G-code is refused with the advice to export text.
+#[test]
+fn binary_gcode_is_refused() {
+    let w = conic_cube();
+    let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("binary G-code"), "{e}");
+}
