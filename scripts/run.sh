@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing (Rust, PrusaSlicer), builds warpslice, and runs it on
-# the bundled 20 mm cube: conic warp (30°, outward), sliced by PrusaSlicer, unwarped to G-code.
+# The main job: installs what is missing (Rust, PrusaSlicer), builds warpslice, runs it on a
+# generated overhang block (conic warp 30° outward, sliced by PrusaSlicer, unwarped to G-code),
+# then builds and serves the web app on 127.0.0.1 (PORT, default 8080; WARPSLICE_NO_SERVE=1
+# stops after the CLI demo).
 #
 #   bash scripts/run.sh
 #
@@ -36,8 +38,10 @@ echo "run: input   $IN"
 echo "run: output  $OUT ($(wc -l <"$OUT") lines)"
 ls -l "$OUT_DIR"
 
-# TODO(lead): serve the web app here, e.g.
-#   source scripts/setup.sh wasm
-#   wasm-pack build --release --target web --out-dir www/pkg
-#   echo "run: web app at http://localhost:8080/ (Ctrl-C to stop)"
-#   exec python3 -m http.server --directory www 8080
+echo
+if [[ "${WARPSLICE_NO_SERVE:-}" == 1 || -n "${CI:-}" ]]; then
+  echo "run: not serving the web app (WARPSLICE_NO_SERVE=1 or CI)"
+  exit 0
+fi
+echo "==== the web app: http://127.0.0.1:${PORT:-8080}/ (Ctrl-C to stop) ===="
+exec bash scripts/serve.sh "${PORT:-8080}"
