@@ -235,6 +235,75 @@ impl Ctx<'_> {
     }
 }
 
+/// The machine's wrap-around axes: single-revolution rotary axes (travel ≤ 360°).
+fn wrap_axes(machine: &dyn Machine) -> Vec<bool> {
+    machine
+        .limits()
+        .iter()
+        .map(|l| l.rotary && l.max - l.min <= 360.0 + 1e-9)
+        .collect()
+}
+
+/// One input move: from the pose `from = (axes, p, n)` to the toolpath point `to`, split until
+/// the firmware's interpolation stays within `bounds`. `rep` accumulates the measurements
+/// (input and output move counts, worst errors, dropped angle, rotate-arounds). The filament
+/// `to.e` is shared among the pieces in proportion to tip length (equally for a move without
+/// tip length), so the pieces sum to it.
+pub fn tessellate_move(
+    machine: &dyn Machine,
+    from: (&[f64], DVec3, DVec3),
+    to: &ToolPoint,
+    bounds: &Bounds,
+    rep: &mut TessellationReport,
+) -> Result<Vec<MachineMove>, MachineError> {
+    let ctx = Ctx {
+        machine,
+        bounds: *bounds,
+        wrap_axes: wrap_axes(machine),
+    };
+    let (a0, p0, n0) = from;
+    let a1 = machine.inverse(to.p, to.n, Some(a0))?;
+    let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
+    rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+    rep.moves_in += 1;
+    let mut ends = Vec::new();
+    let pc = Piece {
+        p0,
+        n0,
+        p1: to.p,
+        n1: to.n,
+        a0,
+    };
+    ctx.split(pc, a1, 0, &mut ends, rep)?;
+    let total = (to.p - p0).length();
+    let mut last_p = p0;
+    let count = ends.len();
+    let mut moves = Vec::with_capacity(count);
+    for (axes, p, n, wrap) in ends {
+        let len = (p - last_p).length();
+        let share = if total > crate::tolerance::LENGTH_EPSILON {
+            len / total
+        } else {
+            1.0 / count as f64
+        };
+        last_p = p;
+        moves.push(MachineMove {
+            axes,
+            p,
+            n,
+            e: to.e * share,
+            f: to.f,
+            tip_length: len,
+            layer: to.layer,
+            feature: to.feature,
+            travel: to.travel,
+            rotate_around: wrap,
+        });
+    }
+    rep.moves_out += moves.len();
+    Ok(moves)
+}
+
 /// Turn a toolpath into machine moves whose linear interpolation stays within `bounds`.
 /// The first point is reached from `start` (the axes before the path; `None`: solved alone) and
 /// emitted as a move itself.
@@ -244,75 +313,38 @@ pub fn tessellate(
     start: Option<&[f64]>,
     bounds: &Bounds,
 ) -> Result<(Vec<MachineMove>, TessellationReport), MachineError> {
-    let wrap_axes = machine
-        .limits()
-        .iter()
-        .map(|l| l.rotary && l.max - l.min <= 360.0 + 1e-9)
-        .collect();
-    let ctx = Ctx {
-        machine,
-        bounds: *bounds,
-        wrap_axes,
-    };
-    let mut rep = TessellationReport {
-        moves_in: path.len(),
-        ..Default::default()
-    };
-    let mut moves = Vec::with_capacity(path.len());
+    let mut rep = TessellationReport::default();
+    let mut moves: Vec<MachineMove> = Vec::with_capacity(path.len());
     let mut prev: Option<(Vec<f64>, DVec3, DVec3)> = None;
-    let mut ends = Vec::new();
     for tp in path {
-        let seed = match &prev {
-            Some((a, _, _)) => Some(a.as_slice()),
-            None => start,
-        };
-        let a1 = machine.inverse(tp.p, tp.n, seed)?;
-        let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
-        rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
-        ends.clear();
         match &prev {
-            None => ends.push((a1, tp.p, tp.n, false)),
-            Some((a0, p0, n0)) => {
-                let pc = Piece {
-                    p0: *p0,
-                    n0: *n0,
-                    p1: tp.p,
-                    n1: tp.n,
-                    a0,
-                };
-                ctx.split(pc, a1, 0, &mut ends, &mut rep)?;
+            None => {
+                let a1 = machine.inverse(tp.p, tp.n, start)?;
+                let dropped =
+                    num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
+                rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+                rep.moves_in += 1;
+                rep.moves_out += 1;
+                moves.push(MachineMove {
+                    axes: a1,
+                    p: tp.p,
+                    n: tp.n,
+                    e: tp.e,
+                    f: tp.f,
+                    tip_length: 0.0,
+                    layer: tp.layer,
+                    feature: tp.feature,
+                    travel: tp.travel,
+                    rotate_around: false,
+                });
             }
-        }
-        let total = match &prev {
-            Some((_, p0, _)) => (tp.p - *p0).length(),
-            None => 0.0,
-        };
-        let mut last_p = prev.as_ref().map(|(_, p, _)| *p).unwrap_or(tp.p);
-        let count = ends.len();
-        for (axes, p, n, wrap) in ends.drain(..) {
-            let len = (p - last_p).length();
-            let share = if total > crate::tolerance::LENGTH_EPSILON {
-                len / total
-            } else {
-                1.0 / count as f64
-            };
-            last_p = p;
-            moves.push(MachineMove {
-                axes,
-                p,
-                n,
-                e: tp.e * share,
-                f: tp.f,
-                tip_length: len,
-                layer: tp.layer,
-                feature: tp.feature,
-                travel: tp.travel,
-                rotate_around: wrap,
-            });
+            Some((a0, p0, n0)) => {
+                let m = tessellate_move(machine, (a0, *p0, *n0), tp, bounds, &mut rep)?;
+                moves.extend(m);
+            }
         }
         let last = moves.last().map(|m| m.axes.clone()).unwrap_or_default();
         prev = Some((last, tp.p, tp.n));
     }
-    rep.moves_out = moves.len();
     Ok((moves, rep))
 }
