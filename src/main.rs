@@ -83,12 +83,40 @@ mod cli {
             #[arg(short, long)]
             output: PathBuf,
         },
+        /// Batch kinematics: CSV on stdin, CSV on stdout (`px,py,pz,nx,ny,nz` ↔ machine axes).
+        Kinematics {
+            #[arg(value_enum)]
+            direction: KinematicsDirection,
+            /// A preset name or a machine JSON file.
+            #[arg(long)]
+            machine: String,
+        },
         /// Write one of the generated example parts as STL (cube, cylinder, sphere, overhang).
         Example {
             name: String,
             #[arg(short, long)]
             output: PathBuf,
         },
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum KinematicsDirection {
+        Inverse,
+        Forward,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum FeedArg {
+        Xyz,
+        AllAxes,
+        InverseTime,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum FlavourArg {
+        Reprapfirmware,
+        Marlin,
+        Klipper,
     }
 
     #[derive(Clone, Copy, ValueEnum)]
@@ -166,6 +194,19 @@ mod cli {
         /// Drop skirt and brim instead of printing them flat.
         #[arg(long)]
         drop_skirt: bool,
+        /// Write a 4/5-axis machine's axes: a preset name or a machine JSON file (docs/machines.md).
+        #[arg(long)]
+        machine: Option<String>,
+        /// Feed mode for a machine: xyz, all-axes, inverse-time (G93).
+        #[arg(long, value_enum, default_value_t = FeedArg::Xyz)]
+        feed: FeedArg,
+        /// Firmware flavour for a machine (default: the machine's, else reprapfirmware).
+        #[arg(long, value_enum)]
+        flavour: Option<FlavourArg>,
+    }
+
+    fn machine_spec(arg: &str) -> Result<warpslice::machine::MachineSpec, String> {
+        warpslice::machine::MachineSpec::from_arg(arg, |p| fs::read_to_string(p).map_err(|e| e.to_string())).map_err(|e| e.to_string())
     }
 
     fn pair(s: &str) -> Result<[f64; 2], String> {
@@ -199,16 +240,28 @@ mod cli {
     }
 
     impl UnwarpArgs {
-        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> UnwarpOptions {
-            UnwarpOptions {
+        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> Result<UnwarpOptions, String> {
+            use warpslice::machine::{FeedMode, Flavour};
+            Ok(UnwarpOptions {
                 tolerance,
                 max_segment: self.max_segment,
                 flow: Flow { factor: self.flow, ramp: self.ramp },
                 z_offset: self.z_offset,
                 drop_skirt: self.drop_skirt,
                 offset,
+                machine: self.machine.as_deref().map(machine_spec).transpose()?,
+                feed: match self.feed {
+                    FeedArg::Xyz => FeedMode::Xyz,
+                    FeedArg::AllAxes => FeedMode::AllAxes,
+                    FeedArg::InverseTime => FeedMode::InverseTime,
+                },
+                flavour: self.flavour.map(|f| match f {
+                    FlavourArg::Reprapfirmware => Flavour::RepRapFirmware,
+                    FlavourArg::Marlin => Flavour::Marlin,
+                    FlavourArg::Klipper => Flavour::Klipper,
+                }),
                 ..UnwarpOptions::default()
-            }
+            })
         }
     }
 
@@ -318,6 +371,12 @@ mod cli {
         say!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
         say!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
         say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
+        if let Some(m) = &r.machine {
+            say!(
+                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets",
+                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets
+            );
+        }
         say!("wrote {}", output.display());
     }
 
@@ -331,11 +390,12 @@ mod cli {
             Command::Unwarp { gcode, job, unwarp, offset, tolerance, output } => {
                 let text = fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
                 let job = Job::from_json(&text).map_err(|e| format!("{}: {e}", job.display()))?;
-                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset), &output)?;
+                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset)?, &output)?;
             }
             Command::Run { model, slicer, e_mode, warp, unwarp, output } => {
                 let kind: warpslice::slicer::SlicerKind = slicer.parse().map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
+                let uopts = unwarp.options(opts.tolerance, None)?;
                 let warped = output.with_extension("warped.stl");
                 let w = do_warp(&model, &opts, &warped)?;
                 let sliced = output.with_extension("sliced.gcode");
@@ -354,7 +414,18 @@ mod cli {
                     sp.finish_and_clear();
                 }
                 say!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
-                do_unwarp(&sliced, &w.job, &unwarp.options(opts.tolerance, None), &output)?;
+                do_unwarp(&sliced, &w.job, &uopts, &output)?;
+            }
+            Command::Kinematics { direction, machine } => {
+                let m = machine_spec(&machine)?.build().map_err(|e| e.to_string())?;
+                let mut input = String::new();
+                std::io::stdin().read_to_string(&mut input).map_err(|e| format!("stdin: {e}"))?;
+                let out = match direction {
+                    KinematicsDirection::Inverse => warpslice::machine::batch::inverse_csv(m.as_ref(), &input),
+                    KinematicsDirection::Forward => warpslice::machine::batch::forward_csv(m.as_ref(), &input),
+                }
+                .map_err(|e| e.to_string())?;
+                let _ = std::io::stdout().write_all(out.as_bytes());
             }
             Command::Example { name, output } => {
                 let m = warpslice::shapes::example(&name)

@@ -56,6 +56,11 @@ pub const ROTATE_AROUND_LIFT_MM: f64 = 1.0;
 pub const INVERSE_TIME_DECIMALS: u32 = 5;
 /// Trailing comment of the lines of a rotate-around (not toolpath points).
 pub const ROTATE_AROUND_TAG: &str = "; rotate-around";
+/// Trailing comment of an in-place reorientation (a held rotary axis catching up).
+pub const REORIENT_TAG: &str = "; reorient";
+/// Trailing comment of a move where the splitting hit its depth limit: the interpolation bound
+/// is not proven there (the report counts these and gives the error measured).
+pub const DISCONTINUITY_TAG: &str = "; discontinuity";
 
 /// What the machine emitter measured over the file.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -333,7 +338,14 @@ impl MachineEmitter {
                 self.rotate_around(out, &from, &m.axes, tp, m.f)?;
             } else {
                 let e = (!m.travel).then_some((m.e, relative));
-                self.write_g1(out, &from.axes, &m.axes, m.p, e, m.tip_length, m.f, "")?;
+                let tag = if m.depth_limited {
+                    DISCONTINUITY_TAG
+                } else if m.reorient {
+                    REORIENT_TAG
+                } else {
+                    ""
+                };
+                self.write_g1(out, &from.axes, &m.axes, m.p, e, m.tip_length, m.f, tag)?;
             }
             from = Pose {
                 axes: m.axes.clone(),

@@ -87,6 +87,20 @@ pub struct MachineMove {
     pub travel: bool,
     /// A single-revolution rotary axis wraps on this move: lift and turn around.
     pub rotate_around: bool,
+    /// The splitting hit its depth limit here (a discontinuity): the bound is not proven.
+    pub depth_limited: bool,
+    /// An in-place reorientation inserted before the move (see [`tessellate_move`]): the tip
+    /// stays at the move's start while the realised tool axis turns.
+    pub reorient: bool,
+}
+
+/// One end point found by the splitting.
+struct End {
+    axes: Vec<f64>,
+    p: DVec3,
+    n: DVec3,
+    wrap: bool,
+    limited: bool,
 }
 
 /// What the interpolation measured.
@@ -178,12 +192,18 @@ impl Ctx<'_> {
         pc: Piece,
         a1: Vec<f64>,
         depth: u32,
-        out: &mut Vec<(Vec<f64>, DVec3, DVec3, bool)>,
+        out: &mut Vec<End>,
         rep: &mut TessellationReport,
     ) -> Result<(), MachineError> {
         if self.wraps(pc.a0, &a1) {
             rep.rotate_arounds += 1;
-            out.push((a1, pc.p1, pc.n1, true));
+            out.push(End {
+                axes: a1,
+                p: pc.p1,
+                n: pc.n1,
+                wrap: true,
+                limited: false,
+            });
             return Ok(());
         }
         let len = (pc.p1 - pc.p0).length();
@@ -230,7 +250,13 @@ impl Ctx<'_> {
         }
         rep.worst_position_mm = rep.worst_position_mm.max(dp);
         rep.worst_angle_deg = rep.worst_angle_deg.max(da);
-        out.push((a1, pc.p1, pc.n1, false));
+        out.push(End {
+            axes: a1,
+            p: pc.p1,
+            n: pc.n1,
+            wrap: false,
+            limited: over,
+        });
         Ok(())
     }
 }
@@ -244,8 +270,17 @@ fn wrap_axes(machine: &dyn Machine) -> Vec<bool> {
         .collect()
 }
 
+/// Parameter step used to look at the pose just after the start of a move.
+pub const START_PROBE: f64 = 1e-7;
+
 /// One input move: from the pose `from = (axes, p, n)` to the toolpath point `to`, split until
-/// the firmware's interpolation stays within `bounds`. `rep` accumulates the measurements
+/// the firmware's interpolation stays within `bounds`.
+///
+/// **Held axes.** Where the previous pose holds an undefined rotary axis (a vertical tool on a
+/// rotating tilted nozzle), the realised tool axis jumps as soon as the move starts. Such a jump
+/// (more than the angle bound between `forward(axes₀)` and the pose at s = [`START_PROBE`]) is
+/// first done in place: a reorientation at the start tip from the realised axis r₀ to r_ε,
+/// tessellated like a move (intended path: tip fixed, axis slerp(r₀, r_ε)), marked `reorient`. `rep` accumulates the measurements
 /// (input and output move counts, worst errors, dropped angle, rotate-arounds). The filament
 /// `to.e` is shared among the pieces in proportion to tip length (equally for a move without
 /// tip length), so the pieces sum to it.
@@ -261,12 +296,34 @@ pub fn tessellate_move(
         bounds: *bounds,
         wrap_axes: wrap_axes(machine),
     };
-    let (a0, p0, n0) = from;
+    let (a0_in, p0, n0) = from;
+    let mut ends = Vec::new();
+    let mut reoriented = 0;
+    let r0 = machine.forward(a0_in)?.1;
+    let pe = p0.lerp(to.p, START_PROBE);
+    let ae = machine.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
+    let re = machine.forward(&ae)?.1;
+    let a_start;
+    let a0: &[f64] = if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
+        let a_r = machine.inverse(p0, re, Some(a0_in))?;
+        let pc = Piece {
+            p0,
+            n0: r0,
+            p1: p0,
+            n1: re,
+            a0: a0_in,
+        };
+        ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
+        reoriented = ends.len();
+        a_start = a_r;
+        &a_start
+    } else {
+        a0_in
+    };
     let a1 = machine.inverse(to.p, to.n, Some(a0))?;
     let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
     rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
     rep.moves_in += 1;
-    let mut ends = Vec::new();
     let pc = Piece {
         p0,
         n0,
@@ -279,7 +336,15 @@ pub fn tessellate_move(
     let mut last_p = p0;
     let count = ends.len();
     let mut moves = Vec::with_capacity(count);
-    for (axes, p, n, wrap) in ends {
+    for (i, end) in ends.into_iter().enumerate() {
+        let End {
+            axes,
+            p,
+            n,
+            wrap,
+            limited,
+        } = end;
+        let reorient = i < reoriented;
         let len = (p - last_p).length();
         let share = if total > crate::tolerance::LENGTH_EPSILON {
             len / total
@@ -298,6 +363,8 @@ pub fn tessellate_move(
             feature: to.feature,
             travel: to.travel,
             rotate_around: wrap,
+            depth_limited: limited,
+            reorient,
         });
     }
     rep.moves_out += moves.len();
@@ -336,6 +403,8 @@ pub fn tessellate(
                     feature: tp.feature,
                     travel: tp.travel,
                     rotate_around: false,
+                    depth_limited: false,
+                    reorient: false,
                 });
             }
             Some((a0, p0, n0)) => {

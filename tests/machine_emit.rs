@@ -1,0 +1,323 @@
+//! Machines end to end with a real slicer (PrusaSlicer, relative E): for every preset a
+//! generated part is warped with a warp that suits the machine, sliced, and unwarped with the
+//! machine. The output is parsed with the machine's axis letters (a small parser here: the
+//! crate's reader only tracks X Y Z E) and checked:
+//! - every toolpath point is reached: walking the output in order, the forward kinematics of a
+//!   line lands on each toolpath tip within 0.01 mm, and (where the machine realises the axis
+//!   without a branch choice) on its realised tool axis within 0.1°; every line in between lies
+//!   on the toolpath segment;
+//! - interpolation: 100 points sampled on every output move stay within 0.02 mm / 0.1° of the
+//!   intended path (linear tip, slerp tool axis, realised by the machine);
+//! - each preset writes a sample G-code (kept in a temp dir) that parses.
+//!
+//! A missing PrusaSlicer fails the test unless `WARPSLICE_ALLOW_SKIP=1`.
+#![cfg(not(target_arch = "wasm32"))]
+
+use glam::DVec3;
+use warpslice::machine::tessellate::slerp;
+use warpslice::machine::{preset, Machine, MachineSpec};
+use warpslice::pipeline::{warp_model, WarpOptions};
+use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
+use warpslice::toolpath::ToolPoint;
+use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+/// Tip tolerance of the forward check, mm (issue: 0.01).
+const TIP_TOL: f64 = 0.01;
+/// Tool-axis tolerance, degrees (issue: 0.1).
+const AXIS_TOL_DEG: f64 = 0.1;
+/// Interpolation bound, mm / degrees, plus the 3-decimal rounding of the written axes.
+const INTERP_MM: f64 = 0.02 + 0.002;
+const INTERP_DEG: f64 = 0.1 + 0.005;
+/// Samples per output move (issue: 100).
+const SAMPLES: usize = 100;
+
+fn tmpdir(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// A 10 mm cube (the 20 mm example scaled), STL bytes.
+fn part() -> Vec<u8> {
+    let mut m = warpslice::shapes::example("cube").expect("cube");
+    for v in &mut m.vertices {
+        *v *= 0.5;
+    }
+    warpslice::mesh::write_stl(&m, "cube 10")
+}
+
+fn conic(angle: f64, center: [f64; 2]) -> WarpSpec {
+    WarpSpec::Conic { angle, direction: Direction::Outward, center }
+}
+
+/// The warp each preset is tested with.
+fn warp_for(preset: &str) -> WarpSpec {
+    match preset {
+        "cartesian" | "fullcontrol-prusa-b" => {
+            WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 0.0, width: 0.0 }
+        }
+        // the cone's apex is a singular point of the tool-axis field (its azimuth turns by
+        // 180° across it): keep it outside the part
+        "rtn-slicer4rtn" | "rotbot" => conic(45.0, [-15.0, 0.0]),
+        "ratrig-vcore3-3z" => WarpSpec::Belt { angle: 20.0, toward: [0.0, 1.0] },
+        "lathe-a" => WarpSpec::Belt { angle: 20.0, toward: [0.0, 1.0] },
+        _ => conic(25.0, [-15.0, 0.0]),
+    }
+}
+
+/// The slicer's G-code of the warped part, and the job.
+/// Where the slicer centres the part (the machines turning about the output origin; the polar
+/// machine off its centre, which is its singular point).
+fn centre_for(preset: &str) -> Option<&'static str> {
+    match preset {
+        "core-r-theta" => Some("60,0"),
+        "open5x-ab" | "lathe-a" => Some("0,0"),
+        _ => None,
+    }
+}
+
+fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &str) -> Option<(Vec<u8>, warpslice::job::Job)> {
+    if let Err(e) = slicer::available(SlicerKind::PrusaSlicer) {
+        if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
+            println!("SKIPPED {tag}: {e}");
+            return None;
+        }
+        panic!("PrusaSlicer is needed for this test: {e}");
+    }
+    let w = warp_model(&part(), &WarpOptions::new(WarpParams { spec: spec.clone(), base: None })).expect("warp");
+    let stl = dir.join(format!("{tag}.stl"));
+    let gcode = dir.join(format!("{tag}.sliced.gcode"));
+    std::fs::write(&stl, &w.stl).expect("write stl");
+    let mut so = SliceOptions { slicer: SlicerKind::PrusaSlicer, e_mode: EMode::Relative, ..SliceOptions::default() };
+    if let Some(c) = centre {
+        // machines whose rotation axes pass through the output origin: print near it
+        so.extra_args = ["--bed-shape", "-100x-100,100x-100,100x100,-100x100", "--center", c].map(String::from).to_vec();
+    }
+    slicer::slice(&stl, &gcode, &so).expect("slice");
+    Some((std::fs::read(&gcode).expect("read gcode"), w.job))
+}
+
+/// One parsed output line with machine axes.
+#[derive(Clone, Debug)]
+struct AxisLine {
+    number: usize,
+    axes: Vec<f64>,
+    rotate_around: bool,
+    reorient: bool,
+    discontinuity: bool,
+}
+
+/// Parse the machine G-code: `G1` lines with every axis letter (the region), `G92` on the
+/// axes (rotary resets, the triple-Z offset, subtracted to give raw values).
+fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
+    let mut offset = 0.0;
+    for l in text.lines() {
+        if let Some(rest) = l.strip_prefix("; warpslice z axes offset = ") {
+            offset = rest.split_whitespace().next().and_then(|v| v.parse().ok()).ok_or("bad offset line")?;
+        }
+    }
+    let mut cur: Vec<Option<f64>> = vec![None; names.len()];
+    let mut in_offset = false;
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let (code, comment) = match raw.find(';') {
+            Some(k) => (&raw[..k], &raw[k..]),
+            None => (raw, ""),
+        };
+        let mut words = code.split_whitespace();
+        let Some(cmd) = words.next() else { continue };
+        if cmd != "G1" && cmd != "G0" && cmd != "G92" {
+            continue;
+        }
+        let mut seen = vec![false; names.len()];
+        for w in words {
+            let (letter, value) = w.split_at(1);
+            if let Some(k) = names.iter().position(|n| n.eq_ignore_ascii_case(letter)) {
+                let v: f64 = value.parse().map_err(|_| format!("line {}: bad number in '{w}'", i + 1))?;
+                cur[k] = Some(v);
+                seen[k] = true;
+            } else if !matches!(letter, "E" | "F" | "X" | "Y" | "Z") {
+                return Err(format!("line {}: unknown word '{w}'", i + 1));
+            }
+        }
+        if cmd == "G92" {
+            if comment.contains("z axes offset (level bed") {
+                in_offset = true;
+            } else if comment.contains("z axes offset removed") {
+                in_offset = false;
+            }
+            continue;
+        }
+        if seen.iter().all(|&s| s) && names.len() > 3 {
+            let mut axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
+            if in_offset {
+                for a in &mut axes[2..5] {
+                    *a -= offset;
+                }
+            }
+            out.push(AxisLine { number: i + 1, axes, rotate_around: comment.contains("rotate-around"),
+                reorient: comment.contains("; reorient"),
+                discontinuity: comment.contains("; discontinuity"),
+            });
+        }
+    }
+    Ok((out, offset))
+}
+
+/// Distance from `q` to the segment a–b and the parameter of the closest point.
+fn to_segment(q: DVec3, a: DVec3, b: DVec3) -> (f64, f64) {
+    let d = b - a;
+    let l2 = d.length_squared();
+    let s = if l2 > 0.0 { ((q - a).dot(d) / l2).clamp(0.0, 1.0) } else { 1.0 };
+    ((a + d * s - q).length(), s)
+}
+
+fn deg(a: DVec3, b: DVec3) -> f64 {
+    a.angle_between(b).to_degrees()
+}
+
+#[derive(Default, Debug)]
+struct Measured {
+    points: usize,
+    lines: usize,
+    worst_tip: f64,
+    worst_axis: f64,
+    worst_interp_mm: f64,
+    worst_interp_deg: f64,
+    discontinuities: usize,
+}
+
+/// The checks of the module documentation.
+fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine]) -> Result<Measured, String> {
+    let mut r = Measured { lines: lines.len(), ..Measured::default() };
+    let pts: Vec<&ToolPoint> = toolpath.iter().filter(|t| !(t.travel && t.e != 0.0)).collect();
+    // which segment (index of its end point) and parameter each line belongs to
+    let mut owner: Vec<Option<(usize, f64)>> = vec![None; lines.len()];
+    let mut li = 0usize;
+    for (k, tp) in pts.iter().enumerate() {
+        let start = if k == 0 { tp.p } else { pts[k - 1].p };
+        loop {
+            let Some(line) = lines.get(li) else {
+                return Err(format!("toolpath point {k} at {:?} is never reached by the output", tp.p));
+            };
+            let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
+            li += 1;
+            if line.rotate_around {
+                continue;
+            }
+            let (dseg, s) = to_segment(p, start, tp.p);
+            // (the first point is reached from the region's start, not a toolpath point)
+            if k > 0 && dseg > INTERP_MM {
+                return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
+            }
+            let dtip = (p - tp.p).length();
+            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
+            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
+            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
+            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
+            owner[li - 1] = Some((k, if (tp.p - start).length() > 1e-9 { s } else { 1.0 }));
+            if is_end {
+                r.worst_tip = r.worst_tip.max(dtip);
+                if !free {
+                    r.worst_axis = r.worst_axis.max(axis_err);
+                }
+                r.points += 1;
+                break;
+            }
+        }
+    }
+    // interpolation of every output move between two lines of the same segment (or from the
+    // end of one segment to a line of the next)
+    for w in 1..lines.len() {
+        let (a, b) = (&lines[w - 1], &lines[w]);
+        if a.rotate_around || b.rotate_around {
+            continue;
+        }
+        if b.discontinuity {
+            r.discontinuities += 1;
+            continue;
+        }
+        if b.reorient {
+            // in place: tip fixed, axis slerp between the realised axes of the two lines
+            let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
+            let (_, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+            for i in 1..SAMPLES {
+                let u = i as f64 / SAMPLES as f64;
+                let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+                let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
+                let exact = m.forward(&m.inverse(pa, slerp(na, nb, u), Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+                r.worst_interp_mm = r.worst_interp_mm.max((fp - pa).length());
+                r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact.1));
+            }
+            continue;
+        }
+        let Some((k, s1)) = owner[w] else { continue };
+        let s0 = match owner[w - 1] {
+            Some((k0, s)) if k0 == k => s,
+            Some((k0, _)) if k0 + 1 == k => 0.0,
+            _ => continue,
+        };
+        let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
+        for i in 1..SAMPLES {
+            let u = i as f64 / SAMPLES as f64;
+            let s = s0 + (s1 - s0) * u;
+            let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+            let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
+            let ip = t0.p.lerp(t1.p, s);
+            let inn = slerp(t0.n, t1.n, s);
+            let exact = m.forward(&m.inverse(ip, inn, Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+            let dp = (fp - exact.0).length();
+            let da = deg(fn_, exact.1);
+            r.worst_interp_mm = r.worst_interp_mm.max(dp);
+            r.worst_interp_deg = r.worst_interp_deg.max(da);
+        }
+    }
+    if r.worst_interp_mm > INTERP_MM || r.worst_interp_deg > INTERP_DEG {
+        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound", r.worst_interp_mm, r.worst_interp_deg));
+    }
+    Ok(r)
+}
+
+fn run_preset(name: &str, dir: &std::path::Path) -> Result<String, String> {
+    let spec = preset(name).map_err(|e| e.to_string())?;
+    let Some((input, job)) = sliced(&warp_for(name), centre_for(name), dir, name) else { return Ok("skipped".into()) };
+    let opts = UnwarpOptions { collect_toolpath: true, machine: Some(spec.clone()), ..UnwarpOptions::default() };
+    let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
+    let path = dir.join(format!("{name}.gcode"));
+    std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
+    let text = String::from_utf8(out.gcode.clone()).map_err(|e| e.to_string())?;
+    if !text.contains(&format!("; warpslice machine = {name} reprapfirmware")) || !text.contains("; warpslice model_to_output = ") {
+        return Err("the header lacks the warpslice lines".into());
+    }
+    let m = spec.build().map_err(|e| e.to_string())?;
+    let names = m.axis_names();
+    let (lines, _) = parse(&text, &names)?;
+    let rep = out.report.machine.clone().ok_or("no machine report")?;
+    if name == "cartesian" {
+        return Ok(format!("{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°", text.lines().count(), rep.worst_position_mm, rep.worst_angle_deg));
+    }
+    let meas = check(m.as_ref(), &out.toolpath, &lines)?;
+    Ok(format!(
+        "{name:22} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}°, {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} depth-limited)",
+        meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.discontinuities,
+        rep.worst_position_mm, rep.worst_angle_deg, rep.worst_dropped_deg, rep.rotate_arounds, rep.rotary_resets, rep.depth_limited
+    ))
+}
+
+#[test]
+fn every_preset_end_to_end_with_prusaslicer() {
+    let dir = tmpdir("e2e");
+    let mut fails = Vec::new();
+    for name in warpslice::machine::preset_names() {
+        match run_preset(name, &dir) {
+            Ok(s) => println!("{s}"),
+            Err(e) => fails.push(format!("{name}: {e}")),
+        }
+    }
+    println!("sample G-code in {}", dir.display());
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
+
+#[allow(dead_code)]
+fn unused(_: MachineSpec) {}
