@@ -115,3 +115,32 @@ impl UnwarpStream {
         to_js(&r)
     }
 }
+
+/// The shipped machine presets: a JSON list of `{ name, kind, flavour, axes: [{ name, rotary,
+/// min, max }], spec }` (unlimited travel as `null`). Pass a `name` (or a `spec`, edited) as
+/// `"machine"` in the unwarp options.
+#[wasm_bindgen]
+pub fn machine_presets() -> Result<String, JsError> {
+    let mut list = Vec::new();
+    for name in crate::machine::preset_names() {
+        let spec = crate::machine::preset(name).map_err(js)?;
+        let m = spec.build().map_err(js)?;
+        let axes: Vec<serde_json::Value> = m
+            .limits()
+            .iter()
+            .map(|l| {
+                let lim = |v: f64| if v.is_finite() { serde_json::json!(v) } else { serde_json::Value::Null };
+                serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": lim(l.min), "max": lim(l.max) })
+            })
+            .collect();
+        let spec_json: serde_json::Value = serde_json::from_str(&spec.to_json()).map_err(js)?;
+        list.push(serde_json::json!({
+            "name": name,
+            "kind": spec_json.get("kind").cloned().unwrap_or(serde_json::Value::Null),
+            "flavour": spec.flavour.unwrap_or_default().name(),
+            "axes": axes,
+            "spec": spec_json,
+        }));
+    }
+    serde_json::to_string(&list).map_err(js)
+}

@@ -321,3 +321,101 @@ fn every_preset_end_to_end_with_prusaslicer() {
 
 #[allow(dead_code)]
 fn unused(_: MachineSpec) {}
+
+fn cli(args: &[&str], stdin: &str) -> (bool, String, String) {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run warpslice");
+    child.stdin.take().expect("stdin").write_all(stdin.as_bytes()).expect("write stdin");
+    let out = child.wait_with_output().expect("wait");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn kinematics_cli_round_trips_and_names_errors() {
+    let (ok, out, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "10,20,5,0,0,1\n10,20,5,0.5,0,0.8660254037844386\n");
+    assert!(ok, "{err}");
+    let (ok, back, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], &out);
+    assert!(ok, "{err}");
+    let v: Vec<f64> = back.lines().nth(1).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((v[0] - 10.0).abs() < 1e-9 && (v[3] - 0.5).abs() < 1e-9, "{back}");
+    // unknown preset
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "no-such-machine"], "");
+    assert!(!ok && err.contains("unknown machine preset 'no-such-machine'") && err.contains("pax-5axis"), "{err}");
+    // a machine file that does not exist
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "/nonexistent/m.json"], "");
+    assert!(!ok && err.contains("cannot read the file"), "{err}");
+    // bad CSV, with the line number
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "1,2,3,0,0,1\n1,2,x,0,0,1\n");
+    assert!(!ok && err.contains("line 2") && err.contains("'x'"), "{err}");
+    let (ok, _, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], "1,2,3\n");
+    assert!(!ok && err.contains("line 1") && err.contains("expected 5"), "{err}");
+    // unreachable orientation: the triple-Z bed tilts at most 30°
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "ratrig-vcore3-3z"], "100,100,5,0.7071067811865476,0,0.7071067811865476\n");
+    assert!(!ok && err.contains("cannot be reached") && err.contains("line 1"), "{err}");
+}
+
+#[test]
+fn unwarp_errors_are_named() {
+    let dir = tmpdir("errors");
+    // a 45° cone: beyond the triple-Z bed's 30° tilt
+    let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else { return };
+    let ratrig = UnwarpOptions { machine: Some(preset("ratrig-vcore3-3z").unwrap()), ..UnwarpOptions::default() };
+    let e = unwarp(&input, &job, &ratrig).unwrap_err().to_string();
+    assert!(e.starts_with("G-code line ") && e.contains("cannot be reached") && e.contains("max_tilt_deg"), "{e}");
+    // limit exceeded: the polar machine reaches 150 mm from its centre; the part is at (100, 100)
+    let polar = UnwarpOptions { machine: Some(preset("core-r-theta").unwrap()), ..UnwarpOptions::default() };
+    let e = unwarp(&input, &job, &polar).unwrap_err().to_string();
+    assert!(e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"), "{e}");
+    // Klipper cannot drive a 5-axis head
+    let klipper = UnwarpOptions {
+        machine: Some(preset("pax-5axis").unwrap()),
+        flavour: Some(warpslice::machine::Flavour::Klipper),
+        ..UnwarpOptions::default()
+    };
+    let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();
+    assert!(e.contains("Klipper has no rotary-axis"), "{e}");
+    // options JSON: a preset name, an unknown one
+    let o: UnwarpOptions = serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
+    assert_eq!(o.machine.as_ref().map(|m| m.name.as_str()), Some("rotbot"));
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": "nope"}"#).unwrap_err().to_string();
+    assert!(bad.contains("unknown machine preset 'nope'"), "{bad}");
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#).unwrap_err().to_string();
+    assert!(bad.contains("unknown field 'tilt'"), "{bad}");
+    // through the CLI: the same unreachable orientation
+    let g = dir.join("cone45.sliced.gcode");
+    let j = dir.join("cone45.job.json");
+    std::fs::write(&j, job.to_json_pretty()).unwrap();
+    let o = dir.join("out.gcode");
+    let (ok, _, err) = cli(
+        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "ratrig-vcore3-3z", "-o", o.to_str().unwrap()],
+        "",
+    );
+    assert!(!ok && err.contains("G-code line") && err.contains("cannot be reached"), "{err}");
+    let (ok, _, err) = cli(
+        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "pax-5axis", "--flavour", "klipper", "-o", o.to_str().unwrap()],
+        "",
+    );
+    assert!(!ok && err.contains("Klipper"), "{err}");
+    // inverse-time and all-axes feed through the CLI
+    for feed in ["inverse-time", "all-axes"] {
+        let (ok, out, err) = cli(
+            &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "rotbot", "--feed", feed, "--flavour", "marlin", "-o", o.to_str().unwrap()],
+            "",
+        );
+        assert!(ok, "{err}");
+        assert!(out.contains("machine rotbot (marlin)"), "{out}");
+        let text = std::fs::read_to_string(&o).unwrap();
+        assert!(text.contains("; warpslice machine = rotbot marlin") && text.contains("AXIS4_NAME 'U'"));
+        if feed == "inverse-time" {
+            let g93 = text.find("\nG93").expect("G93");
+            let g94 = text.rfind("\nG94").expect("G94");
+            assert!(g93 < g94);
+        }
+    }
+}
