@@ -119,7 +119,7 @@ fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
     }
     let mut cur: Vec<Option<f64>> = vec![None; names.len()];
     let mut in_offset = false;
-    let mut out = Vec::new();
+    let mut out: Vec<AxisLine> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let (code, comment) = match raw.find(';') {
             Some(k) => (&raw[..k], &raw[k..]),
@@ -146,10 +146,17 @@ fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
                 in_offset = true;
             } else if comment.contains("z axes offset removed") {
                 in_offset = false;
+            } else if let Some(last) = out.last_mut() {
+                // a rotary reset renames the current position: the previous line is there now
+                for (k, &sn) in seen.iter().enumerate() {
+                    if sn {
+                        last.axes[k] = cur[k].unwrap_or(0.0);
+                    }
+                }
             }
             continue;
         }
-        if seen.iter().all(|&s| s) && names.len() > 3 {
+        if seen.iter().all(|&s| s) && names.iter().any(|n| !["X", "Y", "Z"].contains(&n.as_str())) {
             let mut axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
             if in_offset {
                 for a in &mut axes[2..5] {
@@ -186,6 +193,8 @@ struct Measured {
     worst_interp_mm: f64,
     worst_interp_deg: f64,
     discontinuities: usize,
+    worst_line: usize,
+    fallbacks: usize,
 }
 
 /// The checks of the module documentation.
@@ -252,29 +261,47 @@ fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine]) -> Result<
             }
             continue;
         }
-        let Some((k, s1)) = owner[w] else { continue };
-        let s0 = match owner[w - 1] {
-            Some((k0, s)) if k0 == k => s,
-            Some((k0, _)) if k0 + 1 == k => 0.0,
-            _ => continue,
-        };
-        let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
+        // the intended path: the toolpath segment the two lines belong to (tip linear, axis
+        // slerp) when the matching placed both on it; else the straight tip path between the
+        // two lines' tips and the slerp of their realised axes
+        let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
+        let (pb, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+        let seg = owner[w].and_then(|(k, s1)| {
+            let s0 = match owner[w - 1] {
+                Some((k0, s)) if k0 == k => s,
+                Some((k0, _)) if k0 + 1 == k => 0.0,
+                _ => return None,
+            };
+            let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
+            let on = (t0.p.lerp(t1.p, s0) - pa).length() < 0.005 && (t0.p.lerp(t1.p, s1) - pb).length() < 0.005;
+            on.then_some((t0, t1, s0, s1))
+        });
+        if seg.is_none() {
+            r.fallbacks += 1;
+        }
         for i in 1..SAMPLES {
             let u = i as f64 / SAMPLES as f64;
-            let s = s0 + (s1 - s0) * u;
             let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
             let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
-            let ip = t0.p.lerp(t1.p, s);
-            let inn = slerp(t0.n, t1.n, s);
+            let (ip, inn) = match seg {
+                Some((t0, t1, s0, s1)) => {
+                    let s = s0 + (s1 - s0) * u;
+                    (t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s))
+                }
+                None => (pa.lerp(pb, u), slerp(na, nb, u)),
+            };
             let exact = m.forward(&m.inverse(ip, inn, Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
             let dp = (fp - exact.0).length();
             let da = deg(fn_, exact.1);
+            if dp > r.worst_interp_mm || da > r.worst_interp_deg {
+                r.worst_line = b.number;
+            }
             r.worst_interp_mm = r.worst_interp_mm.max(dp);
             r.worst_interp_deg = r.worst_interp_deg.max(da);
         }
     }
     if r.worst_interp_mm > INTERP_MM || r.worst_interp_deg > INTERP_DEG {
-        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound", r.worst_interp_mm, r.worst_interp_deg));
+        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound (worst at output line {})", r.worst_interp_mm, r.worst_interp_deg, r.worst_line));
     }
     Ok(r)
 }
@@ -299,8 +326,8 @@ fn run_preset(name: &str, dir: &std::path::Path) -> Result<String, String> {
     }
     let meas = check(m.as_ref(), &out.toolpath, &lines)?;
     Ok(format!(
-        "{name:22} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}°, {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} depth-limited)",
-        meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.discontinuities,
+        "{name:22} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} depth-limited)",
+        meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.fallbacks, meas.discontinuities,
         rep.worst_position_mm, rep.worst_angle_deg, rep.worst_dropped_deg, rep.rotate_arounds, rep.rotary_resets, rep.depth_limited
     ))
 }
