@@ -446,3 +446,79 @@ fn unwarp_errors_are_named() {
         }
     }
 }
+
+/// Two layers of a circle about the cone's axis, tool axis tilted 45° outward: the azimuth
+/// turns twice through ±180°.
+fn circle_path() -> Vec<ToolPoint> {
+    let mut v = Vec::new();
+    for layer in 0..2u32 {
+        for i in 0..=72 {
+            let t = (i as f64 * 5.0 + 2.5).to_radians();
+            let (s, c) = t.sin_cos();
+            v.push(ToolPoint {
+                p: DVec3::new(100.0 + 10.0 * c, 100.0 + 10.0 * s, 1.0 + layer as f64),
+                n: DVec3::new(c, s, 1.0).normalize(),
+                e: 0.05,
+                f: 1200.0,
+                layer,
+                feature: warpslice::toolpath::Feature::OuterWall,
+                travel: false,
+            });
+        }
+    }
+    v
+}
+
+fn emit_all(spec: &MachineSpec, path: &[ToolPoint]) -> (String, warpslice::machine::MachineReport) {
+    use warpslice::unwarp::Emitter;
+    let mut em = warpslice::machine::MachineEmitter::new(spec, None, warpslice::machine::FeedMode::Xyz).unwrap();
+    let mut out = Vec::new();
+    em.header(&mut out);
+    em.begin_region(&mut out, path[0].p, DVec3::Z).unwrap();
+    for tp in path {
+        em.point(&mut out, tp, true).unwrap();
+    }
+    em.end_region(&mut out).unwrap();
+    em.finish(&mut out);
+    (String::from_utf8(out).unwrap(), em.report())
+}
+
+#[test]
+fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
+    let path = circle_path();
+    let spec = preset("rtn-slicer4rtn").unwrap();
+    let (text, rep) = emit_all(&spec, &path);
+    assert!(rep.rotate_arounds >= 2, "{rep:?}");
+    assert_eq!(text.matches("; rotate-around").count() as u64, 3 * rep.rotate_arounds);
+    let m = spec.build().unwrap();
+    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    assert!(lines.iter().all(|l| (-180.0..=180.0).contains(&l.axes[3])));
+    // every point is reached (tip and realised axis; the descent of a rotate-around lands on
+    // its point), the lifted moves are 1 mm up
+    for tp in &path {
+        let hit = lines.iter().any(|l| {
+            let (p, n) = m.forward(&l.axes).unwrap();
+            (p - tp.p).length() < TIP_TOL && deg(n, m.realised_axis(tp.p, tp.n)) < AXIS_TOL_DEG
+        });
+        assert!(hit, "point {:?} not reached", tp.p);
+    }
+    for l in lines.iter().filter(|l| l.rotate_around) {
+        let (p, _) = m.forward(&l.axes).unwrap();
+        assert!(p.z > 1.0 - 1e-6 && p.z < 3.0 + 1e-6, "a rotate-around line off the path: {p:?}");
+    }
+    assert!(rep.e_skipped_mm > 0.0 && rep.e_skipped_mm < 0.05 * rep.rotate_arounds as f64 + 1e-9);
+
+    let spec = preset("rotbot").unwrap();
+    let (text, rep) = emit_all(&spec, &path);
+    assert_eq!(rep.rotate_arounds, 0);
+    assert!(rep.rotary_resets >= 1 && text.contains("G92 U"), "{text}");
+    let m = spec.build().unwrap();
+    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    // continuous: no jump of U between consecutive lines (a reset renames a line by 360°)
+    for w in lines.windows(2) {
+        let d = w[1].axes[3] - w[0].axes[3];
+        assert!(d.abs() < 10.0 || (d.abs() - 360.0).abs() < 10.0, "{:?} → {:?}", w[0], w[1]);
+    }
+    assert!(lines.iter().all(|l| l.axes[3].abs() < 540.0));
+    assert!(rep.worst_position_mm <= 0.02 && rep.worst_angle_deg <= 0.1, "{rep:?}");
+}
