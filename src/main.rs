@@ -131,6 +131,8 @@ mod cli {
         Tilted,
         Conic,
         Belt,
+        Cylindrical,
+        Spherical,
     }
 
     #[derive(Clone, Copy, ValueEnum)]
@@ -163,6 +165,16 @@ mod cli {
         /// belt: direction dx,dy the layers fall toward.
         #[arg(long, value_parser = pair, default_value = "0,1", allow_negative_numbers = true)]
         toward: [f64; 2],
+        /// cylindrical/spherical: radius R of the first layer (mandrel or inner sphere), mm.
+        #[arg(long, default_value_t = 10.0)]
+        radius: f64,
+        /// cylindrical: the mandrel axis (parallel to X) at y,z in the model frame, mm
+        /// (default: 0,−radius, just under the part).
+        #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+        axis_yz: Option<[f64; 2]>,
+        /// spherical: the centre x,y,z in the model frame, mm (default: 0,0,−radius).
+        #[arg(long, value_parser = triple, allow_negative_numbers = true)]
+        sphere_center: Option<[f64; 3]>,
         /// Keep the layers flat below z0 and blend in the warp up to z1 (mm): --base z0,z1.
         #[arg(long, value_parser = pair)]
         base: Option<[f64; 2]>,
@@ -209,6 +221,14 @@ mod cli {
         warpslice::machine::MachineSpec::from_arg(arg, |p| fs::read_to_string(p).map_err(|e| e.to_string())).map_err(|e| e.to_string())
     }
 
+    fn triple(s: &str) -> Result<[f64; 3], String> {
+        let v: Vec<f64> = s.split(',').filter_map(|p| p.trim().parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+        match (v.len(), s.split(',').count()) {
+            (3, 3) => Ok([v[0], v[1], v[2]]),
+            _ => Err(format!("expected three numbers x,y,z but got '{s}'")),
+        }
+    }
+
     fn pair(s: &str) -> Result<[f64; 2], String> {
         let mut it = s.split(',').map(|p| p.trim().parse::<f64>());
         match (it.next(), it.next(), it.next()) {
@@ -225,6 +245,12 @@ mod cli {
                 WarpKind::Tilted => WarpSpec::Tilted { strength: self.strength, direction, offset: self.offset },
                 WarpKind::Conic => WarpSpec::Conic { angle: self.angle, direction, center: self.center },
                 WarpKind::Belt => WarpSpec::Belt { angle: self.angle, toward: self.toward },
+                WarpKind::Cylindrical => {
+                    WarpSpec::Cylindrical { radius: self.radius, axis: self.axis_yz.unwrap_or([0.0, -self.radius]) }
+                }
+                WarpKind::Spherical => {
+                    WarpSpec::Spherical { radius: self.radius, center: self.sphere_center.unwrap_or([0.0, 0.0, -self.radius]) }
+                }
             };
             let mut o = WarpOptions::new(WarpParams { spec, base: self.base });
             o.max_edge = self.max_edge;
