@@ -231,6 +231,9 @@ impl Ctx<'_> {
                 rep,
             )?;
             let (p1, n1) = (pc.p1, pc.n1);
+            // the end seeded by the midpoint, so a branch (signed tilt, unwrapped rotation)
+            // chosen along the way is kept to the end instead of jumping back on the last piece
+            let a1 = self.machine.inverse(p1, n1, Some(&am))?;
             return self.split(
                 Piece {
                     p0: pm,
