@@ -231,8 +231,10 @@ impl Ctx<'_> {
                 rep,
             )?;
             let (p1, n1) = (pc.p1, pc.n1);
-            // the end seeded by the midpoint, so a branch (signed tilt, unwrapped rotation)
-            // chosen along the way is kept to the end instead of jumping back on the last piece
+            // the second half starts where the first one actually ended (its last piece may
+            // have re-chosen the branch) and its end is seeded from there, so a branch (signed
+            // tilt, unwrapped rotation) chosen along the way is kept instead of jumping back
+            let am = out.last().map_or(am, |e| e.axes.clone());
             let a1 = self.machine.inverse(p1, n1, Some(&am))?;
             return self.split(
                 Piece {
