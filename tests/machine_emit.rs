@@ -348,6 +348,10 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
         return Ok(format!("{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°", text.lines().count(), rep.worst_position_mm, rep.worst_angle_deg));
     }
     let meas = check(m.as_ref(), &out.toolpath, &lines).map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
+    // every move left beyond the bound is tagged in the file and counted in the report
+    if meas.discontinuities as u64 != rep.depth_limited || text.matches("; discontinuity").count() as u64 != rep.depth_limited {
+        return Err(format!("{} discontinuities found, the report says {}", meas.discontinuities, rep.depth_limited));
+    }
     Ok(format!(
         "{tag:30} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} depth-limited)",
         meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.fallbacks, meas.discontinuities,

@@ -160,7 +160,13 @@ impl MachineEmitter {
         let offsets = limits
             .iter()
             .enumerate()
-            .map(|(i, _)| if d > 0.0 && (2..5).contains(&i) { d } else { 0.0 })
+            .map(|(i, _)| {
+                if d > 0.0 && (2..5).contains(&i) {
+                    d
+                } else {
+                    0.0
+                }
+            })
             .collect();
         let unlimited = limits
             .iter()
@@ -277,7 +283,9 @@ impl MachineEmitter {
                 out.extend_from_slice(b"G92 ");
                 out.extend_from_slice(l.name.as_bytes());
                 push_mm(out, w);
-                out.extend_from_slice(b" ; warpslice: rotary axis back to [-180, 180] at a layer change\n");
+                out.extend_from_slice(
+                    b" ; warpslice: rotary axis back to [-180, 180] at a layer change\n",
+                );
                 prev.axes[i] = w;
                 self.report.rotary_resets += 1;
             }
@@ -294,14 +302,34 @@ impl MachineEmitter {
         f: f64,
     ) -> Result<(), MachineError> {
         let lift = DVec3::Z * ROTATE_AROUND_LIFT_MM;
-        let up0 = self.machine.inverse(from.p + lift, from.n, Some(&from.axes))?;
+        let up0 = self
+            .machine
+            .inverse(from.p + lift, from.n, Some(&from.axes))?;
         let up1 = self.machine.inverse(to.p + lift, to.n, Some(to_axes))?;
         let tag = ROTATE_AROUND_TAG;
         let travel = to.f.max(f);
-        self.write_g1(out, &from.axes, &up0, from.p, None, ROTATE_AROUND_LIFT_MM, travel, tag)?;
+        self.write_g1(
+            out,
+            &from.axes,
+            &up0,
+            from.p,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            travel,
+            tag,
+        )?;
         let len = (to.p - from.p).length();
         self.write_g1(out, &up0, &up1, to.p, None, len, travel, tag)?;
-        self.write_g1(out, &up1, to_axes, to.p, None, ROTATE_AROUND_LIFT_MM, travel, tag)?;
+        self.write_g1(
+            out,
+            &up1,
+            to_axes,
+            to.p,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            travel,
+            tag,
+        )?;
         self.report.rotate_arounds += 1;
         Ok(())
     }
@@ -437,7 +465,12 @@ impl Emitter for MachineEmitter {
         Ok(())
     }
 
-    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) -> Result<(), MachineError> {
+    fn point(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+    ) -> Result<(), MachineError> {
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");

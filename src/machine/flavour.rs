@@ -110,16 +110,18 @@ impl Flavour {
                     lines.push(format!(
                         ";   axis {} is {} (create it with M584 … {}{})",
                         l.name,
-                        if l.rotary { "rotary, degrees" } else { "linear, mm" },
+                        if l.rotary {
+                            "rotary, degrees"
+                        } else {
+                            "linear, mm"
+                        },
                         l.name,
                         if l.rotary { " R1" } else { " R0" }
                     ));
                 }
             }
             Flavour::Marlin => {
-                lines.push(
-                    "; flavour Marlin 2.1: extra axes are set in Configuration.h as".into(),
-                );
+                lines.push("; flavour Marlin 2.1: extra axes are set in Configuration.h as".into());
                 for (i, l) in extra.iter().enumerate() {
                     lines.push(format!(
                         ";   #define AXIS{}_NAME '{}'   // {}",

@@ -309,22 +309,23 @@ pub fn tessellate_move(
     let ae = machine.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
     let re = machine.forward(&ae)?.1;
     let a_start;
-    let a0: &[f64] = if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
-        let a_r = machine.inverse(p0, re, Some(a0_in))?;
-        let pc = Piece {
-            p0,
-            n0: r0,
-            p1: p0,
-            n1: re,
-            a0: a0_in,
+    let a0: &[f64] =
+        if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
+            let a_r = machine.inverse(p0, re, Some(a0_in))?;
+            let pc = Piece {
+                p0,
+                n0: r0,
+                p1: p0,
+                n1: re,
+                a0: a0_in,
+            };
+            ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
+            reoriented = ends.len();
+            a_start = a_r;
+            &a_start
+        } else {
+            a0_in
         };
-        ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
-        reoriented = ends.len();
-        a_start = a_r;
-        &a_start
-    } else {
-        a0_in
-    };
     let a1 = machine.inverse(to.p, to.n, Some(a0))?;
     let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
     rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
@@ -392,8 +393,7 @@ pub fn tessellate(
         match &prev {
             None => {
                 let a1 = machine.inverse(tp.p, tp.n, start)?;
-                let dropped =
-                    num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
+                let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
                 rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
                 rep.moves_in += 1;
                 rep.moves_out += 1;

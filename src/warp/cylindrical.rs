@@ -31,7 +31,11 @@ pub struct Cylindrical {
 impl Cylindrical {
     /// Mandrel radius R (mm, > 0) and the axis position (y, z) in the model frame (mm).
     pub fn new(radius: f64, axis: [f64; 2]) -> Cylindrical {
-        Cylindrical { radius, ay: axis[0], az: axis[1] }
+        Cylindrical {
+            radius,
+            ay: axis[0],
+            az: axis[1],
+        }
     }
 }
 
@@ -44,7 +48,11 @@ impl Warp for Cylindrical {
     fn inverse(&self, q: DVec3) -> DVec3 {
         let rho = q.z + self.radius;
         let t = q.y / self.radius;
-        DVec3::new(q.x, self.ay + rho * num::sin(t), self.az + rho * num::cos(t))
+        DVec3::new(
+            q.x,
+            self.ay + rho * num::sin(t),
+            self.az + rho * num::cos(t),
+        )
     }
     fn jacobian(&self, p: DVec3) -> DMat3 {
         let (dy, dz) = (p.y - self.ay, p.z - self.az);

@@ -33,7 +33,10 @@ pub struct Spherical {
 impl Spherical {
     /// Inner radius R (mm, > 0) and the centre (model frame, mm).
     pub fn new(radius: f64, center: [f64; 3]) -> Spherical {
-        Spherical { radius, c: DVec3::from_array(center) }
+        Spherical {
+            radius,
+            c: DVec3::from_array(center),
+        }
     }
 }
 
@@ -53,7 +56,11 @@ impl Warp for Spherical {
         let rho = q.z + self.radius;
         let w = (q.x * q.x + q.y * q.y).sqrt();
         let phi = w / self.radius;
-        let (cl, sl) = if w > 0.0 { (q.x / w, q.y / w) } else { (1.0, 0.0) };
+        let (cl, sl) = if w > 0.0 {
+            (q.x / w, q.y / w)
+        } else {
+            (1.0, 0.0)
+        };
         let sp = num::sin(phi);
         self.c + DVec3::new(sp * cl, sp * sl, num::cos(phi)) * rho
     }
