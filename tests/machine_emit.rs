@@ -353,9 +353,9 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
         return Err(format!("{} discontinuities found, the report says {}", meas.discontinuities, rep.depth_limited));
     }
     Ok(format!(
-        "{tag:30} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} depth-limited)",
+        "{tag:30} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} re-poses, {} depth-limited)",
         meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.fallbacks, meas.discontinuities,
-        rep.worst_position_mm, rep.worst_angle_deg, rep.worst_dropped_deg, rep.rotate_arounds, rep.rotary_resets, rep.depth_limited
+        rep.worst_position_mm, rep.worst_angle_deg, rep.worst_dropped_deg, rep.rotate_arounds, rep.rotary_resets, rep.reposes, rep.depth_limited
     ))
 }
 

@@ -84,6 +84,8 @@ pub struct MachineReport {
     pub depth_limited: u64,
     /// Single-revolution rotate-arounds.
     pub rotate_arounds: u64,
+    /// Pose discontinuities crossed in place (rotary axes stepped with the tip held).
+    pub reposes: u64,
     /// Filament of the moves replaced by a rotate-around, mm.
     pub e_skipped_mm: f64,
     /// `G92` modulo-360° resets of unlimited rotary axes.
@@ -213,6 +215,7 @@ impl MachineEmitter {
         r.worst_angle_deg = t.worst_angle_deg;
         r.worst_dropped_deg = t.worst_dropped_deg;
         r.depth_limited = t.depth_limited as u64;
+        r.reposes = t.reposes as u64;
         r
     }
 
@@ -542,9 +545,9 @@ impl Emitter for MachineEmitter {
     fn finish(&mut self, out: &mut Vec<u8>) {
         let r = self.report();
         let line = format!(
-            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E skipped); {} rotary resets\n",
+            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E skipped); {} rotary resets; {} re-poses\n",
             r.moves_in, r.moves_out, r.worst_position_mm, r.worst_angle_deg, r.worst_dropped_deg,
-            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets
+            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes
         );
         out.extend_from_slice(line.as_bytes());
     }

@@ -101,7 +101,17 @@ struct End {
     n: DVec3,
     wrap: bool,
     limited: bool,
+    /// Part of an in-place re-pose (see [`Ctx::repose`]).
+    repose: bool,
 }
+
+/// Largest number of steps of a re-pose.
+pub const REPOSE_MAX_STEPS: usize = 512;
+/// Newton iterations and tolerance (mm) of the linear-axis solve of a re-pose.
+const REPOSE_NEWTON_ITERATIONS: usize = 12;
+const REPOSE_NEWTON_TOLERANCE: f64 = 1e-10;
+/// Finite-difference step of the linear-axis Jacobian, mm.
+const REPOSE_FD_STEP: f64 = 1e-6;
 
 /// What the interpolation measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -118,6 +128,8 @@ pub struct TessellationReport {
     pub depth_limited: usize,
     /// Moves marked rotate-around.
     pub rotate_arounds: usize,
+    /// Discontinuities crossed by an in-place re-pose (rotary axes stepped, tip held).
+    pub reposes: usize,
     /// Largest angle between a requested tool axis and the one the machine realises (the
     /// dropped component: Y for the B head, the tilt for a fixed-tilt nozzle, the clip), degrees.
     pub worst_dropped_deg: f64,
@@ -179,6 +191,110 @@ impl Ctx<'_> {
         Ok((dp, da))
     }
 
+    /// Linear axes that put the tip at `p` with the rotary axes of `axes` (Newton, finite
+    /// differences, least squares when fewer than 3 linear axes); `None` if it does not converge.
+    fn solve_linear(&self, mut axes: Vec<f64>, p: DVec3) -> Result<Option<Vec<f64>>, MachineError> {
+        let lin: Vec<usize> = (0..axes.len())
+            .filter(|&i| !self.machine.limits()[i].rotary)
+            .collect();
+        for _ in 0..REPOSE_NEWTON_ITERATIONS {
+            let tip = self.machine.forward(&axes)?.0;
+            let r = p - tip;
+            if r.length() < REPOSE_NEWTON_TOLERANCE {
+                return Ok(Some(axes));
+            }
+            let mut cols = Vec::with_capacity(lin.len());
+            for &i in &lin {
+                let mut b = axes.clone();
+                b[i] += REPOSE_FD_STEP;
+                cols.push((self.machine.forward(&b)?.0 - tip) / REPOSE_FD_STEP);
+            }
+            // normal equations JᵀJ δ = Jᵀ r (at most 3 unknowns here)
+            let k = cols.len();
+            let mut m = glam::DMat3::IDENTITY;
+            let mut rhs = DVec3::ZERO;
+            for a in 0..k {
+                rhs[a] = cols[a].dot(r);
+                for b in 0..k {
+                    m.col_mut(b)[a] = cols[a].dot(cols[b]);
+                }
+            }
+            if m.determinant().abs() < 1e-12 {
+                return Ok(None);
+            }
+            let d = m.inverse() * rhs;
+            for (a, &i) in lin.iter().enumerate() {
+                axes[i] += d[a];
+            }
+        }
+        Ok(None)
+    }
+
+    /// An in-place re-pose across a discontinuity of the pose: the rotary axes go linearly from
+    /// `a0` to `a1` in 2, 4, 8, … steps, the linear axes are solved at each step so the tip is on
+    /// the path; accepted when the firmware's interpolation between the steps keeps the tip
+    /// within the bound of the straight path and the tool axis within the bound of the slerp of
+    /// the steps' realised axes. Machines with fewer than 2 linear axes or none rotary, or more
+    /// than 3 linear axes, are not re-posed (`None`).
+    fn repose(
+        &self,
+        pc: &Piece,
+        a1: &[f64],
+        rep: &mut TessellationReport,
+    ) -> Result<Option<Vec<(Vec<f64>, DVec3, DVec3)>>, MachineError> {
+        let lim = self.machine.limits();
+        let nlin = lim.iter().filter(|l| !l.rotary).count();
+        if nlin < 2 || nlin > 3 || nlin == lim.len() {
+            return Ok(None);
+        }
+        let mut steps = 2;
+        while steps <= REPOSE_MAX_STEPS {
+            let mut poses = Vec::with_capacity(steps);
+            let mut ok = true;
+            for k in 1..=steps {
+                let u = k as f64 / steps as f64;
+                let p = pc.p0.lerp(pc.p1, u);
+                let guess: Vec<f64> = pc.a0.iter().zip(a1).map(|(x, y)| x + (y - x) * u).collect();
+                let axes = if k == steps {
+                    a1.to_vec()
+                } else {
+                    match self.solve_linear(guess, p)? {
+                        Some(a) => a,
+                        None => return Ok(None),
+                    }
+                };
+                poses.push((axes, p, slerp(pc.n0, pc.n1, u)));
+            }
+            let (mut wp, mut wa) = (0.0f64, 0.0f64);
+            let mut from = pc.a0.to_vec();
+            for (axes, _, _) in &poses {
+                let (q0, r0) = self.machine.forward(&from)?;
+                let (q1, r1) = self.machine.forward(axes)?;
+                let kk = self.bounds.samples.max(2);
+                for i in 1..kk {
+                    let s = i as f64 / kk as f64;
+                    let fw = self.machine.forward(&lerp_axes(&from, axes, s))?;
+                    wp = wp.max((fw.0 - q0.lerp(q1, s)).length());
+                    wa = wa.max(num::deg(num::angle_between(fw.1, slerp(r0, r1, s))));
+                }
+                from = axes.clone();
+            }
+            if wp > SAMPLING_MARGIN * self.bounds.max_position_mm
+                || wa > SAMPLING_MARGIN * self.bounds.max_angle_deg
+            {
+                ok = false;
+            }
+            if ok {
+                rep.worst_position_mm = rep.worst_position_mm.max(wp);
+                rep.worst_angle_deg = rep.worst_angle_deg.max(wa);
+                rep.reposes += 1;
+                return Ok(Some(poses));
+            }
+            steps *= 2;
+        }
+        Ok(None)
+    }
+
     fn wraps(&self, a0: &[f64], a1: &[f64]) -> bool {
         self.wrap_axes
             .iter()
@@ -203,6 +319,7 @@ impl Ctx<'_> {
                 n: pc.n1,
                 wrap: true,
                 limited: false,
+                repose: false,
             });
             return Ok(());
         }
@@ -251,6 +368,21 @@ impl Ctx<'_> {
             );
         }
         if over {
+            // a discontinuity of the pose (a held rotary axis catching up): turn the rotary
+            // axes in steps with the linear axes solved so the tip stays on the path
+            if let Some(poses) = self.repose(&pc, &a1, rep)? {
+                for (axes, p, n) in poses {
+                    out.push(End {
+                        axes,
+                        p,
+                        n,
+                        wrap: false,
+                        limited: false,
+                        repose: true,
+                    });
+                }
+                return Ok(());
+            }
             rep.depth_limited += 1;
         }
         rep.worst_position_mm = rep.worst_position_mm.max(dp);
@@ -261,6 +393,7 @@ impl Ctx<'_> {
             n: pc.n1,
             wrap: false,
             limited: over,
+            repose: false,
         });
         Ok(())
     }
@@ -349,8 +482,9 @@ pub fn tessellate_move(
             n,
             wrap,
             limited,
+            repose,
         } = end;
-        let reorient = i < reoriented;
+        let reorient = i < reoriented || repose;
         let len = (p - last_p).length();
         let share = if total > crate::tolerance::LENGTH_EPSILON {
             len / total
