@@ -105,6 +105,9 @@ struct End {
     repose: bool,
 }
 
+/// A pose of a re-pose: axes, tip, intended tool axis.
+type Pose = (Vec<f64>, DVec3, DVec3);
+
 /// Largest number of steps of a re-pose.
 pub const REPOSE_MAX_STEPS: usize = 512;
 /// Newton iterations and tolerance (mm) of the linear-axis solve of a re-pose.
@@ -241,10 +244,10 @@ impl Ctx<'_> {
         pc: &Piece,
         a1: &[f64],
         rep: &mut TessellationReport,
-    ) -> Result<Option<Vec<(Vec<f64>, DVec3, DVec3)>>, MachineError> {
+    ) -> Result<Option<Vec<Pose>>, MachineError> {
         let lim = self.machine.limits();
         let nlin = lim.iter().filter(|l| !l.rotary).count();
-        if nlin < 2 || nlin > 3 || nlin == lim.len() {
+        if !(2..=3).contains(&nlin) || nlin == lim.len() {
             return Ok(None);
         }
         let mut steps = 2;
