@@ -89,12 +89,40 @@ mod cli {
         },
         /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
         Calibrate { #[command(subcommand)] cmd: crate::calibrate_cli::CalibrateCommand },
+        /// Batch kinematics: CSV on stdin, CSV on stdout (`px,py,pz,nx,ny,nz` ↔ machine axes).
+        Kinematics {
+            #[arg(value_enum)]
+            direction: KinematicsDirection,
+            /// A preset name or a machine JSON file.
+            #[arg(long)]
+            machine: String,
+        },
         /// Write one of the generated example parts as STL (cube, cylinder, sphere, overhang).
         Example {
             name: String,
             #[arg(short, long)]
             output: PathBuf,
         },
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum KinematicsDirection {
+        Inverse,
+        Forward,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum FeedArg {
+        Xyz,
+        AllAxes,
+        InverseTime,
+    }
+
+    #[derive(Clone, Copy, ValueEnum)]
+    enum FlavourArg {
+        Reprapfirmware,
+        Marlin,
+        Klipper,
     }
 
     #[derive(Clone, Copy, ValueEnum)]
@@ -109,6 +137,8 @@ mod cli {
         Tilted,
         Conic,
         Belt,
+        Cylindrical,
+        Spherical,
     }
 
     #[derive(Clone, Copy, ValueEnum)]
@@ -141,6 +171,16 @@ mod cli {
         /// belt: direction dx,dy the layers fall toward.
         #[arg(long, value_parser = pair, default_value = "0,1", allow_negative_numbers = true)]
         toward: [f64; 2],
+        /// cylindrical/spherical: radius R of the first layer (mandrel or inner sphere), mm.
+        #[arg(long, default_value_t = 10.0)]
+        radius: f64,
+        /// cylindrical: the mandrel axis (parallel to X) at y,z in the model frame, mm
+        /// (default: 0,−radius, just under the part).
+        #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+        axis_yz: Option<[f64; 2]>,
+        /// spherical: the centre x,y,z in the model frame, mm (default: 0,0,−radius).
+        #[arg(long, value_parser = triple, allow_negative_numbers = true)]
+        sphere_center: Option<[f64; 3]>,
         /// Keep the layers flat below z0 and blend in the warp up to z1 (mm): --base z0,z1.
         #[arg(long, value_parser = pair)]
         base: Option<[f64; 2]>,
@@ -172,6 +212,27 @@ mod cli {
         /// Drop skirt and brim instead of printing them flat.
         #[arg(long)]
         drop_skirt: bool,
+        /// Write a 4/5-axis machine's axes: a preset name or a machine JSON file (docs/machines.md).
+        #[arg(long)]
+        machine: Option<String>,
+        /// Feed mode for a machine: xyz, all-axes, inverse-time (G93).
+        #[arg(long, value_enum, default_value_t = FeedArg::Xyz)]
+        feed: FeedArg,
+        /// Firmware flavour for a machine (default: the machine's, else reprapfirmware).
+        #[arg(long, value_enum)]
+        flavour: Option<FlavourArg>,
+    }
+
+    fn machine_spec(arg: &str) -> Result<warpslice::machine::MachineSpec, String> {
+        warpslice::machine::MachineSpec::from_arg(arg, |p| fs::read_to_string(p).map_err(|e| e.to_string())).map_err(|e| e.to_string())
+    }
+
+    fn triple(s: &str) -> Result<[f64; 3], String> {
+        let v: Vec<f64> = s.split(',').filter_map(|p| p.trim().parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+        match (v.len(), s.split(',').count()) {
+            (3, 3) => Ok([v[0], v[1], v[2]]),
+            _ => Err(format!("expected three numbers x,y,z but got '{s}'")),
+        }
     }
 
     fn pair(s: &str) -> Result<[f64; 2], String> {
@@ -190,6 +251,12 @@ mod cli {
                 WarpKind::Tilted => WarpSpec::Tilted { strength: self.strength, direction, offset: self.offset },
                 WarpKind::Conic => WarpSpec::Conic { angle: self.angle, direction, center: self.center },
                 WarpKind::Belt => WarpSpec::Belt { angle: self.angle, toward: self.toward },
+                WarpKind::Cylindrical => {
+                    WarpSpec::Cylindrical { radius: self.radius, axis: self.axis_yz.unwrap_or([0.0, -self.radius]) }
+                }
+                WarpKind::Spherical => {
+                    WarpSpec::Spherical { radius: self.radius, center: self.sphere_center.unwrap_or([0.0, 0.0, -self.radius]) }
+                }
             };
             let mut o = WarpOptions::new(WarpParams { spec, base: self.base });
             o.max_edge = self.max_edge;
@@ -205,16 +272,28 @@ mod cli {
     }
 
     impl UnwarpArgs {
-        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> UnwarpOptions {
-            UnwarpOptions {
+        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> Result<UnwarpOptions, String> {
+            use warpslice::machine::{FeedMode, Flavour};
+            Ok(UnwarpOptions {
                 tolerance,
                 max_segment: self.max_segment,
                 flow: Flow { factor: self.flow, ramp: self.ramp },
                 z_offset: self.z_offset,
                 drop_skirt: self.drop_skirt,
                 offset,
+                machine: self.machine.as_deref().map(machine_spec).transpose()?,
+                feed: match self.feed {
+                    FeedArg::Xyz => FeedMode::Xyz,
+                    FeedArg::AllAxes => FeedMode::AllAxes,
+                    FeedArg::InverseTime => FeedMode::InverseTime,
+                },
+                flavour: self.flavour.map(|f| match f {
+                    FlavourArg::Reprapfirmware => Flavour::RepRapFirmware,
+                    FlavourArg::Marlin => Flavour::Marlin,
+                    FlavourArg::Klipper => Flavour::Klipper,
+                }),
                 ..UnwarpOptions::default()
-            }
+            })
         }
     }
 
@@ -324,6 +403,12 @@ mod cli {
         say!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
         say!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
         say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
+        if let Some(m) = &r.machine {
+            say!(
+                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets",
+                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets
+            );
+        }
         say!("wrote {}", output.display());
     }
 
@@ -337,11 +422,12 @@ mod cli {
             Command::Unwarp { gcode, job, unwarp, offset, tolerance, output } => {
                 let text = fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
                 let job = Job::from_json(&text).map_err(|e| format!("{}: {e}", job.display()))?;
-                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset), &output)?;
+                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset)?, &output)?;
             }
             Command::Run { model, slicer, e_mode, warp, unwarp, output } => {
                 let kind: warpslice::slicer::SlicerKind = slicer.parse().map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
+                let uopts = unwarp.options(opts.tolerance, None)?;
                 let warped = output.with_extension("warped.stl");
                 let w = do_warp(&model, &opts, &warped)?;
                 let sliced = output.with_extension("sliced.gcode");
@@ -360,7 +446,18 @@ mod cli {
                     sp.finish_and_clear();
                 }
                 say!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
-                do_unwarp(&sliced, &w.job, &unwarp.options(opts.tolerance, None), &output)?;
+                do_unwarp(&sliced, &w.job, &uopts, &output)?;
+            }
+            Command::Kinematics { direction, machine } => {
+                let m = machine_spec(&machine)?.build().map_err(|e| e.to_string())?;
+                let mut input = String::new();
+                std::io::stdin().read_to_string(&mut input).map_err(|e| format!("stdin: {e}"))?;
+                let out = match direction {
+                    KinematicsDirection::Inverse => warpslice::machine::batch::inverse_csv(m.as_ref(), &input),
+                    KinematicsDirection::Forward => warpslice::machine::batch::forward_csv(m.as_ref(), &input),
+                }
+                .map_err(|e| e.to_string())?;
+                let _ = std::io::stdout().write_all(out.as_bytes());
             }
             Command::Calibrate { cmd } => crate::calibrate_cli::run(cmd)?,
             Command::Example { name, output } => {

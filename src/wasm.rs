@@ -246,8 +246,9 @@ pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsError> {
     to_js(&report)
 }
 
-/// Every shipped machine preset as JSON: `[{ name, spec, axes: [{ name, rotary, min, max }],
-/// workspace_max_tilt_deg }]`; `spec` is the preset's JSON object, unbounded limits are `null`.
+/// Every shipped machine preset as JSON: `[{ name, kind, flavour, spec, axes: [{ name, rotary,
+/// min, max }], workspace_max_tilt_deg }]`; `spec` is the preset's JSON object, unbounded limits
+/// are `null`. Pass a `name` (or a `spec`, edited) as `"machine"` in the unwarp options.
 #[wasm_bindgen]
 pub fn machine_presets() -> Result<String, JsError> {
     let finite = |v: f64| {
@@ -269,6 +270,8 @@ pub fn machine_presets() -> Result<String, JsError> {
         let spec_value = serde_json::to_value(&spec).map_err(js)?;
         list.push(serde_json::json!({
             "name": name,
+            "kind": spec_value.get("kind").cloned().unwrap_or(serde_json::Value::Null),
+            "flavour": spec.flavour.unwrap_or_default().name(),
             "spec": spec_value,
             "axes": axes,
             "workspace_max_tilt_deg": finite(machine.workspace().max_tilt_deg),

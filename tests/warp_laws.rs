@@ -28,7 +28,22 @@ fn all_warps() -> Vec<WarpParams> {
         out.push(WarpParams { spec: s.clone(), base: None });
         out.push(WarpParams { spec: s, base: Some([0.6, 40.0]) });
     }
+    // not shears (no base blend); axis and centre kept away from the sampled box (their domain
+    // excludes the axis / centre and the seam below it)
+    for spec in non_shear_warps() {
+        out.push(WarpParams { spec, base: None });
+    }
     out
+}
+
+/// The cylindrical and spherical warps (seed 002).
+fn non_shear_warps() -> Vec<WarpSpec> {
+    vec![
+        WarpSpec::Cylindrical { radius: 15.0, axis: [0.0, -20.0] },
+        WarpSpec::Cylindrical { radius: 3.0, axis: [4.0, -6.0] },
+        WarpSpec::Spherical { radius: 15.0, center: [0.0, 0.0, -20.0] },
+        WarpSpec::Spherical { radius: 2.0, center: [5.0, -3.0, -5.0] },
+    ]
 }
 
 /// Distance from the nearest kink of the warp's height function (crease, apex), mm.
@@ -127,4 +142,47 @@ fn bad_parameters_are_named() {
     assert!(p.build(&bbox()).unwrap_err().to_string().contains("strength"));
     let mut p = WarpParams { spec: WarpSpec::Belt { angle: 10.0, toward: [0.0, 1.0] }, base: Some([5.0, 2.0]) };
     assert!(p.build(&bbox()).unwrap_err().to_string().contains("base"));
+}
+
+#[test]
+fn cylindrical_and_spherical_layers_are_coaxial_cylinders_and_concentric_spheres() {
+    let bb = bbox();
+    // cylindrical: T_z = ρ − R, radial tool axis, det J = R/ρ, E scaled by ρ/R
+    let mut c = WarpParams { spec: WarpSpec::Cylindrical { radius: 15.0, axis: [0.0, -20.0] }, base: None };
+    let w = c.build(&bb).unwrap();
+    let p = DVec3::new(3.0, 4.0, 1.0);
+    let rho = (4.0f64.powi(2) + 21.0f64.powi(2)).sqrt();
+    assert!((w.forward(p).z - (rho - 15.0)).abs() < 1e-12);
+    assert!((w.tool_axis(p) - DVec3::new(0.0, 4.0, 21.0) / rho).length() < 1e-12);
+    assert!((w.jacobian_det(p) - 15.0 / rho).abs() < 1e-12);
+    // a slicer layer z' = k·h is a cylinder: its points keep ρ = R + k·h
+    for y in [-10.0, 0.0, 7.0] {
+        let q = w.inverse(DVec3::new(1.0, y, 0.6));
+        assert!((((q.y).powi(2) + (q.z + 20.0).powi(2)).sqrt() - 15.6).abs() < 1e-12);
+    }
+    // spherical: T_z = |p − c| − R, radial tool axis
+    let mut s = WarpParams { spec: WarpSpec::Spherical { radius: 15.0, center: [0.0, 0.0, -20.0] }, base: None };
+    let w = s.build(&bb).unwrap();
+    let p = DVec3::new(3.0, -4.0, 2.0);
+    let v = p - DVec3::new(0.0, 0.0, -20.0);
+    assert!((w.forward(p).z - (v.length() - 15.0)).abs() < 1e-12);
+    assert!((w.tool_axis(p) - v.normalize()).length() < 1e-12);
+    for (x, y) in [(0.0, 0.0), (5.0, -2.0), (-9.0, 3.0)] {
+        let q = w.inverse(DVec3::new(x, y, 1.2)) - DVec3::new(0.0, 0.0, -20.0);
+        assert!((q.length() - 16.2).abs() < 1e-12);
+    }
+    // the top pole is smooth
+    laws::check_point(w.as_ref(), DVec3::new(0.0, 0.0, 5.0), true).unwrap();
+}
+
+#[test]
+fn base_is_refused_for_the_non_shear_warps_and_bad_radii_are_named() {
+    for spec in non_shear_warps() {
+        let e = WarpParams { spec, base: Some([0.6, 3.0]) }.build(&bbox()).unwrap_err().to_string();
+        assert!(e.contains("does not take --base"), "{e}");
+    }
+    let e = WarpParams { spec: WarpSpec::Spherical { radius: 0.0, center: [0.0; 3] }, base: None }.build(&bbox()).unwrap_err().to_string();
+    assert!(e.contains("radius") && e.contains("> 0"), "{e}");
+    let e = WarpParams { spec: WarpSpec::Cylindrical { radius: 5.0, axis: [f64::NAN, 0.0] }, base: None }.build(&bbox()).unwrap_err().to_string();
+    assert!(e.contains("axis"), "{e}");
 }

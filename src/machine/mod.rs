@@ -39,7 +39,9 @@ pub mod angles;
 pub mod batch;
 pub mod bhead;
 pub mod cartesian;
+pub mod emit;
 pub mod feed;
+pub mod flavour;
 pub mod lathe;
 pub mod laws;
 pub mod pax;
@@ -49,6 +51,9 @@ pub mod spec;
 pub mod tessellate;
 pub mod threez;
 
+pub use emit::{MachineEmitter, MachineReport};
+pub use feed::FeedMode;
+pub use flavour::Flavour;
 pub use spec::{preset, preset_names, MachineSpec};
 
 /// Below this length a projected tool axis (|n_xy| for an azimuth, |n_xz| for a B angle) is
@@ -177,6 +182,12 @@ pub enum MachineError {
     BadSpec { machine: String, message: String },
     /// A batch CSV line is invalid (1-based line number).
     BadCsv { line: usize, message: String },
+    /// The firmware flavour cannot drive this machine.
+    UnsupportedFlavour {
+        machine: String,
+        flavour: String,
+        reason: String,
+    },
 }
 
 impl fmt::Display for MachineError {
@@ -219,6 +230,10 @@ impl fmt::Display for MachineError {
             MachineError::BadCsv { line, message } => write!(
                 f,
                 "kinematics input line {line}: {message}"
+            ),
+            MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
+                f,
+                "machine {machine}: flavour {flavour} refused: {reason}"
             ),
         }
     }

@@ -73,6 +73,9 @@ pub struct MachineSpec {
     /// Output letters in axis order (defaults per kind).
     #[serde(default)]
     pub axis_names: Option<Vec<String>>,
+    /// Firmware flavour of the output (default RepRapFirmware).
+    #[serde(default)]
+    pub flavour: Option<super::Flavour>,
     /// Kinematics and parameters.
     #[serde(flatten)]
     pub kinematics: Kinematics,

@@ -87,7 +87,34 @@ pub struct MachineMove {
     pub travel: bool,
     /// A single-revolution rotary axis wraps on this move: lift and turn around.
     pub rotate_around: bool,
+    /// The splitting hit its depth limit here (a discontinuity): the bound is not proven.
+    pub depth_limited: bool,
+    /// An in-place reorientation inserted before the move (see [`tessellate_move`]): the tip
+    /// stays at the move's start while the realised tool axis turns.
+    pub reorient: bool,
 }
+
+/// One end point found by the splitting.
+struct End {
+    axes: Vec<f64>,
+    p: DVec3,
+    n: DVec3,
+    wrap: bool,
+    limited: bool,
+    /// Part of an in-place re-pose (see [`Ctx::repose`]).
+    repose: bool,
+}
+
+/// A pose of a re-pose: axes, tip, intended tool axis.
+type Pose = (Vec<f64>, DVec3, DVec3);
+
+/// Largest number of steps of a re-pose.
+pub const REPOSE_MAX_STEPS: usize = 512;
+/// Newton iterations and tolerance (mm) of the linear-axis solve of a re-pose.
+const REPOSE_NEWTON_ITERATIONS: usize = 12;
+const REPOSE_NEWTON_TOLERANCE: f64 = 1e-10;
+/// Finite-difference step of the linear-axis Jacobian, mm.
+const REPOSE_FD_STEP: f64 = 1e-6;
 
 /// What the interpolation measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -104,6 +131,8 @@ pub struct TessellationReport {
     pub depth_limited: usize,
     /// Moves marked rotate-around.
     pub rotate_arounds: usize,
+    /// Discontinuities crossed by an in-place re-pose (rotary axes stepped, tip held).
+    pub reposes: usize,
     /// Largest angle between a requested tool axis and the one the machine realises (the
     /// dropped component: Y for the B head, the tilt for a fixed-tilt nozzle, the clip), degrees.
     pub worst_dropped_deg: f64,
@@ -165,6 +194,110 @@ impl Ctx<'_> {
         Ok((dp, da))
     }
 
+    /// Linear axes that put the tip at `p` with the rotary axes of `axes` (Newton, finite
+    /// differences, least squares when fewer than 3 linear axes); `None` if it does not converge.
+    fn solve_linear(&self, mut axes: Vec<f64>, p: DVec3) -> Result<Option<Vec<f64>>, MachineError> {
+        let lin: Vec<usize> = (0..axes.len())
+            .filter(|&i| !self.machine.limits()[i].rotary)
+            .collect();
+        for _ in 0..REPOSE_NEWTON_ITERATIONS {
+            let tip = self.machine.forward(&axes)?.0;
+            let r = p - tip;
+            if r.length() < REPOSE_NEWTON_TOLERANCE {
+                return Ok(Some(axes));
+            }
+            let mut cols = Vec::with_capacity(lin.len());
+            for &i in &lin {
+                let mut b = axes.clone();
+                b[i] += REPOSE_FD_STEP;
+                cols.push((self.machine.forward(&b)?.0 - tip) / REPOSE_FD_STEP);
+            }
+            // normal equations JᵀJ δ = Jᵀ r (at most 3 unknowns here)
+            let k = cols.len();
+            let mut m = glam::DMat3::IDENTITY;
+            let mut rhs = DVec3::ZERO;
+            for a in 0..k {
+                rhs[a] = cols[a].dot(r);
+                for b in 0..k {
+                    m.col_mut(b)[a] = cols[a].dot(cols[b]);
+                }
+            }
+            if m.determinant().abs() < 1e-12 {
+                return Ok(None);
+            }
+            let d = m.inverse() * rhs;
+            for (a, &i) in lin.iter().enumerate() {
+                axes[i] += d[a];
+            }
+        }
+        Ok(None)
+    }
+
+    /// An in-place re-pose across a discontinuity of the pose: the rotary axes go linearly from
+    /// `a0` to `a1` in 2, 4, 8, … steps, the linear axes are solved at each step so the tip is on
+    /// the path; accepted when the firmware's interpolation between the steps keeps the tip
+    /// within the bound of the straight path and the tool axis within the bound of the slerp of
+    /// the steps' realised axes. Machines with fewer than 2 linear axes or none rotary, or more
+    /// than 3 linear axes, are not re-posed (`None`).
+    fn repose(
+        &self,
+        pc: &Piece,
+        a1: &[f64],
+        rep: &mut TessellationReport,
+    ) -> Result<Option<Vec<Pose>>, MachineError> {
+        let lim = self.machine.limits();
+        let nlin = lim.iter().filter(|l| !l.rotary).count();
+        if !(2..=3).contains(&nlin) || nlin == lim.len() {
+            return Ok(None);
+        }
+        let mut steps = 2;
+        while steps <= REPOSE_MAX_STEPS {
+            let mut poses = Vec::with_capacity(steps);
+            let mut ok = true;
+            for k in 1..=steps {
+                let u = k as f64 / steps as f64;
+                let p = pc.p0.lerp(pc.p1, u);
+                let guess: Vec<f64> = pc.a0.iter().zip(a1).map(|(x, y)| x + (y - x) * u).collect();
+                let axes = if k == steps {
+                    a1.to_vec()
+                } else {
+                    match self.solve_linear(guess, p)? {
+                        Some(a) => a,
+                        None => return Ok(None),
+                    }
+                };
+                poses.push((axes, p, slerp(pc.n0, pc.n1, u)));
+            }
+            let (mut wp, mut wa) = (0.0f64, 0.0f64);
+            let mut from = pc.a0.to_vec();
+            for (axes, _, _) in &poses {
+                let (q0, r0) = self.machine.forward(&from)?;
+                let (q1, r1) = self.machine.forward(axes)?;
+                let kk = self.bounds.samples.max(2);
+                for i in 1..kk {
+                    let s = i as f64 / kk as f64;
+                    let fw = self.machine.forward(&lerp_axes(&from, axes, s))?;
+                    wp = wp.max((fw.0 - q0.lerp(q1, s)).length());
+                    wa = wa.max(num::deg(num::angle_between(fw.1, slerp(r0, r1, s))));
+                }
+                from = axes.clone();
+            }
+            if wp > SAMPLING_MARGIN * self.bounds.max_position_mm
+                || wa > SAMPLING_MARGIN * self.bounds.max_angle_deg
+            {
+                ok = false;
+            }
+            if ok {
+                rep.worst_position_mm = rep.worst_position_mm.max(wp);
+                rep.worst_angle_deg = rep.worst_angle_deg.max(wa);
+                rep.reposes += 1;
+                return Ok(Some(poses));
+            }
+            steps *= 2;
+        }
+        Ok(None)
+    }
+
     fn wraps(&self, a0: &[f64], a1: &[f64]) -> bool {
         self.wrap_axes
             .iter()
@@ -178,12 +311,19 @@ impl Ctx<'_> {
         pc: Piece,
         a1: Vec<f64>,
         depth: u32,
-        out: &mut Vec<(Vec<f64>, DVec3, DVec3, bool)>,
+        out: &mut Vec<End>,
         rep: &mut TessellationReport,
     ) -> Result<(), MachineError> {
         if self.wraps(pc.a0, &a1) {
             rep.rotate_arounds += 1;
-            out.push((a1, pc.p1, pc.n1, true));
+            out.push(End {
+                axes: a1,
+                p: pc.p1,
+                n: pc.n1,
+                wrap: true,
+                limited: false,
+                repose: false,
+            });
             return Ok(());
         }
         let len = (pc.p1 - pc.p0).length();
@@ -211,6 +351,11 @@ impl Ctx<'_> {
                 rep,
             )?;
             let (p1, n1) = (pc.p1, pc.n1);
+            // the second half starts where the first one actually ended (its last piece may
+            // have re-chosen the branch) and its end is seeded from there, so a branch (signed
+            // tilt, unwrapped rotation) chosen along the way is kept instead of jumping back
+            let am = out.last().map_or(am, |e| e.axes.clone());
+            let a1 = self.machine.inverse(p1, n1, Some(&am))?;
             return self.split(
                 Piece {
                     p0: pm,
@@ -226,13 +371,147 @@ impl Ctx<'_> {
             );
         }
         if over {
+            // a discontinuity of the pose (a held rotary axis catching up): turn the rotary
+            // axes in steps with the linear axes solved so the tip stays on the path
+            if let Some(poses) = self.repose(&pc, &a1, rep)? {
+                for (axes, p, n) in poses {
+                    out.push(End {
+                        axes,
+                        p,
+                        n,
+                        wrap: false,
+                        limited: false,
+                        repose: true,
+                    });
+                }
+                return Ok(());
+            }
             rep.depth_limited += 1;
         }
         rep.worst_position_mm = rep.worst_position_mm.max(dp);
         rep.worst_angle_deg = rep.worst_angle_deg.max(da);
-        out.push((a1, pc.p1, pc.n1, false));
+        out.push(End {
+            axes: a1,
+            p: pc.p1,
+            n: pc.n1,
+            wrap: false,
+            limited: over,
+            repose: false,
+        });
         Ok(())
     }
+}
+
+/// The machine's wrap-around axes: single-revolution rotary axes (travel ≤ 360°).
+fn wrap_axes(machine: &dyn Machine) -> Vec<bool> {
+    machine
+        .limits()
+        .iter()
+        .map(|l| l.rotary && l.max - l.min <= 360.0 + 1e-9)
+        .collect()
+}
+
+/// Parameter step used to look at the pose just after the start of a move.
+pub const START_PROBE: f64 = 1e-7;
+
+/// One input move: from the pose `from = (axes, p, n)` to the toolpath point `to`, split until
+/// the firmware's interpolation stays within `bounds`.
+///
+/// **Held axes.** Where the previous pose holds an undefined rotary axis (a vertical tool on a
+/// rotating tilted nozzle), the realised tool axis jumps as soon as the move starts. Such a jump
+/// (more than the angle bound between `forward(axes₀)` and the pose at s = [`START_PROBE`]) is
+/// first done in place: a reorientation at the start tip from the realised axis r₀ to r_ε,
+/// tessellated like a move (intended path: tip fixed, axis slerp(r₀, r_ε)), marked `reorient`. `rep` accumulates the measurements
+/// (input and output move counts, worst errors, dropped angle, rotate-arounds). The filament
+/// `to.e` is shared among the pieces in proportion to tip length (equally for a move without
+/// tip length), so the pieces sum to it.
+pub fn tessellate_move(
+    machine: &dyn Machine,
+    from: (&[f64], DVec3, DVec3),
+    to: &ToolPoint,
+    bounds: &Bounds,
+    rep: &mut TessellationReport,
+) -> Result<Vec<MachineMove>, MachineError> {
+    let ctx = Ctx {
+        machine,
+        bounds: *bounds,
+        wrap_axes: wrap_axes(machine),
+    };
+    let (a0_in, p0, n0) = from;
+    let mut ends = Vec::new();
+    let mut reoriented = 0;
+    let r0 = machine.forward(a0_in)?.1;
+    let pe = p0.lerp(to.p, START_PROBE);
+    let ae = machine.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
+    let re = machine.forward(&ae)?.1;
+    let a_start;
+    let a0: &[f64] =
+        if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
+            let a_r = machine.inverse(p0, re, Some(a0_in))?;
+            let pc = Piece {
+                p0,
+                n0: r0,
+                p1: p0,
+                n1: re,
+                a0: a0_in,
+            };
+            ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
+            reoriented = ends.len();
+            a_start = a_r;
+            &a_start
+        } else {
+            a0_in
+        };
+    let a1 = machine.inverse(to.p, to.n, Some(a0))?;
+    let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
+    rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+    rep.moves_in += 1;
+    let pc = Piece {
+        p0,
+        n0,
+        p1: to.p,
+        n1: to.n,
+        a0,
+    };
+    ctx.split(pc, a1, 0, &mut ends, rep)?;
+    let total = (to.p - p0).length();
+    let mut last_p = p0;
+    let count = ends.len();
+    let mut moves = Vec::with_capacity(count);
+    for (i, end) in ends.into_iter().enumerate() {
+        let End {
+            axes,
+            p,
+            n,
+            wrap,
+            limited,
+            repose,
+        } = end;
+        let reorient = i < reoriented || repose;
+        let len = (p - last_p).length();
+        let share = if total > crate::tolerance::LENGTH_EPSILON {
+            len / total
+        } else {
+            1.0 / count as f64
+        };
+        last_p = p;
+        moves.push(MachineMove {
+            axes,
+            p,
+            n,
+            e: to.e * share,
+            f: to.f,
+            tip_length: len,
+            layer: to.layer,
+            feature: to.feature,
+            travel: to.travel,
+            rotate_around: wrap,
+            depth_limited: limited,
+            reorient,
+        });
+    }
+    rep.moves_out += moves.len();
+    Ok(moves)
 }
 
 /// Turn a toolpath into machine moves whose linear interpolation stays within `bounds`.
@@ -244,75 +523,39 @@ pub fn tessellate(
     start: Option<&[f64]>,
     bounds: &Bounds,
 ) -> Result<(Vec<MachineMove>, TessellationReport), MachineError> {
-    let wrap_axes = machine
-        .limits()
-        .iter()
-        .map(|l| l.rotary && l.max - l.min <= 360.0 + 1e-9)
-        .collect();
-    let ctx = Ctx {
-        machine,
-        bounds: *bounds,
-        wrap_axes,
-    };
-    let mut rep = TessellationReport {
-        moves_in: path.len(),
-        ..Default::default()
-    };
-    let mut moves = Vec::with_capacity(path.len());
+    let mut rep = TessellationReport::default();
+    let mut moves: Vec<MachineMove> = Vec::with_capacity(path.len());
     let mut prev: Option<(Vec<f64>, DVec3, DVec3)> = None;
-    let mut ends = Vec::new();
     for tp in path {
-        let seed = match &prev {
-            Some((a, _, _)) => Some(a.as_slice()),
-            None => start,
-        };
-        let a1 = machine.inverse(tp.p, tp.n, seed)?;
-        let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
-        rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
-        ends.clear();
         match &prev {
-            None => ends.push((a1, tp.p, tp.n, false)),
-            Some((a0, p0, n0)) => {
-                let pc = Piece {
-                    p0: *p0,
-                    n0: *n0,
-                    p1: tp.p,
-                    n1: tp.n,
-                    a0,
-                };
-                ctx.split(pc, a1, 0, &mut ends, &mut rep)?;
+            None => {
+                let a1 = machine.inverse(tp.p, tp.n, start)?;
+                let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
+                rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+                rep.moves_in += 1;
+                rep.moves_out += 1;
+                moves.push(MachineMove {
+                    axes: a1,
+                    p: tp.p,
+                    n: tp.n,
+                    e: tp.e,
+                    f: tp.f,
+                    tip_length: 0.0,
+                    layer: tp.layer,
+                    feature: tp.feature,
+                    travel: tp.travel,
+                    rotate_around: false,
+                    depth_limited: false,
+                    reorient: false,
+                });
             }
-        }
-        let total = match &prev {
-            Some((_, p0, _)) => (tp.p - *p0).length(),
-            None => 0.0,
-        };
-        let mut last_p = prev.as_ref().map(|(_, p, _)| *p).unwrap_or(tp.p);
-        let count = ends.len();
-        for (axes, p, n, wrap) in ends.drain(..) {
-            let len = (p - last_p).length();
-            let share = if total > crate::tolerance::LENGTH_EPSILON {
-                len / total
-            } else {
-                1.0 / count as f64
-            };
-            last_p = p;
-            moves.push(MachineMove {
-                axes,
-                p,
-                n,
-                e: tp.e * share,
-                f: tp.f,
-                tip_length: len,
-                layer: tp.layer,
-                feature: tp.feature,
-                travel: tp.travel,
-                rotate_around: wrap,
-            });
+            Some((a0, p0, n0)) => {
+                let m = tessellate_move(machine, (a0, *p0, *n0), tp, bounds, &mut rep)?;
+                moves.extend(m);
+            }
         }
         let last = moves.last().map(|m| m.axes.clone()).unwrap_or_default();
         prev = Some((last, tp.p, tp.n));
     }
-    rep.moves_out = moves.len();
     Ok((moves, rep))
 }

@@ -5,13 +5,27 @@
 //! [`Cartesian`] emitter writes 3-axis G-code (`G1 X Y Z E F`); a machine's emitter (see
 //! [`crate::machine`]) turns the same points into its axes.
 
+use glam::DVec3;
+
 use crate::gcode::write::{push_e, push_feed, push_mm};
+use crate::machine::{MachineError, MachineReport};
 use crate::toolpath::ToolPoint;
 
 use super::EWriter;
 
 /// Turns toolpath points into G-code.
 pub trait Emitter: Send {
+    /// Header lines after warpslice's own (`; warpslice machine = …`).
+    fn header(&mut self, _out: &mut Vec<u8>) {}
+    /// The printed region starts; the head is at `p` with tool axis `n` (output frame).
+    fn begin_region(&mut self, _out: &mut Vec<u8>, _p: DVec3, _n: DVec3) -> Result<(), MachineError> {
+        Ok(())
+    }
+    /// The printed region ends (after the driver's lift): leave the machine ready for the
+    /// 3-axis G-code that follows.
+    fn end_region(&mut self, _out: &mut Vec<u8>) -> Result<(), MachineError> {
+        Ok(())
+    }
     /// A line that passes through verbatim (without its terminator).
     fn raw(&mut self, out: &mut Vec<u8>, raw: &[u8]) {
         out.extend_from_slice(raw);
@@ -19,14 +33,19 @@ pub trait Emitter: Send {
     }
     /// Move to `tp` from the previous point: an extrusion (`!tp.travel`), a travel
     /// (`tp.travel`, `tp.e == 0`) or, when `tp.travel` and `tp.e != 0`, a retraction or
-    /// unretraction in place. `relative_e`: the file's E mode (M83) in force.
-    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool);
+    /// unretraction in place. `relative_e`: the file's E mode (M83) in force. A machine that
+    /// cannot reach the point returns the error; the driver stops with it.
+    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) -> Result<(), MachineError>;
     /// `G92 E v` passed through: the firmware's E is now v.
     fn reset_e(&mut self, v: f64);
     /// The firmware's E after the last point (absolute mode).
     fn current_e(&self) -> f64;
     /// End of the output (flush anything held back).
     fn finish(&mut self, _out: &mut Vec<u8>) {}
+    /// The machine's measurements (machine emitters only).
+    fn machine_report(&self) -> Option<MachineReport> {
+        None
+    }
 }
 
 /// The 3-axis emitter: `G1 X Y Z E F` for extrusions, `G0 X Y Z F` for travels, `G1 E F` for
@@ -61,7 +80,7 @@ fn xyz(out: &mut Vec<u8>, tp: &ToolPoint) {
 }
 
 impl Emitter for Cartesian {
-    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) {
+    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) -> Result<(), MachineError> {
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");
@@ -78,6 +97,7 @@ impl Emitter for Cartesian {
         }
         self.feed(out, tp.f);
         out.push(b'\n');
+        Ok(())
     }
 
     fn reset_e(&mut self, v: f64) {

@@ -27,6 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::gcode::write::push_e;
 use crate::gcode::{Command, GcodeError, Line, Move, ReadOptions, Reader, State};
 use crate::job::Job;
+use crate::machine::{FeedMode, Flavour, MachineEmitter, MachineError, MachineReport, MachineSpec};
 use crate::pipeline::Error;
 use crate::register::{Registration, Scanner};
 use crate::tolerance::{
@@ -70,6 +71,37 @@ pub struct UnwarpOptions {
     pub retract_length: f64,
     /// Keep the toolpath in memory (for the machines and the preview).
     pub collect_toolpath: bool,
+    /// `--machine`: write the machine's axes instead of 3-axis G-code. In JSON a machine
+    /// object or a preset name (`"machine": "pax-5axis"`).
+    #[serde(deserialize_with = "machine_from_json")]
+    pub machine: Option<MachineSpec>,
+    /// `--feed`: how F is written for a machine.
+    pub feed: FeedMode,
+    /// `--flavour`: the firmware (overrides the machine's).
+    pub flavour: Option<Flavour>,
+}
+
+/// `machine` in the options JSON: `null`, a preset name or a machine object.
+fn machine_from_json<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<MachineSpec>, D::Error> {
+    use serde::de::Error as _;
+    match Option::<serde_json::Value>::deserialize(d)? {
+        None | Some(serde_json::Value::Null) => Ok(None),
+        Some(serde_json::Value::String(name)) => crate::machine::preset(&name).map(Some).map_err(D::Error::custom),
+        Some(v @ serde_json::Value::Object(_)) => {
+            MachineSpec::from_json(&v.to_string(), "unwarp options 'machine'").map(Some).map_err(D::Error::custom)
+        }
+        Some(other) => Err(D::Error::custom(format!("machine must be a preset name or a machine object, not {other}"))),
+    }
+}
+
+impl UnwarpOptions {
+    /// The emitter these options ask for: 3-axis, or the machine's.
+    pub fn emitter(&self) -> Result<Box<dyn Emitter>, MachineError> {
+        Ok(match &self.machine {
+            None => Box::new(Cartesian::new()),
+            Some(spec) => Box::new(MachineEmitter::new(spec, self.flavour, self.feed)?),
+        })
+    }
 }
 
 impl Default for UnwarpOptions {
@@ -84,6 +116,9 @@ impl Default for UnwarpOptions {
             travel_clearance: DEFAULT_TRAVEL_CLEARANCE,
             retract_length: DEFAULT_RETRACT_LENGTH,
             collect_toolpath: false,
+            machine: None,
+            feed: FeedMode::default(),
+            flavour: None,
         }
     }
 }
@@ -120,6 +155,8 @@ pub struct UnwarpReport {
     pub lifts: u64,
     /// Retractions added around lifted travels.
     pub retracts_added: u64,
+    /// The machine emitter's measurements (`--machine`).
+    pub machine: Option<MachineReport>,
 }
 
 /// Why a G-code cannot be unwarped.
@@ -135,6 +172,9 @@ pub enum UnwarpError {
     Gcode(GcodeError),
     /// The streaming calls came in the wrong order.
     Order { expected: &'static str },
+    /// The machine cannot follow the toolpath (or cannot be set up): the G-code line being
+    /// unwarped when it happened (`None`: before the first line).
+    Machine { line: Option<u64>, error: MachineError },
 }
 
 impl From<GcodeError> for UnwarpError {
@@ -159,6 +199,8 @@ impl std::fmt::Display for UnwarpError {
             }
             UnwarpError::Gcode(e) => e.fmt(f),
             UnwarpError::Order { expected } => write!(f, "unwarp: call {expected} first"),
+            UnwarpError::Machine { line: Some(line), error } => write!(f, "G-code line {line}: {error}"),
+            UnwarpError::Machine { line: None, error } => error.fmt(f),
         }
     }
 }
@@ -193,6 +235,8 @@ struct Core {
     dy: f64,
     out: Vec<u8>,
     emit: Box<dyn Emitter>,
+    /// The first error the emitter returned (the driver stops at the end of that line).
+    emit_error: Option<UnwarpError>,
     /// The slicer's own E position (absolute files), to re-synchronise after the region.
     slicer_e: f64,
     /// Output position and tool axis, output frame.
@@ -222,6 +266,8 @@ pub struct Unwarper {
     scanner: Option<Scanner>,
     reader: Reader,
     core: Option<Core>,
+    /// The emitter, until pass 2 starts.
+    emitter: Option<Box<dyn Emitter>>,
     finished: bool,
 }
 
@@ -242,7 +288,9 @@ impl Unwarper {
         }
         // build once to validate the job's warp
         job.warp.clone().build(&job.model_bbox)?;
+        let emitter = opts.emitter().map_err(|error| UnwarpError::Machine { line: None, error })?;
         Ok(Unwarper {
+            emitter: Some(emitter),
             job: job.clone(),
             opts: opts.clone(),
             scanner: Some(Scanner::new(job)),
@@ -276,7 +324,8 @@ impl Unwarper {
             dx,
             dy,
             out: Vec::with_capacity(1 << 16),
-            emit: Box::new(Cartesian::new()),
+            emit: self.emitter.take().ok_or(UnwarpError::Order { expected: "end_scan only once:" })?,
+            emit_error: None,
             slicer_e: 0.0,
             cur: None,
             pending: None,
@@ -337,9 +386,13 @@ impl Unwarper {
             core.end_region();
         }
         core.report.largest_tilt_deg = crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
+        if let Some(e) = core.emit_error.take() {
+            return Err(e.into());
+        }
         let start = core.out.len();
         core.emit.finish(&mut core.out);
         core.report.lines_out += core.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
+        core.report.machine = core.emit.machine_report();
         self.finished = true;
         Ok(core.report.clone())
     }
@@ -383,9 +436,35 @@ impl Core {
             self.out.extend_from_slice(l.as_bytes());
             self.nl();
         }
+        self.counted(|c| c.emit.header(&mut c.out));
+    }
+
+    /// Run `f` (which writes to `out`) and count the lines it wrote.
+    fn counted<R>(&mut self, f: impl FnOnce(&mut Core) -> R) -> R {
+        let start = self.out.len();
+        let r = f(self);
+        self.report.lines_out += self.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
+        r
+    }
+
+    /// Keep the first emitter error, naming the G-code line.
+    fn keep_error(&mut self, r: Result<(), MachineError>) {
+        if let Err(error) = r {
+            if self.emit_error.is_none() {
+                self.emit_error = Some(UnwarpError::Machine { line: Some(self.report.lines_in), error });
+            }
+        }
     }
 
     fn line(&mut self, line: &Line<'_>, state: &State) -> Result<(), UnwarpError> {
+        self.line_inner(line, state)?;
+        match self.emit_error.take() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    fn line_inner(&mut self, line: &Line<'_>, state: &State) -> Result<(), UnwarpError> {
         self.report.lines_in = line.number;
         self.e_relative = state.e_relative;
         let n = line.number;
@@ -395,10 +474,13 @@ impl Core {
             if state.inch {
                 return Err(UnwarpError::Inches { line: n });
             }
-            self.cur = Some((state_position_before(line, state), DVec3::Z));
+            let p = state_position_before(line, state);
+            self.cur = Some((p, DVec3::Z));
             // the firmware's E is the slicer's at this point (absolute files: E words continue
             // from it)
             self.emit.reset_e(self.slicer_e);
+            let r = self.counted(|c| c.emit.begin_region(&mut c.out, p, DVec3::Z));
+            self.keep_error(r);
         }
         if !in_region && self.inside && !self.done_region {
             self.end_region();
@@ -442,9 +524,11 @@ impl Core {
 
     /// Hand a point to the emitter (counting the lines it writes) and keep it.
     fn emit_point(&mut self, tp: ToolPoint, relative: bool) {
-        let start = self.out.len();
-        self.emit.point(&mut self.out, &tp, relative);
-        self.report.lines_out += self.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
+        if self.emit_error.is_some() {
+            return;
+        }
+        let r = self.counted(|c| c.emit.point(&mut c.out, &tp, relative));
+        self.keep_error(r);
         if !tp.travel || tp.e == 0.0 {
             self.cur = Some((tp.p, tp.n));
         }
@@ -650,6 +734,10 @@ impl Core {
             if z > cur.z {
                 self.write_travel(DVec3::new(cur.x, cur.y, z), n, DEFAULT_TRAVEL_FEED);
             }
+        }
+        if self.emit_error.is_none() {
+            let r = self.counted(|c| c.emit.end_region(&mut c.out));
+            self.keep_error(r);
         }
         if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > extrusion::E_QUANTUM {
             let line = format!("G92 E{} ; warpslice: back to the slicer's E", fmt_e(self.slicer_e));

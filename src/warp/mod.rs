@@ -10,11 +10,14 @@
 //! | [`tilted`] | z + s·c·\|x+a\| | 000 Eq. 2 |
 //! | [`conic`] | z + c·r·tan α, r = \|(x, y) − centre\| | 002 (Slicer4RTN) |
 //! | [`belt`] | z + (d·(x, y))·tan α | 002 (`--axis=3`) |
+//! | [`cylindrical`] | ρ − R, ρ = distance to a horizontal axis ∥ X | 002 (mandrel) |
+//! | [`spherical`] | ρ − R, ρ = distance to a centre | 002 (5-axis) |
 //!
 //! c = +1 for `outward` (z' = z + g, g ≥ 0 growing away from the centre: layers fall outward and
-//! the tool tilts outward), −1 for `inward`. All four are shears in z: T(x,y,z) = (x, y, z + g(x,y)),
+//! the tool tilts outward), −1 for `inward`. The first four are shears in z: T(x,y,z) = (x, y, z + g(x,y)),
 //! so det J = 1 and extruded volume is unchanged. The optional [`base`] blend keeps the first
-//! layers flat: z' = z + w(z)·g(x, y).
+//! layers flat: z' = z + w(z)·g(x, y). The cylindrical and spherical warps are not shears (their
+//! own files implement [`Warp`]; det J ≠ 1, so E is scaled by 1/det J) and refuse `--base`.
 //!
 //! The tool axis at a model point is the unit layer normal ∇T_z / |∇T_z| (tip → nozzle).
 
@@ -25,8 +28,10 @@ pub mod base;
 pub mod belt;
 pub mod conic;
 pub mod curved;
+pub mod cylindrical;
 pub mod laws;
 pub mod shear;
+pub mod spherical;
 pub mod tilted;
 
 pub use base::BaseBlend;
@@ -107,6 +112,11 @@ pub enum WarpSpec {
     Conic { angle: f64, direction: Direction, center: [f64; 2] },
     /// Seed 002 tilted slices: planes falling toward the unit vector `toward`.
     Belt { angle: f64, toward: [f64; 2] },
+    /// Seed 002 mandrel: coaxial cylinders about the axis ∥ X through (y, z) = `axis`, the first
+    /// of radius `radius` (mm).
+    Cylindrical { radius: f64, axis: [f64; 2] },
+    /// Seed 002 5-axis: concentric spheres about `center`, the first of radius `radius` (mm).
+    Spherical { radius: f64, center: [f64; 3] },
 }
 
 impl WarpSpec {
@@ -117,6 +127,8 @@ impl WarpSpec {
             WarpSpec::Tilted { .. } => "tilted",
             WarpSpec::Conic { .. } => "conic",
             WarpSpec::Belt { .. } => "belt",
+            WarpSpec::Cylindrical { .. } => "cylindrical",
+            WarpSpec::Spherical { .. } => "spherical",
         }
     }
 
@@ -131,6 +143,13 @@ impl WarpSpec {
 
     /// Check the parameters; names the bad one and its allowed range.
     pub fn validate(&self) -> Result<(), WarpError> {
+        fn positive_radius(v: f64) -> Result<(), WarpError> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(WarpError::BadParameter { name: "radius", value: v.to_string(), allowed: "a radius > 0 mm".into() })
+            }
+        }
         fn finite(name: &'static str, v: f64) -> Result<(), WarpError> {
             if v.is_finite() {
                 Ok(())
@@ -197,13 +216,30 @@ impl WarpSpec {
                     });
                 }
             }
+            WarpSpec::Cylindrical { radius, axis } => {
+                finite("axis", axis[0])?;
+                finite("axis", axis[1])?;
+                positive_radius(radius)?;
+            }
+            WarpSpec::Spherical { radius, center } => {
+                for c in center {
+                    finite("center", c)?;
+                }
+                positive_radius(radius)?;
+            }
         }
         Ok(())
     }
 
-    /// The height function g(x, y) of this shear warp.
-    pub fn height(&self) -> Box<dyn Height> {
-        match *self {
+    /// Whether this warp is a shear in z (has a height function g(x, y) and takes `--base`).
+    pub fn is_shear(&self) -> bool {
+        !matches!(self, WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. })
+    }
+
+    /// The height function g(x, y) of a shear warp (`None` for the cylindrical and spherical
+    /// warps, which are not shears).
+    pub fn height(&self) -> Option<Box<dyn Height>> {
+        Some(match *self {
             WarpSpec::Curved { strength, direction, offset, width } => {
                 Box::new(curved::Curved::new(strength, direction, offset, width))
             }
@@ -214,7 +250,8 @@ impl WarpSpec {
                 Box::new(conic::Conic::new(angle, direction, center))
             }
             WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
-        }
+            WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. } => return None,
+        })
     }
 
     /// The largest value of this warp's strength parameter (strength, or angle in degrees) for
@@ -227,6 +264,8 @@ impl WarpSpec {
             WarpSpec::Conic { angle, .. } | WarpSpec::Belt { angle, .. } => {
                 ("angle", crate::num::deg(crate::num::atan(crate::num::tan(crate::num::rad(angle)) * ratio)))
             }
+            // not shears: no base blend, no limit
+            WarpSpec::Cylindrical { radius, .. } | WarpSpec::Spherical { radius, .. } => ("radius", radius),
         }
     }
 }
@@ -241,6 +280,8 @@ pub enum WarpError {
     NotMonotonic { warp: &'static str, parameter: &'static str, largest_allowed: f64, base: [f64; 2], worst_point: [f64; 2] },
     /// The inverse did not converge (a point outside the warp's domain).
     InverseFailed { point: [f64; 3] },
+    /// `--base` given for a warp that is not a shear in z.
+    BaseNotSupported { warp: &'static str },
 }
 
 impl std::fmt::Display for WarpError {
@@ -254,6 +295,10 @@ impl std::fmt::Display for WarpError {
                 "the {warp} warp with --base {},{} folds the layers over near x = {:.2}, y = {:.2} (∂z'/∂z ≤ 0): \
                  the largest allowed {parameter} for this model and base is {:.3}; lower it or widen the base blend (larger z1 − z0)",
                 base[0], base[1], worst_point[0], worst_point[1], largest_allowed
+            ),
+            WarpError::BaseNotSupported { warp } => write!(
+                f,
+                "the {warp} warp does not take --base (its layers are not heights over the bed); remove --base"
             ),
             WarpError::InverseFailed { point } => write!(
                 f,
@@ -280,6 +325,16 @@ impl WarpParams {
     pub fn build(&mut self, model_bbox: &crate::mesh::Aabb) -> Result<Box<dyn Warp>, WarpError> {
         self.spec.resolve(model_bbox);
         self.spec.validate()?;
+        if !self.spec.is_shear() {
+            if self.base.is_some() {
+                return Err(WarpError::BaseNotSupported { warp: self.spec.name() });
+            }
+            return Ok(match self.spec {
+                WarpSpec::Cylindrical { radius, axis } => Box::new(cylindrical::Cylindrical::new(radius, axis)),
+                WarpSpec::Spherical { radius, center } => Box::new(spherical::Spherical::new(radius, center)),
+                _ => return Err(WarpError::BaseNotSupported { warp: self.spec.name() }),
+            });
+        }
         let blend = match self.base {
             None => None,
             Some([z0, z1]) => {
@@ -293,7 +348,10 @@ impl WarpParams {
                 Some(BaseBlend::new(z0, z1))
             }
         };
-        let shear = Shear::new(self.spec.height(), blend);
+        let Some(height) = self.spec.height() else {
+            return Err(WarpError::BaseNotSupported { warp: self.spec.name() });
+        };
+        let shear = Shear::new(height, blend);
         if let Some(b) = blend {
             // ∂z'/∂z = 1 + w'(z)·g(x,y) ≥ 1 − w'_max·max(−g): check g over the bbox.
             let (min_g, at) = shear.height().min_over(model_bbox);

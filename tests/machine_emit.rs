@@ -1,0 +1,590 @@
+//! Machines end to end with a real slicer (PrusaSlicer, relative E): for every preset a
+//! generated part is warped with a warp that suits the machine, sliced, and unwarped with the
+//! machine. The output is parsed with the machine's axis letters (a small parser here: the
+//! crate's reader only tracks X Y Z E) and checked:
+//! - every toolpath point is reached: walking the output in order, the forward kinematics of a
+//!   line lands on each toolpath tip within 0.01 mm, and (where the machine realises the axis
+//!   without a branch choice) on its realised tool axis within 0.1°; every line in between lies
+//!   on the toolpath segment;
+//! - interpolation: 100 points sampled on every output move stay within 0.02 mm / 0.1° of the
+//!   intended path (linear tip, slerp tool axis, realised by the machine);
+//! - each preset writes a sample G-code (kept in a temp dir) that parses.
+//!
+//! A missing PrusaSlicer fails the test unless `WARPSLICE_ALLOW_SKIP=1`.
+#![cfg(not(target_arch = "wasm32"))]
+
+use glam::DVec3;
+use warpslice::machine::tessellate::slerp;
+use warpslice::machine::{preset, Machine, MachineSpec};
+use warpslice::pipeline::{warp_model, WarpOptions};
+use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
+use warpslice::toolpath::ToolPoint;
+use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+/// Tip tolerance of the forward check, mm (issue: 0.01).
+const TIP_TOL: f64 = 0.01;
+/// Tool-axis tolerance, degrees (issue: 0.1).
+const AXIS_TOL_DEG: f64 = 0.1;
+/// Interpolation bound, mm / degrees, plus the 3-decimal rounding of the written axes.
+const INTERP_MM: f64 = 0.02 + 0.002;
+const INTERP_DEG: f64 = 0.1 + 0.005;
+/// Samples per output move (issue: 100).
+const SAMPLES: usize = 100;
+
+fn tmpdir(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// A 10 mm cube (the 20 mm example scaled), STL bytes.
+fn part() -> Vec<u8> {
+    let mut m = warpslice::shapes::example("cube").expect("cube");
+    for v in &mut m.vertices {
+        *v *= 0.5;
+    }
+    warpslice::mesh::write_stl(&m, "cube 10")
+}
+
+fn conic(angle: f64, center: [f64; 2]) -> WarpSpec {
+    WarpSpec::Conic { angle, direction: Direction::Outward, center }
+}
+
+/// The warp each preset is tested with.
+fn warp_for(preset: &str) -> WarpSpec {
+    match preset {
+        "cartesian" | "fullcontrol-prusa-b" => {
+            WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 0.0, width: 0.0 }
+        }
+        // the cone's apex is a singular point of the tool-axis field (its azimuth turns by
+        // 180° across it): keep it outside the part
+        "rtn-slicer4rtn" | "rotbot" => conic(45.0, [-15.0, 0.0]),
+        "ratrig-vcore3-3z" => WarpSpec::Belt { angle: 20.0, toward: [0.0, 1.0] },
+        // the mandrel of radius 20 mm under the part (the lathe's axis is moved there too)
+        "lathe-a" => WarpSpec::Cylindrical { radius: 20.0, axis: [0.0, -20.0] },
+        _ => conic(25.0, [-15.0, 0.0]),
+    }
+}
+
+/// The slicer's G-code of the warped part, and the job.
+/// Where the slicer centres the part (the machines turning about the output origin; the polar
+/// machine off its centre, which is its singular point).
+fn centre_for(preset: &str) -> Option<&'static str> {
+    match preset {
+        "core-r-theta" => Some("60,0"),
+        "open5x-ab" | "lathe-a" => Some("0,0"),
+        _ => None,
+    }
+}
+
+fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &str) -> Option<(Vec<u8>, warpslice::job::Job)> {
+    if let Err(e) = slicer::available(SlicerKind::PrusaSlicer) {
+        if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
+            println!("SKIPPED {tag}: {e}");
+            return None;
+        }
+        panic!("PrusaSlicer is needed for this test: {e}");
+    }
+    let w = warp_model(&part(), &WarpOptions::new(WarpParams { spec: spec.clone(), base: None })).expect("warp");
+    let stl = dir.join(format!("{tag}.stl"));
+    let gcode = dir.join(format!("{tag}.sliced.gcode"));
+    std::fs::write(&stl, &w.stl).expect("write stl");
+    let mut so = SliceOptions { slicer: SlicerKind::PrusaSlicer, e_mode: EMode::Relative, ..SliceOptions::default() };
+    if let Some(c) = centre {
+        // machines whose rotation axes pass through the output origin: print near it
+        so.extra_args = ["--bed-shape", "-100x-100,100x-100,100x100,-100x100", "--center", c].map(String::from).to_vec();
+    }
+    slicer::slice(&stl, &gcode, &so).expect("slice");
+    Some((std::fs::read(&gcode).expect("read gcode"), w.job))
+}
+
+/// One parsed output line with machine axes.
+#[derive(Clone, Debug)]
+struct AxisLine {
+    number: usize,
+    axes: Vec<f64>,
+    rotate_around: bool,
+    /// The axes after a `G92` rename that follows this line (the start of the next move).
+    after: Option<Vec<f64>>,
+    reorient: bool,
+    discontinuity: bool,
+}
+
+/// Parse the machine G-code: `G1` lines with every axis letter (the region), `G92` on the
+/// axes (rotary resets, the triple-Z offset, subtracted to give raw values).
+fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
+    let mut offset = 0.0;
+    for l in text.lines() {
+        if let Some(rest) = l.strip_prefix("; warpslice z axes offset = ") {
+            offset = rest.split_whitespace().next().and_then(|v| v.parse().ok()).ok_or("bad offset line")?;
+        }
+    }
+    let mut cur: Vec<Option<f64>> = vec![None; names.len()];
+    let mut in_offset = false;
+    let mut out: Vec<AxisLine> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let (code, comment) = match raw.find(';') {
+            Some(k) => (&raw[..k], &raw[k..]),
+            None => (raw, ""),
+        };
+        let mut words = code.split_whitespace();
+        let Some(cmd) = words.next() else { continue };
+        if cmd != "G1" && cmd != "G0" && cmd != "G92" {
+            continue;
+        }
+        let mut seen = vec![false; names.len()];
+        for w in words {
+            let (letter, value) = w.split_at(1);
+            if let Some(k) = names.iter().position(|n| n.eq_ignore_ascii_case(letter)) {
+                let v: f64 = value.parse().map_err(|_| format!("line {}: bad number in '{w}'", i + 1))?;
+                cur[k] = Some(v);
+                seen[k] = true;
+            } else if !matches!(letter, "E" | "F" | "X" | "Y" | "Z") {
+                return Err(format!("line {}: unknown word '{w}'", i + 1));
+            }
+        }
+        if cmd == "G92" {
+            if comment.contains("z axes offset (level bed") {
+                in_offset = true;
+            } else if comment.contains("z axes offset removed") {
+                in_offset = false;
+            } else if let Some(last) = out.last_mut() {
+                // a rotary reset renames the current position: the next move starts there
+                let mut after = last.after.clone().unwrap_or_else(|| last.axes.clone());
+                for (k, &sn) in seen.iter().enumerate() {
+                    if sn {
+                        after[k] = cur[k].unwrap_or(0.0);
+                    }
+                }
+                last.after = Some(after);
+            }
+            continue;
+        }
+        if seen.iter().all(|&s| s) && names.iter().any(|n| !["X", "Y", "Z"].contains(&n.as_str())) {
+            let mut axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
+            if in_offset {
+                for a in &mut axes[2..5] {
+                    *a -= offset;
+                }
+            }
+            out.push(AxisLine { number: i + 1, axes, rotate_around: comment.contains("rotate-around"),
+                after: None,
+                reorient: comment.contains("; reorient"),
+                discontinuity: comment.contains("; discontinuity"),
+            });
+        }
+    }
+    Ok((out, offset))
+}
+
+/// Distance from `q` to the segment a–b and the parameter of the closest point.
+fn to_segment(q: DVec3, a: DVec3, b: DVec3) -> (f64, f64) {
+    let d = b - a;
+    let l2 = d.length_squared();
+    let s = if l2 > 0.0 { ((q - a).dot(d) / l2).clamp(0.0, 1.0) } else { 1.0 };
+    ((a + d * s - q).length(), s)
+}
+
+fn deg(a: DVec3, b: DVec3) -> f64 {
+    a.angle_between(b).to_degrees()
+}
+
+#[derive(Default, Debug)]
+struct Measured {
+    points: usize,
+    lines: usize,
+    worst_tip: f64,
+    worst_axis: f64,
+    worst_interp_mm: f64,
+    worst_interp_deg: f64,
+    discontinuities: usize,
+    worst_line: usize,
+    fallbacks: usize,
+    worst_detail: String,
+}
+
+/// The checks of the module documentation.
+fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine]) -> Result<Measured, String> {
+    let mut r = Measured { lines: lines.len(), ..Measured::default() };
+    let pts: Vec<&ToolPoint> = toolpath.iter().filter(|t| !(t.travel && t.e != 0.0)).collect();
+    // which segment (index of its end point) and parameter each line belongs to
+    let mut owner: Vec<Option<(usize, f64)>> = vec![None; lines.len()];
+    let mut li = 0usize;
+    for (k, tp) in pts.iter().enumerate() {
+        let start = if k == 0 { tp.p } else { pts[k - 1].p };
+        loop {
+            let Some(line) = lines.get(li) else {
+                return Err(format!("toolpath point {k} at {:?} is never reached by the output", tp.p));
+            };
+            let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
+            li += 1;
+            if line.rotate_around {
+                continue;
+            }
+            let (dseg, s) = to_segment(p, start, tp.p);
+            // (the first point is reached from the region's start, not a toolpath point)
+            if k > 0 && dseg > INTERP_MM {
+                return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
+            }
+            let dtip = (p - tp.p).length();
+            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
+            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
+            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
+            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
+            owner[li - 1] = Some((k, if (tp.p - start).length() > 1e-9 { s } else { 1.0 }));
+            if is_end {
+                r.worst_tip = r.worst_tip.max(dtip);
+                if !free {
+                    r.worst_axis = r.worst_axis.max(axis_err);
+                }
+                r.points += 1;
+                break;
+            }
+        }
+    }
+    // interpolation of every output move between two lines of the same segment (or from the
+    // end of one segment to a line of the next)
+    for w in 1..lines.len() {
+        let b = &lines[w];
+        let mut a = lines[w - 1].clone();
+        if let Some(after) = a.after.take() {
+            a.axes = after;
+        }
+        let a = &a;
+        if a.rotate_around || b.rotate_around {
+            continue;
+        }
+        if b.discontinuity {
+            r.discontinuities += 1;
+            continue;
+        }
+        if b.reorient {
+            // in place: tip fixed, axis slerp between the realised axes of the two lines
+            let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
+            let (_, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+            for i in 1..SAMPLES {
+                let u = i as f64 / SAMPLES as f64;
+                let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+                let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
+                let exact = m.forward(&m.inverse(pa, slerp(na, nb, u), Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+                r.worst_interp_mm = r.worst_interp_mm.max((fp - pa).length());
+                r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact.1));
+            }
+            continue;
+        }
+        // the intended path: the toolpath segment the two lines belong to (tip linear, axis
+        // slerp) when the matching placed both on it; else the straight tip path between the
+        // two lines' tips and the slerp of their realised axes
+        let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
+        let (pb, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+        let seg = owner[w].and_then(|(k, s1)| {
+            let s0 = match owner[w - 1] {
+                Some((k0, s)) if k0 == k => s,
+                Some((k0, _)) if k0 + 1 == k => 0.0,
+                _ => return None,
+            };
+            let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
+            let realised = |s: f64| {
+                m.inverse(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes)).and_then(|x| m.forward(&x)).map(|f| f.1).unwrap_or(DVec3::ZERO)
+            };
+            let on = (t0.p.lerp(t1.p, s0) - pa).length() < 0.005
+                && (t0.p.lerp(t1.p, s1) - pb).length() < 0.005
+                && deg(realised(s0), na) < AXIS_TOL_DEG
+                && deg(realised(s1), nb) < AXIS_TOL_DEG;
+            on.then_some((t0, t1, s0, s1))
+        });
+        if seg.is_none() {
+            r.fallbacks += 1;
+        }
+        for i in 1..SAMPLES {
+            let u = i as f64 / SAMPLES as f64;
+            let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+            let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
+            let (ip, inn) = match seg {
+                Some((t0, t1, s0, s1)) => {
+                    let s = s0 + (s1 - s0) * u;
+                    (t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s))
+                }
+                None => (pa.lerp(pb, u), slerp(na, nb, u)),
+            };
+            let exact = m.forward(&m.inverse(ip, inn, Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+            let dp = (fp - exact.0).length();
+            let da = deg(fn_, exact.1);
+            if da > r.worst_interp_deg {
+                r.worst_line = b.number;
+                r.worst_detail = format!("u {u} seg {:?} na {na:?} nb {nb:?} fw {fn_:?} exact {:?} inn {inn:?}", seg.map(|(t0, t1, s0, s1)| (t0.n, t1.n, s0, s1)), exact.1);
+            }
+            r.worst_interp_mm = r.worst_interp_mm.max(dp);
+            r.worst_interp_deg = r.worst_interp_deg.max(da);
+        }
+    }
+    if r.worst_interp_mm > INTERP_MM || r.worst_interp_deg > INTERP_DEG {
+        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound (worst at output line {}: {})", r.worst_interp_mm, r.worst_interp_deg, r.worst_line, r.worst_detail));
+    }
+    Ok(r)
+}
+
+fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
+    let mut spec = preset(name).map_err(|e| e.to_string())?;
+    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
+        p.axis_z_mm = -20.0;
+    }
+    let tag = format!("{name}-{}", warp.name());
+    let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else { return Ok("skipped".into()) };
+    let opts = UnwarpOptions { collect_toolpath: true, machine: Some(spec.clone()), ..UnwarpOptions::default() };
+    let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
+    let path = dir.join(format!("{tag}.gcode"));
+    std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
+    let text = String::from_utf8(out.gcode.clone()).map_err(|e| e.to_string())?;
+    if !text.contains(&format!("; warpslice machine = {name} reprapfirmware")) || !text.contains("; warpslice model_to_output = ") {
+        return Err("the header lacks the warpslice lines".into());
+    }
+    let m = spec.build().map_err(|e| e.to_string())?;
+    let names = m.axis_names();
+    let (lines, _) = parse(&text, &names)?;
+    let rep = out.report.machine.clone().ok_or("no machine report")?;
+    if name == "cartesian" {
+        return Ok(format!("{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°", text.lines().count(), rep.worst_position_mm, rep.worst_angle_deg));
+    }
+    let meas = check(m.as_ref(), &out.toolpath, &lines).map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
+    // every move left beyond the bound is tagged in the file and counted in the report
+    if meas.discontinuities as u64 != rep.depth_limited || text.matches("; discontinuity").count() as u64 != rep.depth_limited {
+        return Err(format!("{} discontinuities found, the report says {}", meas.discontinuities, rep.depth_limited));
+    }
+    Ok(format!(
+        "{tag:30} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} re-poses, {} depth-limited)",
+        meas.points, meas.lines, meas.worst_tip, meas.worst_axis, meas.worst_interp_mm, meas.worst_interp_deg, meas.fallbacks, meas.discontinuities,
+        rep.worst_position_mm, rep.worst_angle_deg, rep.worst_dropped_deg, rep.rotate_arounds, rep.rotary_resets, rep.reposes, rep.depth_limited
+    ))
+}
+
+#[test]
+fn every_preset_end_to_end_with_prusaslicer() {
+    let dir = tmpdir("e2e");
+    let mut fails = Vec::new();
+    let only = std::env::var("WARPSLICE_ONLY_PRESET").ok();
+    let mut cases: Vec<(&str, WarpSpec)> = warpslice::machine::preset_names().into_iter().map(|n| (n, warp_for(n))).collect();
+    cases.push(("pax-5axis", WarpSpec::Spherical { radius: 20.0, center: [0.0, 0.0, -20.0] }));
+    for (name, warp) in &cases {
+        if only.as_deref().is_some_and(|o| o != *name) {
+            continue;
+        }
+        match run_preset(name, warp, &dir) {
+            Ok(s) => println!("{s}"),
+            Err(e) => fails.push(format!("{name}: {e}")),
+        }
+    }
+    println!("sample G-code in {}", dir.display());
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
+
+#[allow(dead_code)]
+fn unused(_: MachineSpec) {}
+
+fn cli(args: &[&str], stdin: &str) -> (bool, String, String) {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run warpslice");
+    child.stdin.take().expect("stdin").write_all(stdin.as_bytes()).expect("write stdin");
+    let out = child.wait_with_output().expect("wait");
+    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn kinematics_cli_round_trips_and_names_errors() {
+    let (ok, out, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "10,20,5,0,0,1\n10,20,5,0.5,0,0.8660254037844386\n");
+    assert!(ok, "{err}");
+    let (ok, back, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], &out);
+    assert!(ok, "{err}");
+    let v: Vec<f64> = back.lines().nth(1).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((v[0] - 10.0).abs() < 1e-9 && (v[3] - 0.5).abs() < 1e-9, "{back}");
+    // unknown preset
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "no-such-machine"], "");
+    assert!(!ok && err.contains("unknown machine preset 'no-such-machine'") && err.contains("pax-5axis"), "{err}");
+    // a machine file that does not exist
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "/nonexistent/m.json"], "");
+    assert!(!ok && err.contains("cannot read the file"), "{err}");
+    // bad CSV, with the line number
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "1,2,3,0,0,1\n1,2,x,0,0,1\n");
+    assert!(!ok && err.contains("line 2") && err.contains("'x'"), "{err}");
+    let (ok, _, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], "1,2,3\n");
+    assert!(!ok && err.contains("line 1") && err.contains("expected 5"), "{err}");
+    // unreachable orientation: the triple-Z bed tilts at most 30°
+    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "ratrig-vcore3-3z"], "100,100,5,0.7071067811865476,0,0.7071067811865476\n");
+    assert!(!ok && err.contains("cannot be reached") && err.contains("line 1"), "{err}");
+}
+
+#[test]
+fn unwarp_errors_are_named() {
+    let dir = tmpdir("errors");
+    // a 45° cone: beyond the triple-Z bed's 30° tilt
+    let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else { return };
+    let ratrig = UnwarpOptions { machine: Some(preset("ratrig-vcore3-3z").unwrap()), ..UnwarpOptions::default() };
+    let e = unwarp(&input, &job, &ratrig).unwrap_err().to_string();
+    assert!(e.starts_with("G-code line ") && e.contains("cannot be reached") && e.contains("max_tilt_deg"), "{e}");
+    // limit exceeded: the polar machine reaches 150 mm from its centre; the part is at (100, 100)
+    let polar = UnwarpOptions { machine: Some(preset("core-r-theta").unwrap()), ..UnwarpOptions::default() };
+    let e = unwarp(&input, &job, &polar).unwrap_err().to_string();
+    assert!(e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"), "{e}");
+    // Klipper cannot drive a 5-axis head
+    let klipper = UnwarpOptions {
+        machine: Some(preset("pax-5axis").unwrap()),
+        flavour: Some(warpslice::machine::Flavour::Klipper),
+        ..UnwarpOptions::default()
+    };
+    let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();
+    assert!(e.contains("Klipper has no rotary-axis"), "{e}");
+    // options JSON: a preset name, an unknown one
+    let o: UnwarpOptions = serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
+    assert_eq!(o.machine.as_ref().map(|m| m.name.as_str()), Some("rotbot"));
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": "nope"}"#).unwrap_err().to_string();
+    assert!(bad.contains("unknown machine preset 'nope'"), "{bad}");
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#).unwrap_err().to_string();
+    assert!(bad.contains("unknown field 'tilt'"), "{bad}");
+    // through the CLI: the same unreachable orientation
+    let g = dir.join("cone45.sliced.gcode");
+    let j = dir.join("cone45.job.json");
+    std::fs::write(&j, job.to_json_pretty()).unwrap();
+    let o = dir.join("out.gcode");
+    let (ok, _, err) = cli(
+        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "ratrig-vcore3-3z", "-o", o.to_str().unwrap()],
+        "",
+    );
+    assert!(!ok && err.contains("G-code line") && err.contains("cannot be reached"), "{err}");
+    let (ok, _, err) = cli(
+        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "pax-5axis", "--flavour", "klipper", "-o", o.to_str().unwrap()],
+        "",
+    );
+    assert!(!ok && err.contains("Klipper"), "{err}");
+    // inverse-time and all-axes feed through the CLI
+    for feed in ["inverse-time", "all-axes"] {
+        let (ok, out, err) = cli(
+            &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "rotbot", "--feed", feed, "--flavour", "marlin", "-o", o.to_str().unwrap()],
+            "",
+        );
+        assert!(ok, "{err}");
+        assert!(out.contains("machine rotbot (marlin)"), "{out}");
+        let text = std::fs::read_to_string(&o).unwrap();
+        assert!(text.contains("; warpslice machine = rotbot marlin") && text.contains("AXIS4_NAME 'U'"));
+        if feed == "inverse-time" {
+            let g93 = text.find("\nG93").expect("G93");
+            let g94 = text.rfind("\nG94").expect("G94");
+            assert!(g93 < g94);
+        }
+    }
+}
+
+/// Two layers of a circle about the cone's axis, tool axis tilted 45° outward: the azimuth
+/// turns twice through ±180°.
+fn circle_path() -> Vec<ToolPoint> {
+    let mut v = Vec::new();
+    for layer in 0..2u32 {
+        for i in 0..=72 {
+            let t = (i as f64 * 5.0 + 2.5).to_radians();
+            let (s, c) = t.sin_cos();
+            v.push(ToolPoint {
+                p: DVec3::new(100.0 + 10.0 * c, 100.0 + 10.0 * s, 1.0 + layer as f64),
+                n: DVec3::new(c, s, 1.0).normalize(),
+                e: 0.05,
+                f: 1200.0,
+                layer,
+                feature: warpslice::toolpath::Feature::OuterWall,
+                travel: false,
+            });
+        }
+    }
+    v
+}
+
+fn emit_all(spec: &MachineSpec, path: &[ToolPoint]) -> (String, warpslice::machine::MachineReport) {
+    use warpslice::unwarp::Emitter;
+    let mut em = warpslice::machine::MachineEmitter::new(spec, None, warpslice::machine::FeedMode::Xyz).unwrap();
+    let mut out = Vec::new();
+    em.header(&mut out);
+    em.begin_region(&mut out, path[0].p, DVec3::Z).unwrap();
+    for tp in path {
+        em.point(&mut out, tp, true).unwrap();
+    }
+    em.end_region(&mut out).unwrap();
+    em.finish(&mut out);
+    (String::from_utf8(out).unwrap(), em.report())
+}
+
+#[test]
+fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
+    let path = circle_path();
+    let spec = preset("rtn-slicer4rtn").unwrap();
+    let (text, rep) = emit_all(&spec, &path);
+    assert!(rep.rotate_arounds >= 2, "{rep:?}");
+    assert_eq!(text.matches("; rotate-around").count() as u64, 3 * rep.rotate_arounds);
+    let m = spec.build().unwrap();
+    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    assert!(lines.iter().all(|l| (-180.0..=180.0).contains(&l.axes[3])));
+    // every point is reached (tip and realised axis; the descent of a rotate-around lands on
+    // its point), the lifted moves are 1 mm up
+    for tp in &path {
+        let hit = lines.iter().any(|l| {
+            let (p, n) = m.forward(&l.axes).unwrap();
+            (p - tp.p).length() < TIP_TOL && deg(n, m.realised_axis(tp.p, tp.n)) < AXIS_TOL_DEG
+        });
+        assert!(hit, "point {:?} not reached", tp.p);
+    }
+    for l in lines.iter().filter(|l| l.rotate_around) {
+        let (p, _) = m.forward(&l.axes).unwrap();
+        assert!(p.z > 1.0 - 1e-6 && p.z < 3.0 + 1e-6, "a rotate-around line off the path: {p:?}");
+    }
+    assert!(rep.e_skipped_mm > 0.0 && rep.e_skipped_mm < 0.05 * rep.rotate_arounds as f64 + 1e-9);
+
+    let spec = preset("rotbot").unwrap();
+    let (text, rep) = emit_all(&spec, &path);
+    assert_eq!(rep.rotate_arounds, 0);
+    assert!(rep.rotary_resets >= 1 && text.contains("G92 U"), "{text}");
+    let m = spec.build().unwrap();
+    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    // continuous: no jump of U between consecutive lines (a reset renames a line by 360°)
+    for w in lines.windows(2) {
+        let d = w[1].axes[3] - w[0].after.as_ref().unwrap_or(&w[0].axes)[3];
+        assert!(d.abs() < 10.0, "{:?} → {:?}", w[0], w[1]);
+    }
+    assert!(lines.iter().all(|l| l.axes[3].abs() < 540.0));
+    assert!(rep.worst_position_mm <= 0.02 && rep.worst_angle_deg <= 0.1, "{rep:?}");
+}
+
+/// Regression: near the pole of the 5-axis head a split move's halves chose different (A, B)
+/// branches, so the second half started from the midpoint solved from the move's start while
+/// the first half had ended on the other branch: a 160° jump of A between two output lines
+/// (1.87° off the path, found by the spherical warp's top pole on `pax-5axis`).
+#[test]
+fn split_halves_join_on_the_same_branch_near_the_pole() {
+    use warpslice::machine::tessellate::{tessellate_move, TessellationReport, DEFAULT_BOUNDS};
+    let m = preset("pax-5axis").unwrap().build().unwrap();
+    // through the pole: the azimuth turns by ~170° while the tilt passes 0.3°
+    let n0 = DVec3::new(-0.07, -0.11, 0.99).normalize();
+    let n1 = DVec3::new(0.118, 0.118, 0.986).normalize();
+    let (p0, p1) = (DVec3::new(99.0, 98.0, 10.0), DVec3::new(102.0, 101.8, 10.0));
+    let a0 = m.inverse(p0, n0, Some(&[0.0, 0.0, 0.0, 1082.0, 0.0])).unwrap();
+    let to = ToolPoint { p: p1, n: n1, e: 0.1, f: 1200.0, layer: 1, feature: warpslice::toolpath::Feature::OuterWall, travel: false };
+    let mut rep = TessellationReport::default();
+    let moves = tessellate_move(m.as_ref(), (&a0, p0, n0), &to, &DEFAULT_BOUNDS, &mut rep).unwrap();
+    let mut from = a0.clone();
+    for mv in &moves {
+        let (q0, r0) = m.forward(&from).unwrap();
+        let (q1, r1) = m.forward(&mv.axes).unwrap();
+        for i in 1..SAMPLES {
+            let u = i as f64 / SAMPLES as f64;
+            let axes: Vec<f64> = from.iter().zip(&mv.axes).map(|(x, y)| x + (y - x) * u).collect();
+            let (fp, fn_) = m.forward(&axes).unwrap();
+            assert!((fp - q0.lerp(q1, u)).length() < 0.02);
+            assert!(deg(fn_, slerp(r0, r1, u)) < 0.1, "jump {:?} → {:?}", from, mv.axes);
+        }
+        assert!((mv.axes[3] - from[3]).abs() < 90.0, "A jumps {:?} → {:?}", from, mv.axes);
+        from = mv.axes.clone();
+    }
+    assert_eq!(rep.depth_limited, 0);
+}
