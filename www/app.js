@@ -203,9 +203,10 @@ function unwarpOptions() {
   const o = {};
   if (s.unwarp.z_offset) o.z_offset = s.unwarp.z_offset;
   if (s.unwarp.drop_skirt) o.drop_skirt = true;
-  // MACHINE OUTPUT HOOK: when the core's machine G-code stage lands, pass the machine here, e.g.
-  //   o.machine = currentPreset().spec;
-  // (and the worker's UnwarpStream writes that machine's axes). Until then: 3-axis output.
+  // The machine's own G-code (its axes, tessellated, its flavour); plain 3-axis for cartesian,
+  // exactly as the CLI's `unwarp --machine NAME`.
+  const p = currentPreset();
+  if (p && p.name !== 'cartesian') o.machine = p.name;
   return o;
 }
 
@@ -993,22 +994,24 @@ function makeSummary(out, file) {
   const s = readSettings();
   return {
     machine: s.machine,
-    machine_output: '3-axis (machine G-code output not wired yet)',
+    machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',
     warp: JSON.parse(state.warped.job).warp,
     gcode_in: file.name,
     bytes_in: file.size,
     bytes_out: out.bytes,
     report: r,
     print_length_mm: d.stride === 1 ? printLen : null,
-    worst_interpolation_error_mm: null,
+    worst_interpolation_error_mm: r.machine ? r.machine.worst_position_mm : null,
     display: {
-      machine: `${s.machine} (3-axis output for now)`,
+      machine: r.machine ? `${r.machine.machine}, ${r.machine.flavour}, feed ${r.machine.feed}` : `${s.machine} (3-axis)`,
       warp: `${s.warp.kind}`,
       lines: `${r.lines_in.toLocaleString('en')} in → ${r.lines_out.toLocaleString('en')} out`,
       E: `${r.e_in.toFixed(1)} mm in → ${r.e_out.toFixed(1)} mm out (anchor ${r.e_anchor.toFixed(1)}, skirt ${r.e_skirt.toFixed(1)} ${r.skirt})`,
       'print length': d.stride === 1 ? `${(printLen / 1000).toFixed(2)} m` : `preview decimated 1:${d.stride}`,
       'largest tilt': `${r.largest_tilt_deg.toFixed(2)}°`,
-      'worst interpolation error': 'n/a until machine output',
+      'worst interpolation error': r.machine
+        ? `${r.machine.worst_position_mm.toFixed(4)} mm, ${r.machine.worst_angle_deg.toFixed(3)}°`
+        : 'none (3-axis: straight moves)',
       placement: `offset ${r.translation.map((v) => v.toFixed(2)).join(', ')} mm, residual ${r.residual.toExponential(2)}`,
       'output size': `${(out.bytes / 1e6).toFixed(2)} MB`,
     },

@@ -207,6 +207,48 @@ try {
     exampleDir = await roundTrip('example-cylinder', p, 30);
   });
 
+  await test('every preset: the machine G-code is byte-identical to the CLI\'s (or the same named error)', async () => {
+    const p = join(TMP, 'cylinder.stl');
+    await tid('model-input').setInputFiles(p);
+    await warpSettled();
+    for (const name of presetNames) {
+      const dir = join(TMP, `preset-${name}`);
+      mkdirSync(dir, { recursive: true });
+      await tid('machine-select').selectOption(name);
+      await warpSettled();
+      await download('warped-download', join(dir, 'W.stl'));
+      await download('job-download', join(dir, 'W.job.json'));
+      slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+      const machineArgs = name === 'cartesian' ? [] : ['--machine', name];
+      let cliError = null;
+      try {
+        sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
+      } catch (e) {
+        cliError = String(e.stderr ?? e);
+      }
+      await tid('gcode-input').setInputFiles(join(dir, 'W.gcode'));
+      await page.waitForFunction(() => {
+        const pr = document.querySelector('[data-testid="progress"]');
+        const err = document.querySelector('[data-testid="error"]');
+        return pr.dataset.done === '1' || !err.hidden;
+      }, null, { timeout: 600000 });
+      const err = tid('error');
+      if (await err.isVisible()) {
+        const text = await err.innerText();
+        assert(cliError !== null, `${name}: the page showed an error the CLI did not: ${text}`);
+        await screenshot(`preset-${name}-error`);
+        continue;
+      }
+      assert(cliError === null, `${name}: the CLI failed but the page did not: ${cliError}`);
+      const out = await download('result-download', join(dir, 'B.out.gcode'));
+      const cli = readFileSync(join(dir, 'C.out.gcode'));
+      assert(out.equals(cli), `${name}: browser G-code (${out.length} B, ${sha(out)}) differs from the CLI's (${cli.length} B, ${sha(cli)})`);
+      await screenshot(`preset-${name}-result`);
+    }
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+  });
+
   await test('layer slider and move slider change the preview', async () => {
     const vp = page.locator('#canvas-wrap');
     const before = await vp.getAttribute('data-drawn');
