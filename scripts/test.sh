@@ -99,13 +99,9 @@ web_tests() {
   else
     (cd www && npm install --no-audit --no-fund) || return
   fi
-  # Browser-only wasm tests (File, Blob, Worker) in headless chromium; webdriver.json passes
-  # chromium's flags. This is `wasm-pack test --headless --chrome -- --features browser-tests
-  # --test web_wasm` run through cargo directly: wasm-pack adds `--tests`, which also compiles
-  # every other tests/*.rs for wasm32 (and the proptest-based ones do not build there).
-  CHROMEDRIVER=${CHROMEDRIVER:-$(command -v chromedriver)} \
-    CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
-    cargo test --target wasm32-unknown-unknown --features browser-tests --test web_wasm || return
+  # Browser-only wasm tests (File, Blob, Worker) in headless chromium (chromedriver on PATH;
+  # webdriver.json passes chromium's flags).
+  wasm-pack test --headless --chrome -- --features browser-tests --test web_wasm || return
   if [[ -f www/tests/run.mjs ]]; then
     node www/tests/run.mjs
   else
