@@ -209,6 +209,7 @@ try {
 
   await test('every preset: the machine G-code is byte-identical to the CLI\'s (or the same named error)', async () => {
     const p = join(TMP, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
     await tid('model-input').setInputFiles(p);
     await warpSettled();
     for (const name of presetNames) {
