@@ -12,120 +12,158 @@
 //! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
 //! `bash scripts/bench-wasm.sh` (run this bench first).
 
+#[cfg(not(target_arch = "wasm32"))]
 #[path = "../tests/common/synthetic.rs"]
 mod synthetic;
 
-use std::io::Write;
-use std::time::Instant;
-
-use glam::DVec3;
-use warpslice::mesh::{self, SubdivideOptions};
-use warpslice::pipeline::{warp_model, WarpOptions};
-use warpslice::unwarp::{UnwarpOptions, Unwarper};
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
-
-fn peak_mib() -> String {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).map(|l| l.split_whitespace().nth(1).unwrap_or("0").to_string()))
-        .and_then(|kb| kb.parse::<f64>().ok())
-        .map_or("n/a".into(), |kb| format!("{:.0} MiB", kb / 1024.0))
-}
-
-fn best_of<T>(n: usize, mut f: impl FnMut() -> T) -> (f64, T) {
-    let mut best = f64::INFINITY;
-    let mut last = None;
-    for _ in 0..n {
-        let t = Instant::now();
-        let r = f();
-        best = best.min(t.elapsed().as_secs_f64());
-        last = Some(r);
-    }
-    (best, last.expect("n > 0"))
-}
-
-fn conic() -> WarpParams {
-    WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None }
-}
-
 fn main() {
-    // 1. warp + subdivide
-    let sphere = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
-    let tris = sphere.triangles.len();
-    let mut params = conic();
-    let warp = params.build(&sphere.bbox()).expect("warp");
-    let (t_core, (out, _, stats)) = best_of(5, || mesh::subdivide_warped(&sphere, &SubdivideOptions::default(), &|p| warp.forward(p)));
-    println!(
-        "warp+subdivide (core): {tris} → {} triangles in {:.3} s = {:.2} M input triangles/s, {:.2} M output triangles/s",
-        out.triangles.len(),
-        t_core,
-        tris as f64 / t_core / 1e6,
-        out.triangles.len() as f64 / t_core / 1e6
-    );
-    let _ = stats;
-    let stl = mesh::write_stl(&sphere, "bench sphere");
-    let (t_full, w) = best_of(3, || warp_model(&stl, &WarpOptions::new(conic())).expect("warp_model"));
-    println!(
-        "warp_model (read STL, subdivide, warp, anchor, write STL): {:.3} s, {} → {} triangles, STL {:.1} MB → {:.1} MB; peak memory {}",
-        t_full,
-        tris,
-        w.report.triangles_out,
-        stl.len() as f64 / 1e6,
-        w.stl.len() as f64 / 1e6,
-        peak_mib()
-    );
+    #[cfg(not(target_arch = "wasm32"))]
+    native::main();
+}
 
-    // 2. unwarp
-    let ball = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 32.0), 32.0, 48, 96);
-    let w = warp_model(&mesh::write_stl(&ball, "bench ball"), &WarpOptions::new(conic())).expect("warp ball");
-    let dir = std::env::temp_dir().join(format!("warpslice-bench-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&dir);
-    let (stl_path, gcode_path) = (dir.join("ball.stl"), dir.join("ball.gcode"));
-    let sliced = std::fs::write(&stl_path, &w.stl).is_ok()
-        && warpslice::slicer::slice(&stl_path, &gcode_path, &warpslice::slicer::SliceOptions::default()).is_ok();
-    let gcode = if sliced {
-        println!("unwarp input: PrusaSlicer's G-code of a 64 mm sphere, conic 30° outward");
-        std::fs::read(&gcode_path).expect("sliced G-code")
-    } else {
-        println!("unwarp input: PrusaSlicer not available: a synthetic slicer's G-code instead");
-        synthetic::gcode(&w.job, true, 1.0).into_bytes()
-    };
-    let _ = std::fs::remove_dir_all(&dir);
-    let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
-    if std::fs::create_dir_all(&keep).is_ok() {
-        let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
-        let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
-        let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
+/// The bench needs files, processes and a slicer: native only.
+#[cfg(not(target_arch = "wasm32"))]
+mod native {
+    use super::synthetic;
+    use std::io::Write;
+    use std::time::Instant;
+
+    use glam::DVec3;
+    use warpslice::mesh::{self, SubdivideOptions};
+    use warpslice::pipeline::{warp_model, WarpOptions};
+    use warpslice::unwarp::{UnwarpOptions, Unwarper};
+    use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+    fn peak_mib() -> String {
+        std::fs::read_to_string("/proc/self/status")
+            .ok()
+            .and_then(|s| {
+                s.lines()
+                    .find(|l| l.starts_with("VmHWM:"))
+                    .map(|l| l.split_whitespace().nth(1).unwrap_or("0").to_string())
+            })
+            .and_then(|kb| kb.parse::<f64>().ok())
+            .map_or("n/a".into(), |kb| format!("{:.0} MiB", kb / 1024.0))
     }
-    let path = std::env::temp_dir().join(format!("warpslice-bench-{}.gcode", std::process::id()));
-    let mut lines_out = 0;
-    let mut bytes_out = 0;
-    let (t_unwarp, _) = best_of(3, || {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&path).expect("temp file"));
-        let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
-        for c in gcode.chunks(1 << 20) {
-            u.scan(c).expect("scan");
+
+    fn best_of<T>(n: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+        let mut best = f64::INFINITY;
+        let mut last = None;
+        for _ in 0..n {
+            let t = Instant::now();
+            let r = f();
+            best = best.min(t.elapsed().as_secs_f64());
+            last = Some(r);
         }
-        u.end_scan().expect("registration");
-        for c in gcode.chunks(1 << 20) {
-            u.push(c).expect("push");
+        (best, last.expect("n > 0"))
+    }
+
+    fn conic() -> WarpParams {
+        WarpParams {
+            spec: WarpSpec::Conic {
+                angle: 30.0,
+                direction: Direction::Outward,
+                center: [0.0, 0.0],
+            },
+            base: None,
+        }
+    }
+
+    pub fn main() {
+        // 1. warp + subdivide
+        let sphere = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
+        let tris = sphere.triangles.len();
+        let mut params = conic();
+        let warp = params.build(&sphere.bbox()).expect("warp");
+        let (t_core, (out, _, stats)) = best_of(5, || {
+            mesh::subdivide_warped(&sphere, &SubdivideOptions::default(), &|p| warp.forward(p))
+        });
+        println!(
+            "warp+subdivide (core): {tris} → {} triangles in {:.3} s = {:.2} M input triangles/s, {:.2} M output triangles/s",
+            out.triangles.len(),
+            t_core,
+            tris as f64 / t_core / 1e6,
+            out.triangles.len() as f64 / t_core / 1e6
+        );
+        let _ = stats;
+        let stl = mesh::write_stl(&sphere, "bench sphere");
+        let (t_full, w) = best_of(3, || {
+            warp_model(&stl, &WarpOptions::new(conic())).expect("warp_model")
+        });
+        println!(
+            "warp_model (read STL, subdivide, warp, anchor, write STL): {:.3} s, {} → {} triangles, STL {:.1} MB → {:.1} MB; peak memory {}",
+            t_full,
+            tris,
+            w.report.triangles_out,
+            stl.len() as f64 / 1e6,
+            w.stl.len() as f64 / 1e6,
+            peak_mib()
+        );
+
+        // 2. unwarp
+        let ball = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 32.0), 32.0, 48, 96);
+        let w = warp_model(
+            &mesh::write_stl(&ball, "bench ball"),
+            &WarpOptions::new(conic()),
+        )
+        .expect("warp ball");
+        let dir = std::env::temp_dir().join(format!("warpslice-bench-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let (stl_path, gcode_path) = (dir.join("ball.stl"), dir.join("ball.gcode"));
+        let sliced = std::fs::write(&stl_path, &w.stl).is_ok()
+            && warpslice::slicer::slice(
+                &stl_path,
+                &gcode_path,
+                &warpslice::slicer::SliceOptions::default(),
+            )
+            .is_ok();
+        let gcode = if sliced {
+            println!("unwarp input: PrusaSlicer's G-code of a 64 mm sphere, conic 30° outward");
+            std::fs::read(&gcode_path).expect("sliced G-code")
+        } else {
+            println!(
+                "unwarp input: PrusaSlicer not available: a synthetic slicer's G-code instead"
+            );
+            synthetic::gcode(&w.job, true, 1.0).into_bytes()
+        };
+        let _ = std::fs::remove_dir_all(&dir);
+        let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
+        if std::fs::create_dir_all(&keep).is_ok() {
+            let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
+            let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
+            let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
+        }
+        let path =
+            std::env::temp_dir().join(format!("warpslice-bench-{}.gcode", std::process::id()));
+        let mut lines_out = 0;
+        let mut bytes_out = 0;
+        let (t_unwarp, _) = best_of(3, || {
+            let mut f = std::io::BufWriter::new(std::fs::File::create(&path).expect("temp file"));
+            let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
+            for c in gcode.chunks(1 << 20) {
+                u.scan(c).expect("scan");
+            }
+            u.end_scan().expect("registration");
+            for c in gcode.chunks(1 << 20) {
+                u.push(c).expect("push");
+                f.write_all(&u.take_output()).expect("write");
+            }
+            let r = u.finish().expect("finish");
             f.write_all(&u.take_output()).expect("write");
-        }
-        let r = u.finish().expect("finish");
-        f.write_all(&u.take_output()).expect("write");
-        f.flush().expect("flush");
-        lines_out = r.lines_out;
-        bytes_out = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    });
-    let _ = std::fs::remove_file(&path);
-    let mb_in = gcode.len() as f64 / 1e6;
-    println!(
-        "unwarp (2 streaming passes, to a file): {:.1} MB → {:.1} MB ({lines_out} lines) in {:.3} s = {:.1} MB/s input, {:.2} M lines/s output; peak memory {}",
-        mb_in,
-        bytes_out as f64 / 1e6,
-        t_unwarp,
-        mb_in / t_unwarp,
-        lines_out as f64 / t_unwarp / 1e6,
-        peak_mib()
-    );
+            f.flush().expect("flush");
+            lines_out = r.lines_out;
+            bytes_out = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
+        });
+        let _ = std::fs::remove_file(&path);
+        let mb_in = gcode.len() as f64 / 1e6;
+        println!(
+            "unwarp (2 streaming passes, to a file): {:.1} MB → {:.1} MB ({lines_out} lines) in {:.3} s = {:.1} MB/s input, {:.2} M lines/s output; peak memory {}",
+            mb_in,
+            bytes_out as f64 / 1e6,
+            t_unwarp,
+            mb_in / t_unwarp,
+            lines_out as f64 / t_unwarp / 1e6,
+            peak_mib()
+        );
+    }
 }

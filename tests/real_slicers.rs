@@ -3,7 +3,8 @@
 //! {relative E, absolute E} × the five acceptance warps on the generated parts; and every
 //! corpus model marked `accept` × the five warps, each case with one slicer and E mode in
 //! turn (so every slicer and E mode meets every model; the full product would take an hour on
-//! the 2-core CI machine, dominated by the 100 mm rear case): warp → slice → unwarp, then
+//! the 2-core CI machine, dominated by the 100 mm rear case; `WARPSLICE_FULL_MATRIX=1` runs
+//! it): warp → slice → unwarp, then
 //! checks a–e (tests/common). A warp that the acceptance requires to be refused (the base
 //! blend on a model wider than its monotonicity limit) must be refused, naming the limit.
 //!
@@ -45,6 +46,8 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     }
     let dir = tmpdir(tag);
     let nw = common::acceptance_warps().len();
+    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (≈ 6× longer)
+    let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") { None } else { rotate };
     let cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
         .filter(|&(m, w)| rotate.is_none_or(|k| (m * nw + w) % COMBOS == k))
