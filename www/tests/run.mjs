@@ -207,6 +207,30 @@ try {
     exampleDir = await roundTrip('example-cylinder', p, 30);
   });
 
+  await test('layer slider and move slider change the preview', async () => {
+    const vp = page.locator('#canvas-wrap');
+    const before = await vp.getAttribute('data-drawn');
+    const px0 = await pixels();
+    await tid('layer-slider').focus();
+    await page.keyboard.press('Home');
+    for (let i = 0; i < 5; i++) await page.keyboard.press('ArrowRight');
+    await page.waitForTimeout(200);
+    const after = await vp.getAttribute('data-drawn');
+    const px1 = await pixels();
+    assert(before !== after, `data-drawn changed (${before} → ${after})`);
+    assert(px0 !== px1, 'canvas pixels changed');
+    assert((await vp.getAttribute('data-layer')) !== null, 'layer attribute set');
+    await screenshot('layer-5');
+    await page.locator('#move-slider').focus();
+    await page.keyboard.press('Home');
+    await page.waitForTimeout(100);
+    assert((await vp.getAttribute('data-move')) === '0', 'move slider to the first move');
+    await tid('color-mode').selectOption('tilt');
+    await tid('show-travel').check();
+    await page.waitForTimeout(200);
+    await screenshot('tilt-travel');
+  });
+
   await test('every preset: the machine G-code is byte-identical to the CLI\'s (or the same named error)', async () => {
     const p = join(TMP, 'cylinder.stl');
     writeFileSync(p, wasm.example_stl('cylinder'));
@@ -248,30 +272,6 @@ try {
     }
     await tid('machine-select').selectOption('cartesian');
     await warpSettled();
-  });
-
-  await test('layer slider and move slider change the preview', async () => {
-    const vp = page.locator('#canvas-wrap');
-    const before = await vp.getAttribute('data-drawn');
-    const px0 = await pixels();
-    await tid('layer-slider').focus();
-    await page.keyboard.press('Home');
-    for (let i = 0; i < 5; i++) await page.keyboard.press('ArrowRight');
-    await page.waitForTimeout(200);
-    const after = await vp.getAttribute('data-drawn');
-    const px1 = await pixels();
-    assert(before !== after, `data-drawn changed (${before} → ${after})`);
-    assert(px0 !== px1, 'canvas pixels changed');
-    assert((await vp.getAttribute('data-layer')) !== null, 'layer attribute set');
-    await screenshot('layer-5');
-    await page.locator('#move-slider').focus();
-    await page.keyboard.press('Home');
-    await page.waitForTimeout(100);
-    assert((await vp.getAttribute('data-move')) === '0', 'move slider to the first move');
-    await tid('color-mode').selectOption('tilt');
-    await tid('show-travel').check();
-    await page.waitForTimeout(200);
-    await screenshot('tilt-travel');
   });
 
   if (existsSync(join(CORPUS, 'sm_gearwheel_bin.stl'))) {
