@@ -320,3 +320,35 @@ pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>,
     }
     Ok(out)
 }
+
+/// Machine axes of preview points, for the preview's machine-coordinate view:
+/// `points` holds 6 numbers per point, the tip `p` (output frame, mm) and the unit tool axis
+/// `n` (tip → nozzle); returns the machine's axes per point in its axis order (linear axes mm,
+/// rotary axes degrees), from `Machine::inverse` with the previous point's axes picking the
+/// branch (continuous rotary axes). An unreachable point is an error naming its index.
+#[wasm_bindgen]
+pub fn machine_axes(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsError> {
+    if points.len() % 6 != 0 {
+        return Err(JsError::new(&format!(
+            "machine_axes: {} numbers is not a whole number of points (6 per point: px py pz nx ny nz)",
+            points.len()
+        )));
+    }
+    let m = crate::machine::preset(machine)
+        .map_err(js)?
+        .build()
+        .map_err(js)?;
+    let k = m.limits().len();
+    let mut out = Vec::with_capacity(points.len() / 6 * k);
+    let mut previous: Option<Vec<f64>> = None;
+    for (i, q) in points.chunks_exact(6).enumerate() {
+        let p = glam::DVec3::new(q[0], q[1], q[2]);
+        let n = glam::DVec3::new(q[3], q[4], q[5]);
+        let axes = m
+            .inverse(p, n, previous.as_deref())
+            .map_err(|e| JsError::new(&format!("machine_axes: preview point {i}: {e}")))?;
+        out.extend_from_slice(&axes);
+        previous = Some(axes);
+    }
+    Ok(out)
+}

@@ -323,6 +323,7 @@ function onMachineChange(rebuild = true) {
     enforceLimits();
   }
   showWarnings();
+  updateMachineFrameToggle();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -622,6 +623,10 @@ function buildToolpath() {
     if (l < layerMin) layerMin = l;
     if (l > layerMax) layerMax = l;
   }
+  const machine = machineFrameOn();
+  const src = machine ? d.mpos : d.pos;
+  $('canvas-wrap').dataset.frame = machine ? 'machine' : 'part';
+  if (!machine) delete $('canvas-wrap').dataset.bed;
   const pos = new Float32Array(Math.max(0, n - 1) * 6), col = new Float32Array(Math.max(0, n - 1) * 6);
   const segPoint = new Uint32Array(Math.max(0, n - 1));
   const c = new THREE.Color();
@@ -646,8 +651,8 @@ function buildToolpath() {
       rgb[0] = c.r; rgb[1] = c.g; rgb[2] = c.b;
     }
     const o = s * 6, a = (i - 1) * 3, b = i * 3;
-    pos[o] = d.pos[a]; pos[o + 1] = d.pos[a + 1]; pos[o + 2] = d.pos[a + 2];
-    pos[o + 3] = d.pos[b]; pos[o + 4] = d.pos[b + 1]; pos[o + 5] = d.pos[b + 2];
+    pos[o] = src[a]; pos[o + 1] = src[a + 1]; pos[o + 2] = src[a + 2];
+    pos[o + 3] = src[b]; pos[o + 4] = src[b + 1]; pos[o + 5] = src[b + 2];
     col[o] = col[o + 3] = rgb[0]; col[o + 1] = col[o + 4] = rgb[1]; col[o + 2] = col[o + 5] = rgb[2];
     segPoint[s] = i;
     s++;
@@ -672,7 +677,9 @@ function buildToolpath() {
   const axis = new THREE.LineSegments(axisGeom, new THREE.LineBasicMaterial({ color: 0xffff00 }));
   const tip = new THREE.Mesh(new THREE.SphereGeometry(0.8, 12, 8), new THREE.MeshBasicMaterial({ color: 0xffff00 }));
   view.pathGroup.add(axis, tip);
-  tp.built = { g, lines, axis, tip, segPoint, layerFirst, layerCount, segments: s, maxTilt };
+  const bed = machine ? bedOutline(d) : null;
+  if (bed) view.pathGroup.add(bed.lines);
+  tp.built = { g, lines, axis, tip, segPoint, layerFirst, layerCount, segments: s, maxTilt, machine, bed };
   tp.layers = layers;
   const slider = $('layer-slider');
   const keep = tp.layers.length ? Math.min(Number(slider.value), tp.layers.length - 1) : 0;
@@ -709,6 +716,70 @@ function legendFeatures(d) {
   }
 }
 
+// Machine coordinates (moving-bed machines): the worker sends, per preview point, the head's
+// position in the machine frame (`mpos`) and the bed's rotation (`mrot`, 3 columns) from the
+// machine's inverse kinematics; the bed's pose at move i maps a part point q to
+// mpos_i + R_i (q − p_i).
+const MOVING_BED_KINDS = new Set(['ab-table', 'three-z', 'lathe-a', 'r-theta']);
+
+function movingBed(preset) {
+  return !!preset && MOVING_BED_KINDS.has(preset.spec?.kind);
+}
+
+function machineFrameOn() {
+  const d = tp.data;
+  return $('machine-frame').checked && !!d && !!d.mpos;
+}
+
+/** Enabled when the selected machine moves its bed and the result carries machine coordinates. */
+function updateMachineFrameToggle() {
+  const box = $('machine-frame');
+  const ok = movingBed(currentPreset()) && !!state.result && !!tp.data?.mpos && tp.data.machine === currentPreset().name;
+  box.disabled = !ok;
+  if (!ok) box.checked = false;
+}
+
+function bedRotation(d, i) {
+  const r = d.mrot, o = i * 9;
+  // mrot holds the columns R e_x, R e_y, R e_z; Matrix3.set takes rows.
+  return new THREE.Matrix3().set(r[o], r[o + 3], r[o + 6], r[o + 1], r[o + 4], r[o + 7], r[o + 2], r[o + 5], r[o + 8]);
+}
+
+/** The part's bounding box (12 edges) and a bed plate 10 mm wider at its bottom, part frame. */
+function bedOutline(d) {
+  const box = new THREE.Box3().setFromArray(d.pos);
+  if (box.isEmpty()) return null;
+  const lo = box.min, hi = box.max, m = 10;
+  const c = (x, y, z) => [x, y, z];
+  const corners = [];
+  for (const z of [lo.z, hi.z]) corners.push(c(lo.x, lo.y, z), c(hi.x, lo.y, z), c(hi.x, hi.y, z), c(lo.x, hi.y, z));
+  const edges = [];
+  for (let k = 0; k < 4; k++) edges.push(corners[k], corners[(k + 1) % 4], corners[4 + k], corners[4 + ((k + 1) % 4)], corners[k], corners[4 + k]);
+  const plate = [c(lo.x - m, lo.y - m, lo.z), c(hi.x + m, lo.y - m, lo.z), c(hi.x + m, hi.y + m, lo.z), c(lo.x - m, hi.y + m, lo.z)];
+  for (let k = 0; k < 4; k++) edges.push(plate[k], plate[(k + 1) % 4]);
+  const part = new Float32Array(edges.flat());
+  const geom = new THREE.BufferGeometry();
+  geom.setAttribute('position', new THREE.BufferAttribute(new Float32Array(part.length), 3));
+  const lines = new THREE.LineSegments(geom, new THREE.LineBasicMaterial({ color: 0x9be39b }));
+  return { part, lines };
+}
+
+function placeBed(bed, d, i, R) {
+  const a = bed.lines.geometry.attributes.position;
+  const p = new THREE.Vector3().fromArray(d.pos, i * 3);
+  const m = new THREE.Vector3().fromArray(d.mpos, i * 3);
+  const q = new THREE.Vector3();
+  for (let k = 0; k < a.count; k++) {
+    q.fromArray(bed.part, k * 3).sub(p).applyMatrix3(R).add(m);
+    a.setXYZ(k, q.x, q.y, q.z);
+  }
+  a.needsUpdate = true;
+  bed.lines.geometry.computeBoundingSphere();
+  // The bed plate's first corner (machine frame, mm): a hook for tests and a11y readers.
+  const k = a.count - 8;
+  $('canvas-wrap').dataset.bed = [a.getX(k), a.getY(k), a.getZ(k)].map((v) => v.toFixed(2)).join(' ');
+}
+
 function onLayerChange(resetMove) {
   const b = tp.built;
   if (!b || !tp.layers.length) return;
@@ -724,8 +795,14 @@ function onLayerChange(resetMove) {
   b.g.setDrawRange(0, drawn * 2);
   const pi = b.segPoint[first + move];
   const d = tp.data;
-  const p = new THREE.Vector3().fromArray(d.pos, pi * 3);
+  const p = new THREE.Vector3().fromArray(b.machine ? d.mpos : d.pos, pi * 3);
   const n = new THREE.Vector3().fromArray(d.axis, pi * 3);
+  if (b.machine) {
+    // The tool axis and the bed in the machine frame: n ↦ R_i n, q ↦ mpos_i + R_i (q − p_i).
+    const R = bedRotation(d, pi);
+    n.applyMatrix3(R).normalize();
+    if (b.bed) placeBed(b.bed, d, pi, R);
+  }
   const len = 12;
   const a = b.axis.geometry.attributes.position;
   a.setXYZ(0, p.x, p.y, p.z);
@@ -734,7 +811,7 @@ function onLayerChange(resetMove) {
   b.tip.position.copy(p);
   $('layer-out').textContent = `${layer} (${li + 1} of ${tp.layers.length})`;
   const tilt = d.tilt[pi];
-  $('move-out').textContent = `${move + 1} of ${count} — x ${p.x.toFixed(2)} y ${p.y.toFixed(2)} z ${p.z.toFixed(2)}, tilt ${tilt.toFixed(1)}°`;
+  $('move-out').textContent = `${move + 1} of ${count} — ${b.machine ? 'machine ' : ''}x ${p.x.toFixed(2)} y ${p.y.toFixed(2)} z ${p.z.toFixed(2)}, tilt ${tilt.toFixed(1)}°`;
   const vp = $('canvas-wrap');
   vp.dataset.layer = String(layer);
   vp.dataset.move = String(move);
@@ -843,6 +920,7 @@ function resetResult() {
   $('progress-text').textContent = '';
   $('sliders').hidden = true;
   $('canvas-wrap').removeAttribute('data-drawn');
+  updateMachineFrameToggle();
 }
 
 let warpSeq = 0;
@@ -940,7 +1018,9 @@ async function doUnwarp(file) {
   text.textContent = 'reading…';
   const t0 = performance.now();
   try {
-    const out = await call('unwarp', { file, job: state.warped.job, options: unwarpOptions() }, [], (ev) => {
+    const preset = currentPreset();
+    const machineFrame = movingBed(preset) ? { machine: preset.name, kind: preset.spec.kind } : null;
+    const out = await call('unwarp', { file, job: state.warped.job, options: unwarpOptions(), machineFrame }, [], (ev) => {
       if (ev.type === 'progress') {
         prog.value = ev.done / ev.total;
         prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
@@ -961,6 +1041,7 @@ async function doUnwarp(file) {
     tp.data = out.preview;
     tp.built = null;
     tp.firstBuild = true;
+    updateMachineFrameToggle();
     const tv = performance.now();
     setViewMode('toolpath');
     $('sliders').hidden = false;
@@ -1112,6 +1193,10 @@ async function main() {
   $('view-mode').addEventListener('change', (e) => setViewMode(e.target.value));
   $('color-mode').addEventListener('change', buildToolpath);
   $('show-travel').addEventListener('change', buildToolpath);
+  $('machine-frame').addEventListener('change', () => {
+    tp.built = null;
+    setViewMode('toolpath');
+  });
   $('layer-slider').addEventListener('input', () => onLayerChange(true));
   $('move-slider').addEventListener('input', () => onLayerChange(false));
   $('settings-export').addEventListener('click', () => {

@@ -98,6 +98,58 @@ class Preview {
   }
 }
 
+/**
+ * The preview in machine coordinates (moving-bed machines): for every preview point i the
+ * machine's inverse kinematics (`machine_axes`) of the tip p and of p + e_x, p + e_y, p + e_z
+ * with the same tool axis n, in sequence (each uses the previous axes, so all four share the
+ * rotary axes of p). `headXyz` gives the head position `mpos` = H(p) from the machine's axes
+ * and the bed's pose: the rigid map part → machine at move i is q ↦ mpos_i + R_i (q − p_i),
+ * R_i's columns `mrot` = H(p + e_k) − H(p).
+ */
+function machineFrame({ machine, kind }, pv) {
+  const n = pv.count;
+  const pts = new Float64Array(n * 24);
+  for (let i = 0; i < n; i++) {
+    for (let k = 0; k < 4; k++) {
+      const o = (i * 4 + k) * 6;
+      for (let j = 0; j < 3; j++) {
+        pts[o + j] = pv.pos[i * 3 + j] + (k > 0 && j === k - 1 ? 1 : 0);
+        pts[o + 3 + j] = pv.axis[i * 3 + j];
+      }
+    }
+  }
+  const axes = ws.machine_axes(machine, pts);
+  const na = axes.length / (n * 4);
+  const mpos = new Float32Array(n * 3), mrot = new Float32Array(n * 9);
+  for (let i = 0; i < n; i++) {
+    const base = i * 4 * na;
+    const h0 = headXyz(kind, axes, base, na);
+    for (let j = 0; j < 3; j++) mpos[i * 3 + j] = h0[j];
+    for (let k = 0; k < 3; k++) {
+      const hk = headXyz(kind, axes, base + (k + 1) * na, na);
+      for (let j = 0; j < 3; j++) mrot[i * 9 + k * 3 + j] = hk[j] - h0[j];
+    }
+  }
+  return { mpos, mrot, machine };
+}
+
+/**
+ * The head's position in the machine frame from the axes at `o` (`na` axes): X Y Z for the A/B
+ * table and the lathe (X 0 Z for a lathe without Y); (R, 0, Z) for r-theta (the head moves along the radius, the bed turns);
+ * for the three-Z bed X, Y and the mean of the Z motors (the bed's height under its centroid:
+ * the tilt shown is that of the motor plane, an approximation of the bed's).
+ */
+function headXyz(kind, a, o, na) {
+  if (kind === 'r-theta') return [a[o], 0, a[o + 2]];
+  if (kind === 'lathe-a' && na === 3) return [a[o], 0, a[o + 1]];
+  if (kind === 'three-z') {
+    let z = 0;
+    for (let k = 2; k < na; k++) z += a[o + k];
+    return [a[o], a[o + 1], z / Math.max(1, na - 2)];
+  }
+  return [a[o], a[o + 1], a[o + 2]];
+}
+
 async function unwarpFile(msg) {
   const { id, file, job } = msg;
   const options = { ...msg.options, collect_toolpath: true };
@@ -139,10 +191,12 @@ async function unwarpFile(msg) {
     drain();
     const blob = new Blob(parts, { type: 'text/x-gcode' });
     const pv = preview.result();
-    self.postMessage(
-      { id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv },
-      [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer],
-    );
+    const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer];
+    if (msg.machineFrame) {
+      Object.assign(pv, machineFrame(msg.machineFrame, pv));
+      transfer.push(pv.mpos.buffer, pv.mrot.buffer);
+    }
+    self.postMessage({ id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {
     stream.free();
   }

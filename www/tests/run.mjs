@@ -274,6 +274,63 @@ try {
     await warpSettled();
   });
 
+  await test('moving bed (open5x-ab): the machine-coordinates toggle shows the head in X Y Z and the bed at its pose', async () => {
+    const dir = join(TMP, 'machine-frame');
+    mkdirSync(dir, { recursive: true });
+    const p = join(dir, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    await tid('model-input').setInputFiles(p);
+    await warpSettled();
+    await tid('machine-select').selectOption('open5x-ab');
+    await warpSettled();
+    assert(await tid('machine-frame').isDisabled(), 'toggle disabled before a result exists');
+    await download('warped-download', join(dir, 'W.stl'));
+    slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+    await unwarpInBrowser(join(dir, 'W.gcode'));
+    const vp = page.locator('#canvas-wrap');
+    assert((await vp.getAttribute('data-frame')) === 'part', 'preview starts in the part frame');
+    assert(await tid('machine-frame').isEnabled(), 'toggle enabled for open5x-ab with a result');
+    const pxPart = await pixels();
+    await screenshot('machine-frame-off');
+    // Keyboard: focus the labelled checkbox and press Space.
+    await tid('machine-frame').focus();
+    await page.keyboard.press('Space');
+    await page.waitForTimeout(300);
+    assert(await tid('machine-frame').isChecked(), 'Space ticks the toggle');
+    assert((await vp.getAttribute('data-frame')) === 'machine', 'data-frame="machine"');
+    const pxMachine = await pixels();
+    assert(pxPart !== pxMachine, 'canvas pixels changed in machine coordinates');
+    await screenshot('machine-frame-on');
+    // Moving along a tilted layer changes A/B, so the bed outline turns.
+    await tid('layer-slider').focus();
+    await page.keyboard.press('End');
+    await page.locator('#move-slider').focus();
+    await page.keyboard.press('Home');
+    await page.waitForTimeout(200);
+    const pxA = await pixels();
+    const bedA = await vp.getAttribute('data-bed');
+    const moveMax = Number(await page.locator('#move-slider').getAttribute('max'));
+    await page.locator('#move-slider').evaluate((el, v) => {
+      el.value = String(v);
+      el.dispatchEvent(new Event('input', { bubbles: true }));
+    }, Math.floor(moveMax / 2));
+    await page.waitForTimeout(200);
+    const pxB = await pixels();
+    const bedB = await vp.getAttribute('data-bed');
+    assert(moveMax > 1 && pxA !== pxB, `canvas pixels change with the move slider (max ${moveMax})`);
+    assert(bedA && bedB && bedA !== bedB, `bed pose changes with the move slider (${bedA} → ${bedB})`);
+    assert((await page.locator('#move-out').innerText()).includes('machine'), 'move readout says machine coordinates');
+    await screenshot('machine-frame-move');
+    await tid('machine-frame').uncheck();
+    await page.waitForTimeout(200);
+    assert((await vp.getAttribute('data-frame')) === 'part', 'unticked: back to the part frame');
+    await screenshot('machine-frame-unticked');
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+    assert(await tid('machine-frame').isDisabled(), 'toggle disabled for cartesian');
+    assert(!(await tid('machine-frame').isChecked()), 'toggle unticked for cartesian');
+  });
+
   if (existsSync(join(CORPUS, 'sm_gearwheel_bin.stl'))) {
     await test('corpus model (sm_gearwheel_bin.stl): byte-identical to the CLI', async () => {
       const p = join(CORPUS, 'sm_gearwheel_bin.stl');
