@@ -193,8 +193,15 @@ async function unwarpFile(msg) {
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer];
     if (msg.machineFrame) {
-      Object.assign(pv, machineFrame(msg.machineFrame, pv));
-      transfer.push(pv.mpos.buffer, pv.mrot.buffer);
+      // The machine-coordinates view is optional: a preview point it cannot place (the preview
+      // keeps f32 axes, so a tilt exactly at the machine's limit may round past it) leaves the
+      // toggle off instead of failing the unwarp, whose G-code is complete and checked.
+      try {
+        Object.assign(pv, machineFrame(msg.machineFrame, pv));
+        transfer.push(pv.mpos.buffer, pv.mrot.buffer);
+      } catch (e) {
+        pv.machineFrameError = String(e?.message ?? e);
+      }
     }
     self.postMessage({ id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {
