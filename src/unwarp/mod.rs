@@ -389,9 +389,7 @@ impl Unwarper {
         if let Some(e) = core.emit_error.take() {
             return Err(e.into());
         }
-        let start = core.out.len();
-        core.emit.finish(&mut core.out);
-        core.report.lines_out += core.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
+        core.counted(|c| c.emit.finish(&mut c.out));
         core.report.machine = core.emit.machine_report();
         self.finished = true;
         Ok(core.report.clone())
