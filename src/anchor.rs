@@ -121,14 +121,7 @@ mod tests {
         assert!(add_slab(&mut m, 1.0, 0.2));
         assert_eq!(m.triangles.len(), 2 + 2 * 3); // top + bottom fans of a triangle, 3 side quads
         // volume by the divergence theorem = area · thickness = 2 · 0.2
-        let vol: f64 = m
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum();
+        let vol = m.signed_volume();
         assert!((vol - 0.4).abs() < 1e-12, "{vol}");
     }
 }

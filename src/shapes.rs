@@ -140,16 +140,6 @@ pub const EXAMPLES: [&str; 4] = ["cube", "cylinder", "sphere", "overhang"];
 mod tests {
     use super::*;
 
-    fn volume(m: &Mesh) -> f64 {
-        m.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum()
-    }
-
     fn edge_use(m: &Mesh) -> std::collections::HashMap<(u32, u32), i32> {
         let mut e = std::collections::HashMap::new();
         for t in &m.triangles {
@@ -163,12 +153,12 @@ mod tests {
 
     #[test]
     fn examples_are_closed_with_the_right_volume() {
-        assert!((volume(&cube(20.0)) - 8000.0).abs() < 1e-9);
+        assert!((cube(20.0).signed_volume() - 8000.0).abs() < 1e-9);
         let cyl = cylinder(10.0, 20.0, 64);
         let poly = 0.5 * 64.0 * 100.0 * (2.0 * std::f64::consts::PI / 64.0).sin() * 20.0;
-        assert!((volume(&cyl) - poly).abs() < 1e-6);
-        assert!(volume(&sphere(10.0, 24, 48)) > 0.95 * 4.0 / 3.0 * std::f64::consts::PI * 1000.0);
-        assert!((volume(&overhang_block()) - (10.0 * 14.0 * 20.0 + 30.0 * 20.0 * 5.0)).abs() < 1e-9);
+        assert!((cyl.signed_volume() - poly).abs() < 1e-6);
+        assert!(sphere(10.0, 24, 48).signed_volume() > 0.95 * 4.0 / 3.0 * std::f64::consts::PI * 1000.0);
+        assert!((overhang_block().signed_volume() - (10.0 * 14.0 * 20.0 + 30.0 * 20.0 * 5.0)).abs() < 1e-9);
     }
 
     #[test]

@@ -66,17 +66,6 @@ fn area(m: &Mesh) -> f64 {
         .sum()
 }
 
-/// Signed volume Σ (a × b)·c / 6 (positive for an outward, counter-clockwise closed mesh).
-fn volume(m: &Mesh) -> f64 {
-    m.triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-            a.cross(b).dot(c) / 6.0
-        })
-        .sum()
-}
-
 fn report(m: &Mesh) -> MeshReport {
     MeshReport::of(m, StlFormat::Binary)
 }
@@ -99,7 +88,7 @@ fn closed_cube_stays_closed_under_a_curved_warp_and_meets_both_bounds() {
     assert!(longest_edge(&m) <= opts.max_edge + SLACK);
     assert!(worst_deviation(&m, &curved) <= opts.tolerance + SLACK);
     // same surface, same orientation
-    assert!((volume(&m) - 8000.0).abs() < 1e-6, "{}", volume(&m));
+    assert!((m.signed_volume() - 8000.0).abs() < 1e-6, "{}", m.signed_volume());
     assert!((area(&m) - area(&cube)).abs() < 1e-6);
 }
 
@@ -335,7 +324,7 @@ proptest! {
         prop_assert!(s.triangles_after >= s.triangles_before);
         let rep = report(&out);
         prop_assert_eq!((rep.open_edges, rep.nonmanifold_edges), (0, 0));
-        prop_assert!((volume(&out) - volume(&sphere)).abs() <= 1e-9 * volume(&sphere));
+        prop_assert!((out.signed_volume() - sphere.signed_volume()).abs() <= 1e-9 * sphere.signed_volume());
     }
 }
 

@@ -74,6 +74,18 @@ impl Mesh {
         }
         b
     }
+    /// The enclosed volume Σ a·(b × c)/6 over the triangles, mm³: positive for a closed mesh
+    /// whose triangles are counter-clockwise seen from outside.
+    pub fn signed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.vertices[i as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
     /// Move every vertex by `d`.
     pub fn translate(&mut self, d: DVec3) {
         for v in &mut self.vertices {

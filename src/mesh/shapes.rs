@@ -109,24 +109,13 @@ mod tests {
     use super::*;
     use crate::mesh::{MeshReport, StlFormat};
 
-    /// Σ over triangles of (a × b)·c / 6: the enclosed volume, positive when outward.
-    fn volume(m: &Mesh) -> f64 {
-        m.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-                a.cross(b).dot(c) / 6.0
-            })
-            .sum()
-    }
-
     #[test]
     fn cuboid_is_closed_and_outward() {
         let m = cuboid(DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0));
         let r = MeshReport::of(&m, StlFormat::Binary);
         assert!(r.is_watertight());
         assert_eq!(r.degenerate, 0);
-        assert!((volume(&m) - 6.0).abs() < 1e-12);
+        assert!((m.signed_volume() - 6.0).abs() < 1e-12);
     }
 
     #[test]
@@ -136,7 +125,7 @@ mod tests {
         let r = MeshReport::of(&m, StlFormat::Binary);
         assert!(r.is_watertight(), "{r:?}");
         assert_eq!(r.degenerate, 0);
-        let v = volume(&m);
+        let v = m.signed_volume();
         assert!(v > 3.5 && v < 4.0 * core::f64::consts::PI / 3.0, "{v}");
     }
 
