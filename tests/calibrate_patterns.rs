@@ -226,16 +226,6 @@ fn integrated_test_moves_a_between_0_and_90_with_b() {
     }
 }
 
-fn signed_volume(m: &Mesh) -> f64 {
-    m.triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| m.vertices[i as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
-}
-
 #[test]
 fn base_objects_are_closed_outward_stls() {
     use core::f64::consts::PI;
@@ -251,7 +241,7 @@ fn base_objects_are_closed_outward_stls() {
         assert!(rep.is_watertight(), "{kind:?}: {rep:?}");
         assert_eq!(rep.degenerate, 0, "{kind:?}");
         assert!(rep.bbox.min.z.abs() < 1e-6, "{kind:?} stands on the bed");
-        let v = signed_volume(&mesh);
+        let v = mesh.signed_volume();
         assert!(
             (v - vol).abs() < 0.01 * vol,
             "{kind:?}: volume {v}, expected {vol}"
