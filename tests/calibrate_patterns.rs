@@ -9,7 +9,7 @@ use warpslice::gcode::lexer::{split, Words};
 use warpslice::gcode::{Command, GcodeError, ReadOptions, Reader};
 use warpslice::machine::spec::Kinematics;
 use warpslice::machine::{preset, Machine, MachineSpec};
-use warpslice::mesh::{read_stl, Mesh};
+use warpslice::mesh::read_stl;
 
 /// The bound on the drawn line, mm.
 const LINE_TOLERANCE: f64 = 0.02;
