@@ -64,7 +64,7 @@ mod cli {
             #[command(flatten)]
             unwarp: UnwarpArgs,
             /// The slicer's placement dx,dy (mm) instead of finding it.
-            #[arg(long, value_parser = pair)]
+            #[arg(long, value_parser = pair, allow_negative_numbers = true)]
             offset: Option<[f64; 2]>,
             /// Chord tolerance, mm.
             #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_TOLERANCE)]
@@ -212,6 +212,10 @@ mod cli {
         /// Drop skirt and brim instead of printing them flat.
         #[arg(long)]
         drop_skirt: bool,
+        /// Put the part's footprint centre at x,y (mm) in the output instead of where the
+        /// slicer put it (e.g. 0,0 on an A/B table whose axes meet at the origin).
+        #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+        place: Option<[f64; 2]>,
         /// Write a 4/5-axis machine's axes: a preset name or a machine JSON file (docs/machines.md).
         #[arg(long)]
         machine: Option<String>,
@@ -280,6 +284,7 @@ mod cli {
                 flow: Flow { factor: self.flow, ramp: self.ramp },
                 z_offset: self.z_offset,
                 drop_skirt: self.drop_skirt,
+                place: self.place,
                 offset,
                 machine: self.machine.as_deref().map(machine_spec).transpose()?,
                 feed: match self.feed {

@@ -1,6 +1,6 @@
 //! Machines end to end with a real slicer (PrusaSlicer, relative E): for every preset a
 //! generated part is warped with a warp that suits the machine, sliced, and unwarped with the
-//! machine. The output is parsed with the machine's axis letters (a small parser here: the
+//! machine. The output is parsed with the machine's axis letters (tests/common/machine.rs: the
 //! crate's reader only tracks X Y Z E) and checked:
 //! - every toolpath point is reached: walking the output in order, the forward kinematics of a
 //!   line lands on each toolpath tip within 0.01 mm, and (where the machine realises the axis
@@ -13,24 +13,18 @@
 //! A missing PrusaSlicer fails the test unless `WARPSLICE_ALLOW_SKIP=1`.
 #![cfg(not(target_arch = "wasm32"))]
 
+mod common;
+
+use common::machine::{check, deg, parse, AXIS_TOL_DEG, SAMPLES, TIP_TOL};
 use glam::DVec3;
 use warpslice::machine::tessellate::slerp;
-use warpslice::machine::{preset, Machine, MachineSpec};
+use warpslice::machine::{preset, MachineSpec};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::{unwarp, UnwarpOptions};
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
-/// Tip tolerance of the forward check, mm (issue: 0.01).
-const TIP_TOL: f64 = 0.01;
-/// Tool-axis tolerance, degrees (issue: 0.1).
-const AXIS_TOL_DEG: f64 = 0.1;
-/// Interpolation bound, mm / degrees, plus the 3-decimal rounding of the written axes.
-const INTERP_MM: f64 = 0.02 + 0.002;
-const INTERP_DEG: f64 = 0.1 + 0.005;
-/// Samples per output move (issue: 100).
-const SAMPLES: usize = 100;
 
 fn tmpdir(tag: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
@@ -99,232 +93,6 @@ fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &st
     Some((std::fs::read(&gcode).expect("read gcode"), w.job))
 }
 
-/// One parsed output line with machine axes.
-#[derive(Clone, Debug)]
-struct AxisLine {
-    number: usize,
-    axes: Vec<f64>,
-    rotate_around: bool,
-    /// The axes after a `G92` rename that follows this line (the start of the next move).
-    after: Option<Vec<f64>>,
-    reorient: bool,
-    discontinuity: bool,
-}
-
-/// Parse the machine G-code: `G1` lines with every axis letter (the region), `G92` on the
-/// axes (rotary resets, the triple-Z offset, subtracted to give raw values).
-fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
-    let mut offset = 0.0;
-    for l in text.lines() {
-        if let Some(rest) = l.strip_prefix("; warpslice z axes offset = ") {
-            offset = rest.split_whitespace().next().and_then(|v| v.parse().ok()).ok_or("bad offset line")?;
-        }
-    }
-    let mut cur: Vec<Option<f64>> = vec![None; names.len()];
-    let mut in_offset = false;
-    let mut out: Vec<AxisLine> = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let (code, comment) = match raw.find(';') {
-            Some(k) => (&raw[..k], &raw[k..]),
-            None => (raw, ""),
-        };
-        let mut words = code.split_whitespace();
-        let Some(cmd) = words.next() else { continue };
-        if cmd != "G1" && cmd != "G0" && cmd != "G92" {
-            continue;
-        }
-        let mut seen = vec![false; names.len()];
-        for w in words {
-            let (letter, value) = w.split_at(1);
-            if let Some(k) = names.iter().position(|n| n.eq_ignore_ascii_case(letter)) {
-                let v: f64 = value.parse().map_err(|_| format!("line {}: bad number in '{w}'", i + 1))?;
-                cur[k] = Some(v);
-                seen[k] = true;
-            } else if !matches!(letter, "E" | "F" | "X" | "Y" | "Z") {
-                return Err(format!("line {}: unknown word '{w}'", i + 1));
-            }
-        }
-        if cmd == "G92" {
-            if comment.contains("z axes offset (level bed") {
-                in_offset = true;
-            } else if comment.contains("z axes offset removed") {
-                in_offset = false;
-            } else if let Some(last) = out.last_mut() {
-                // a rotary reset renames the current position: the next move starts there
-                let mut after = last.after.clone().unwrap_or_else(|| last.axes.clone());
-                for (k, &sn) in seen.iter().enumerate() {
-                    if sn {
-                        after[k] = cur[k].unwrap_or(0.0);
-                    }
-                }
-                last.after = Some(after);
-            }
-            continue;
-        }
-        if seen.iter().all(|&s| s) && names.iter().any(|n| !["X", "Y", "Z"].contains(&n.as_str())) {
-            let mut axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
-            if in_offset {
-                for a in &mut axes[2..5] {
-                    *a -= offset;
-                }
-            }
-            out.push(AxisLine { number: i + 1, axes, rotate_around: comment.contains("rotate-around"),
-                after: None,
-                reorient: comment.contains("; reorient"),
-                discontinuity: comment.contains("; discontinuity"),
-            });
-        }
-    }
-    Ok((out, offset))
-}
-
-/// Distance from `q` to the segment a–b and the parameter of the closest point.
-fn to_segment(q: DVec3, a: DVec3, b: DVec3) -> (f64, f64) {
-    let d = b - a;
-    let l2 = d.length_squared();
-    let s = if l2 > 0.0 { ((q - a).dot(d) / l2).clamp(0.0, 1.0) } else { 1.0 };
-    ((a + d * s - q).length(), s)
-}
-
-fn deg(a: DVec3, b: DVec3) -> f64 {
-    a.angle_between(b).to_degrees()
-}
-
-#[derive(Default, Debug)]
-struct Measured {
-    points: usize,
-    lines: usize,
-    worst_tip: f64,
-    worst_axis: f64,
-    worst_interp_mm: f64,
-    worst_interp_deg: f64,
-    discontinuities: usize,
-    worst_line: usize,
-    fallbacks: usize,
-    worst_detail: String,
-}
-
-/// The checks of the module documentation.
-fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine]) -> Result<Measured, String> {
-    let mut r = Measured { lines: lines.len(), ..Measured::default() };
-    let pts: Vec<&ToolPoint> = toolpath.iter().filter(|t| !(t.travel && t.e != 0.0)).collect();
-    // which segment (index of its end point) and parameter each line belongs to
-    let mut owner: Vec<Option<(usize, f64)>> = vec![None; lines.len()];
-    let mut li = 0usize;
-    for (k, tp) in pts.iter().enumerate() {
-        let start = if k == 0 { tp.p } else { pts[k - 1].p };
-        loop {
-            let Some(line) = lines.get(li) else {
-                return Err(format!("toolpath point {k} at {:?} is never reached by the output", tp.p));
-            };
-            let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
-            li += 1;
-            if line.rotate_around {
-                continue;
-            }
-            let (dseg, s) = to_segment(p, start, tp.p);
-            // (the first point is reached from the region's start, not a toolpath point)
-            if k > 0 && dseg > INTERP_MM {
-                return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
-            }
-            let dtip = (p - tp.p).length();
-            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
-            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
-            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
-            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
-            owner[li - 1] = Some((k, if (tp.p - start).length() > 1e-9 { s } else { 1.0 }));
-            if is_end {
-                r.worst_tip = r.worst_tip.max(dtip);
-                if !free {
-                    r.worst_axis = r.worst_axis.max(axis_err);
-                }
-                r.points += 1;
-                break;
-            }
-        }
-    }
-    // interpolation of every output move between two lines of the same segment (or from the
-    // end of one segment to a line of the next)
-    for w in 1..lines.len() {
-        let b = &lines[w];
-        let mut a = lines[w - 1].clone();
-        if let Some(after) = a.after.take() {
-            a.axes = after;
-        }
-        let a = &a;
-        if a.rotate_around || b.rotate_around {
-            continue;
-        }
-        if b.discontinuity {
-            r.discontinuities += 1;
-            continue;
-        }
-        if b.reorient {
-            // in place: tip fixed, axis slerp between the realised axes of the two lines
-            let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
-            let (_, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
-            for i in 1..SAMPLES {
-                let u = i as f64 / SAMPLES as f64;
-                let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
-                let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
-                let exact = m.forward(&m.inverse(pa, slerp(na, nb, u), Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
-                r.worst_interp_mm = r.worst_interp_mm.max((fp - pa).length());
-                r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact.1));
-            }
-            continue;
-        }
-        // the intended path: the toolpath segment the two lines belong to (tip linear, axis
-        // slerp) when the matching placed both on it; else the straight tip path between the
-        // two lines' tips and the slerp of their realised axes
-        let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
-        let (pb, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
-        let seg = owner[w].and_then(|(k, s1)| {
-            let s0 = match owner[w - 1] {
-                Some((k0, s)) if k0 == k => s,
-                Some((k0, _)) if k0 + 1 == k => 0.0,
-                _ => return None,
-            };
-            let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
-            let realised = |s: f64| {
-                m.inverse(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes)).and_then(|x| m.forward(&x)).map(|f| f.1).unwrap_or(DVec3::ZERO)
-            };
-            let on = (t0.p.lerp(t1.p, s0) - pa).length() < 0.005
-                && (t0.p.lerp(t1.p, s1) - pb).length() < 0.005
-                && deg(realised(s0), na) < AXIS_TOL_DEG
-                && deg(realised(s1), nb) < AXIS_TOL_DEG;
-            on.then_some((t0, t1, s0, s1))
-        });
-        if seg.is_none() {
-            r.fallbacks += 1;
-        }
-        for i in 1..SAMPLES {
-            let u = i as f64 / SAMPLES as f64;
-            let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
-            let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
-            let (ip, inn) = match seg {
-                Some((t0, t1, s0, s1)) => {
-                    let s = s0 + (s1 - s0) * u;
-                    (t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s))
-                }
-                None => (pa.lerp(pb, u), slerp(na, nb, u)),
-            };
-            let exact = m.forward(&m.inverse(ip, inn, Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
-            let dp = (fp - exact.0).length();
-            let da = deg(fn_, exact.1);
-            if da > r.worst_interp_deg {
-                r.worst_line = b.number;
-                r.worst_detail = format!("u {u} seg {:?} na {na:?} nb {nb:?} fw {fn_:?} exact {:?} inn {inn:?}", seg.map(|(t0, t1, s0, s1)| (t0.n, t1.n, s0, s1)), exact.1);
-            }
-            r.worst_interp_mm = r.worst_interp_mm.max(dp);
-            r.worst_interp_deg = r.worst_interp_deg.max(da);
-        }
-    }
-    if r.worst_interp_mm > INTERP_MM || r.worst_interp_deg > INTERP_DEG {
-        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound (worst at output line {}: {})", r.worst_interp_mm, r.worst_interp_deg, r.worst_line, r.worst_detail));
-    }
-    Ok(r)
-}
-
 fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
     let mut spec = preset(name).map_err(|e| e.to_string())?;
     if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
@@ -347,7 +115,7 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     if name == "cartesian" {
         return Ok(format!("{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°", text.lines().count(), rep.worst_position_mm, rep.worst_angle_deg));
     }
-    let meas = check(m.as_ref(), &out.toolpath, &lines).map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
+    let meas = check(m.as_ref(), &out.toolpath, &lines, SAMPLES).map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
     // every move left beyond the bound is tagged in the file and counted in the report
     if meas.discontinuities as u64 != rep.depth_limited || text.matches("; discontinuity").count() as u64 != rep.depth_limited {
         return Err(format!("{} discontinuities found, the report says {}", meas.discontinuities, rep.depth_limited));

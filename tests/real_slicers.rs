@@ -8,18 +8,35 @@
 //! checks a–e (tests/common). A warp that the acceptance requires to be refused (the base
 //! blend on a model wider than its monotonicity limit) must be refused, naming the limit.
 //!
+//! Every case is then unwarped again with every machine preset (the machines issue's end to
+//! end test; the generated parts also with the warps the machines are paired with: cylindrical
+//! for the lathe, spherical for the 5-axis head). The machine's toolpath must be the core
+//! toolpath (moved to where the preset places the part), and walking the machine G-code with
+//! the forward kinematics must give back every toolpath tip within 0.01 mm and its tool axis,
+//! where the machine can realise it, within 0.1° (tests/common/machine.rs). A preset may refuse
+//! a case only with a named limit error, and only when the core toolpath holds a pose its
+//! inverse kinematics cannot reach (checked here independently); every preset must print at
+//! least one case of every matrix test. The interpolation bound, sampled 100 times per move, is
+//! checked on one real-slicer file per machine in tests/machine_emit.rs.
+//!
 //! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
 //! how many cases it skipped and why.
 #![cfg(not(target_arch = "wasm32"))]
 
 mod common;
 
+use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
+use glam::DVec3;
+use warpslice::machine::{preset, preset_names, MachineSpec};
+
 use warpslice::pipeline::warp_model;
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
+use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::warp::{WarpParams, WarpSpec};
 
 /// Threads per test function (the tests themselves run in parallel too).
 const THREADS: usize = 1;
@@ -31,13 +48,13 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
 }
 
 /// Run every case; return (passed, failures).
-fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &str, rotate: Option<usize>) {
+fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &str, rotate: Option<usize>, warps: &[(&str, WarpParams)]) {
     if models.is_empty() {
         println!("SKIPPED {tag}: no models (../shared/corpus/stl/INDEX.txt not found next to the repository)");
         return;
     }
     if let Err(e) = slicer::available(kind) {
-        let n = models.len() * common::acceptance_warps().len();
+        let n = models.len() * warps.len();
         if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
             println!("SKIPPED {n} cases of {kind:?}: {e}");
             return;
@@ -45,7 +62,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
         panic!("{kind:?} is needed for this test: {e}");
     }
     let dir = tmpdir(tag);
-    let nw = common::acceptance_warps().len();
+    let nw = warps.len();
     // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (≈ 6× longer)
     let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") { None } else { rotate };
     let cases: Vec<(usize, usize)> = (0..models.len())
@@ -55,21 +72,27 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     let next = AtomicUsize::new(0);
     let failures = Mutex::new(Vec::new());
     let table = Mutex::new(Vec::new());
+    let machines: Mutex<BTreeMap<&'static str, MachineTally>> = Mutex::new(BTreeMap::new());
     std::thread::scope(|s| {
         for _ in 0..THREADS {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(&(mi, wi)) = cases.get(i) else { break };
                 let (name, bytes) = &models[mi];
-                let (wname, params) = &common::acceptance_warps()[wi];
-                let r = run_case(kind, e_mode, bytes, params, &dir.join(format!("{i}")));
+                let (wname, params) = &warps[wi];
+                let t0 = std::time::Instant::now();
+                let r = run_case(kind, e_mode, bytes, params, &dir.join(format!("{i}")), &machines);
+                let secs = t0.elapsed().as_secs_f64();
                 match r {
-                    Ok(Err(why)) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required: {why}")),
+                    Ok(Err(why)) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required: {why} ({secs:.1} s)")),
                     Ok(Ok(st)) => table.lock().unwrap().push(format!(
-                        "{name:40} {wname:15} pts {:7} layer-dev {:.4} outside {:.3} E out {:.1} expected {:.1} slicer {:.1} (anchor {:.1}) min-z {:.3} clamped {}",
-                        st.points, st.worst_layer_distance, st.worst_outside, st.e_out, st.e_expected, st.e_in, st.e_anchor, st.min_z, st.clamped
+                        "{name:40} {wname:15} pts {:7} layer-dev {:.4} outside {:.3} E out {:.1} expected {:.1} slicer {:.1} (anchor {:.1}) min-z {:.3} clamped {} ({secs:.1} s, slice {:.1} s)",
+                        st.points, st.worst_layer_distance, st.worst_outside, st.e_out, st.e_expected, st.e_in, st.e_anchor, st.min_z, st.clamped, st.slice_secs
                     )),
                     Err(e) => failures.lock().unwrap().push(format!("{name} × {wname}: {e}")),
+                }
+                if let Some(e) = machines.lock().unwrap().values_mut().find_map(|t| t.failure.take()) {
+                    failures.lock().unwrap().push(format!("{name} × {wname}: {e}"));
                 }
             });
         }
@@ -81,7 +104,18 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     for l in &table {
         println!("  {l}");
     }
-    let failures = failures.into_inner().unwrap();
+    let mut failures = failures.into_inner().unwrap();
+    let machines = machines.into_inner().unwrap();
+    println!("{kind:?} {e_mode:?}: machines (every case unwarped again with each preset)");
+    for (name, t) in &machines {
+        println!(
+            "  {name:20} printed {:3} refused {:3} (named limit, unreachable pose confirmed): worst tip {:.5} mm, axis {:.4}°, {} points, {} lines",
+            t.printed, t.refused, t.worst_tip, t.worst_axis, t.points, t.lines
+        );
+        if t.printed == 0 && !table.is_empty() {
+            failures.push(format!("{name}: printed none of the cases (refused all {})", t.refused));
+        }
+    }
     assert!(failures.is_empty(), "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}", failures.len(), cases.len(), failures.join("\n"));
 }
 
@@ -91,6 +125,7 @@ fn run_case(
     bytes: &[u8],
     params: &warpslice::warp::WarpParams,
     stem: &std::path::Path,
+    machines: &Mutex<BTreeMap<&'static str, MachineTally>>,
 ) -> Result<Result<common::CaseStats, &'static str>, String> {
     let (model, _) = warpslice::mesh::read_stl(bytes).map_err(|e| e.to_string())?;
     let w = warp_model(bytes, &common::warp_options(params));
@@ -106,7 +141,9 @@ fn run_case(
     let gcode = stem.with_extension("gcode");
     std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
     let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
+    let t0 = std::time::Instant::now();
     slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
+    let slice_secs = t0.elapsed().as_secs_f64();
     let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
     let out = match unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }) {
         Ok(out) => out,
@@ -119,32 +156,134 @@ fn run_case(
     };
     let _ = std::fs::remove_file(&stl);
     let _ = std::fs::remove_file(&gcode);
-    common::check_unwarp(&model, &w.job, &input, &out).map(Ok)
+    let st = common::check_unwarp(&model, &w.job, &input, &out)?;
+    for name in preset_names() {
+        let r = machine_case(name, &input, &w.job, &out.toolpath, out.report.model_to_output);
+        let mut tally = machines.lock().unwrap();
+        let t = tally.entry(name).or_default();
+        match r {
+            Ok(Some(m)) => {
+                t.printed += 1;
+                t.worst_tip = t.worst_tip.max(m.worst_tip);
+                t.worst_axis = t.worst_axis.max(m.worst_axis);
+                t.points += m.points;
+                t.lines += m.lines;
+            }
+            Ok(None) => t.refused += 1,
+            Err(e) => t.failure = Some(format!("machine {name}: {e}")),
+        }
+    }
+    Ok(Ok(common::CaseStats { slice_secs, ..st }))
 }
+
+/// What the presets did over a matrix test.
+#[derive(Default)]
+struct MachineTally {
+    printed: usize,
+    refused: usize,
+    worst_tip: f64,
+    worst_axis: f64,
+    points: usize,
+    lines: usize,
+    /// The last case's failure (taken by the matrix loop).
+    failure: Option<String>,
+}
+
+/// Where a preset wants the part: machines whose rotations are about fixed lines get it there
+/// (`--place`); the lathe's mandrel under the part, as the cylindrical warp's axis.
+fn machine_setup(name: &str) -> (MachineSpec, Option<[f64; 2]>) {
+    let mut spec = preset(name).expect("preset");
+    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
+        p.axis_z_mm = -MANDREL_RADIUS;
+    }
+    let place = match name {
+        "open5x-ab" | "lathe-a" => Some([0.0, 0.0]),
+        // off the polar centre (its singular point)
+        "core-r-theta" => Some([60.0, 0.0]),
+        _ => None,
+    };
+    (spec, place)
+}
+
+/// Unwarp `input` again with the preset `name` and walk its G-code against the core toolpath
+/// (`core_m2o`: the core run's model_to_output). `Ok(None)`: refused with a named limit, and
+/// the core toolpath confirms a pose out of reach.
+fn machine_case(name: &str, input: &[u8], job: &warpslice::job::Job, core: &[ToolPoint], core_m2o: [f64; 3]) -> Result<Option<common::machine::Measured>, String> {
+    let (spec, place) = machine_setup(name);
+    let m = spec.build().map_err(|e| e.to_string())?;
+    // the core toolpath (slicer placement) moved to the preset's placement
+    let shift = place.map_or(DVec3::ZERO, |[x, y]| DVec3::new(x - core_m2o[0], y - core_m2o[1], 0.0));
+    let opts = UnwarpOptions { collect_toolpath: true, machine: Some(spec), place, ..UnwarpOptions::default() };
+    let out = match unwarp(input, job, &opts) {
+        Ok(out) => out,
+        Err(e) => {
+            let text = e.to_string();
+            if !(text.contains("cannot be reached") || text.contains("outside its travel")) {
+                return Err(format!("refused without a named limit: {text}"));
+            }
+            // independently: some pose of the core toolpath is out of the inverse's reach
+            let unreachable = core.iter().filter(|t| !t.travel).any(|t| m.inverse(t.p + shift, t.n, None).is_err());
+            return if unreachable { Ok(None) } else { Err(format!("refused ({text}) although every pose of the toolpath is reachable")) };
+        }
+    };
+    let m2o = DVec3::from_array(out.report.model_to_output);
+    if (m2o - DVec3::from_array(core_m2o) - shift).length() > 1e-9 {
+        return Err(format!("model_to_output {m2o} is not the core's {core_m2o:?} moved by {shift}"));
+    }
+    // the machine's extrusions are the core toolpath's, moved by the placement (travels may
+    // differ: a placed part starts with a travel from where the start G-code left the head)
+    let ext = |t: &[ToolPoint]| t.iter().filter(|t| !t.travel).cloned().collect::<Vec<_>>();
+    let (got, want) = (ext(&out.toolpath), ext(core));
+    if got.len() != want.len() {
+        return Err(format!("{} extrusion points, the core toolpath has {}", got.len(), want.len()));
+    }
+    let differs = |(a, b): &(&ToolPoint, &ToolPoint)| (a.p - (b.p + shift)).length() > 1e-9 || a.n != b.n || a.e != b.e || a.layer != b.layer;
+    if let Some((i, (a, b))) = got.iter().zip(&want).enumerate().find(|(_, ab)| differs(ab)) {
+        return Err(format!("extrusion point {i} differs from the core's: {a:?} vs {b:?} (+ {shift})"));
+    }
+    if name == "cartesian" {
+        // the 3-axis output itself passed checks a–e
+        return Ok(Some(common::machine::Measured { points: core.len(), ..Default::default() }));
+    }
+    let text = String::from_utf8(out.gcode).map_err(|e| e.to_string())?;
+    let (lines, _) = common::machine::parse(&text, &m.axis_names())?;
+    common::machine::check(m.as_ref(), &out.toolpath, &lines, 0).map(Some)
+}
+
+/// Radius of the mandrel of the cylindrical warp cases (the lathe's axis is there), mm.
+const MANDREL_RADIUS: f64 = 20.0;
 
 /// Slicer × E-mode combinations the corpus cases rotate through.
 const COMBOS: usize = 6;
 
+/// The generated parts' warps: the acceptance five and the machines' pairings.
+fn generated_warps() -> Vec<(&'static str, WarpParams)> {
+    let mut w = common::acceptance_warps();
+    w.push(("cylindrical-20", WarpParams { spec: WarpSpec::Cylindrical { radius: MANDREL_RADIUS, axis: [0.0, -MANDREL_RADIUS] }, base: None }));
+    w.push(("spherical-20", WarpParams { spec: WarpSpec::Spherical { radius: 20.0, center: [0.0, 0.0, -20.0] }, base: None }));
+    w
+}
+
 macro_rules! matrix_tests {
-    ($($name:ident: $kind:expr, $mode:expr, $models:expr, $rotate:expr;)*) => {$(
+    ($($name:ident: $kind:expr, $mode:expr, $models:expr, $rotate:expr, $warps:expr;)*) => {$(
         #[test]
         fn $name() {
-            matrix($kind, $mode, &$models, stringify!($name), $rotate);
+            matrix($kind, $mode, &$models, stringify!($name), $rotate, &$warps);
         }
     )*};
 }
 
 matrix_tests! {
-    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, common::generated_models(), None;
-    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, common::generated_models(), None;
-    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, common::generated_models(), None;
-    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, common::generated_models(), None;
-    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, common::generated_models(), None;
-    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, common::generated_models(), None;
-    prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, common::corpus_accept(), Some(0);
-    prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, common::corpus_accept(), Some(1);
-    slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, common::corpus_accept(), Some(2);
-    slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, common::corpus_accept(), Some(3);
-    curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, common::corpus_accept(), Some(4);
-    curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, common::corpus_accept(), Some(5);
+    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, common::generated_models(), None, generated_warps();
+    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, common::generated_models(), None, generated_warps();
+    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, common::generated_models(), None, generated_warps();
+    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, common::generated_models(), None, generated_warps();
+    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, common::generated_models(), None, generated_warps();
+    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, common::generated_models(), None, generated_warps();
+    prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, common::corpus_accept(), Some(0), common::acceptance_warps();
+    prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, common::corpus_accept(), Some(1), common::acceptance_warps();
+    slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, common::corpus_accept(), Some(2), common::acceptance_warps();
+    slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, common::corpus_accept(), Some(3), common::acceptance_warps();
+    curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, common::corpus_accept(), Some(4), common::acceptance_warps();
+    curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, common::corpus_accept(), Some(5), common::acceptance_warps();
 }

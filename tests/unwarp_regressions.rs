@@ -73,3 +73,36 @@ fn binary_gcode_is_refused() {
     let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpOptions::default()).unwrap_err().to_string();
     assert!(e.contains("binary G-code"), "{e}");
 }
+
+/// `place` (for machines turning about fixed lines, e.g. an A/B table's origin) moves the part
+/// and its flat skirt by the same shift, keeps E and the tool axes, and leaves the start G-code
+/// where the slicer wrote it. Caught by the machine matrix: the part must sit on the table's
+/// axes, not where the slicer centred it.
+#[test]
+fn place_moves_part_and_skirt_but_not_the_start_gcode() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0).replacen("G28\n", "G28\nG1 X5 Y5 Z0.3 F3000 ; purge start\n", 1);
+    let opts = UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() };
+    let at = unwarp(g.as_bytes(), &w.job, &opts).unwrap();
+    let placed = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { place: Some([-30.0, 12.5]), ..opts.clone() }).unwrap();
+    let m2o = placed.report.model_to_output;
+    assert_eq!([m2o[0], m2o[1]], [-30.0, 12.5]);
+    let shift = glam::DVec3::new(-30.0 - at.report.model_to_output[0], 12.5 - at.report.model_to_output[1], 0.0);
+    assert!(shift.length() > 50.0, "the synthetic slicer centres at (100, 100)");
+    // the extrusions, one for one (the placed part starts with one more travel: from where
+    // the start G-code left the head)
+    let ext = |t: &[warpslice::toolpath::ToolPoint]| t.iter().filter(|t| !t.travel).cloned().collect::<Vec<_>>();
+    let (a_ext, p_ext) = (ext(&at.toolpath), ext(&placed.toolpath));
+    assert_eq!(a_ext.len(), p_ext.len());
+    assert_eq!(placed.toolpath.len(), at.toolpath.len() + 1);
+    for (a, b) in a_ext.iter().zip(&p_ext) {
+        assert!((b.p - (a.p + shift)).length() < 1e-9, "{:?} vs {:?}", a.p, b.p);
+        assert_eq!((a.n, a.e, a.feature), (b.n, b.e, b.feature));
+    }
+    assert!(placed.toolpath.iter().any(|t| t.feature == warpslice::toolpath::Feature::Skirt));
+    let text = String::from_utf8(placed.gcode).unwrap();
+    assert!(text.contains("G1 X5 Y5 Z0.3 F3000 ; purge start"));
+    assert!(text.contains("; warpslice model_to_output = -30 12.5 0"), "{}", &text[..600]);
+    let bad = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { place: Some([f64::NAN, 0.0]), ..opts }).unwrap_err().to_string();
+    assert!(bad.contains("is not a position"), "{bad}");
+}

@@ -15,6 +15,10 @@
 //! Coordinates: a G-code point g (slicer bed frame) → STL point g − (dx, dy, 0) → T-space
 //! q = STL − (0, 0, stl_z_offset) → model p = T⁻¹(q) → output p + model_to_output, with
 //! model_to_output = (dx, dy, z_offset), written as `; warpslice model_to_output = dx dy dz`.
+//! With `place` = (px, py) the part goes there instead of where the slicer put it:
+//! model_to_output = (px, py, z_offset), and the flat skirt and brim move with it by
+//! (px − dx, py − dy) (for machines whose rotary axes pass through a fixed point, e.g. an A/B
+//! table's origin). Lines outside the region (start and end G-code) are never moved.
 //!
 //! **Never below the bed.** A mapped object point with z < 0 (hundredths of a millimetre from
 //! a slicer's first-layer offset on a steep warp) is clamped to z = 0 and the E of the
@@ -65,6 +69,9 @@ pub struct UnwarpOptions {
     pub drop_skirt: bool,
     /// `--offset dx,dy`: the slicer's placement, instead of finding it.
     pub offset: Option<[f64; 2]>,
+    /// `--place x,y`: where the model frame's origin (the centre of the part's footprint) goes
+    /// in the output, instead of the slicer's placement.
+    pub place: Option<[f64; 2]>,
     /// Clearance above printed material on lifted travels, mm.
     pub travel_clearance: f64,
     /// Retraction added before a lifted travel when the slicer did not retract, mm.
@@ -113,6 +120,7 @@ impl Default for UnwarpOptions {
             z_offset: 0.0,
             drop_skirt: false,
             offset: None,
+            place: None,
             travel_clearance: DEFAULT_TRAVEL_CLEARANCE,
             retract_length: DEFAULT_RETRACT_LENGTH,
             collect_toolpath: false,
@@ -175,6 +183,8 @@ pub enum UnwarpError {
     /// The machine cannot follow the toolpath (or cannot be set up): the G-code line being
     /// unwarped when it happened (`None`: before the first line).
     Machine { line: Option<u64>, error: MachineError },
+    /// `place` is not two finite numbers.
+    BadPlace { place: [f64; 2] },
 }
 
 impl From<GcodeError> for UnwarpError {
@@ -201,6 +211,9 @@ impl std::fmt::Display for UnwarpError {
             UnwarpError::Order { expected } => write!(f, "unwarp: call {expected} first"),
             UnwarpError::Machine { line: Some(line), error } => write!(f, "G-code line {line}: {error}"),
             UnwarpError::Machine { line: None, error } => error.fmt(f),
+            UnwarpError::BadPlace { place } => {
+                write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
+            }
         }
     }
 }
@@ -233,6 +246,8 @@ struct Core {
     reg: Registration,
     dx: f64,
     dy: f64,
+    /// Output shift of the slicer-frame points: `place` − (dx, dy), or zero.
+    shift: DVec3,
     out: Vec<u8>,
     emit: Box<dyn Emitter>,
     /// The first error the emitter returned (the driver stops at the end of that line).
@@ -315,6 +330,11 @@ impl Unwarper {
         let mut params = self.job.warp.clone();
         let warp = params.build(&self.job.model_bbox)?;
         let [dx, dy, _] = reg.translation;
+        let shift = match self.opts.place {
+            Some([px, py]) if px.is_finite() && py.is_finite() => DVec3::new(px - dx, py - dy, 0.0),
+            Some(place) => return Err(UnwarpError::BadPlace { place }.into()),
+            None => DVec3::ZERO,
+        };
         let b = reg.gcode_bbox;
         let mut core = Core {
             job: self.job.clone(),
@@ -323,6 +343,7 @@ impl Unwarper {
             reg: reg.clone(),
             dx,
             dy,
+            shift,
             out: Vec::with_capacity(1 << 16),
             emit: self.emitter.take().ok_or(UnwarpError::Order { expected: "end_scan only once:" })?,
             emit_error: None,
@@ -330,7 +351,7 @@ impl Unwarper {
             cur: None,
             pending: None,
             retracted: 0.0,
-            grid: travel::HeightGrid::new(b.min.truncate(), b.max.truncate()),
+            grid: travel::HeightGrid::new((b.min + shift).truncate(), (b.max + shift).truncate()),
             inside: false,
             done_region: false,
             min_nz: 1.0,
@@ -338,7 +359,7 @@ impl Unwarper {
             report: UnwarpReport {
                 translation: reg.translation,
                 residual: reg.residual,
-                model_to_output: [dx, dy, self.opts.z_offset],
+                model_to_output: [dx + shift.x, dy + shift.y, self.opts.z_offset],
                 skirt: if self.opts.drop_skirt { "dropped".into() } else { "flat".into() },
                 ..UnwarpReport::default()
             },
@@ -553,7 +574,7 @@ impl Core {
     }
 
     fn model_to_output(&self, p: DVec3) -> DVec3 {
-        DVec3::new(p.x + self.dx, p.y + self.dy, p.z + self.opts.z_offset)
+        DVec3::new(p.x + self.dx + self.shift.x, p.y + self.dy + self.shift.y, p.z + self.opts.z_offset)
     }
 
     fn map_point(&self, kind: Kind, g: DVec3) -> (DVec3, DVec3) {
@@ -563,7 +584,7 @@ impl Core {
                 let n = self.warp.tool_axis(p);
                 (self.model_to_output(DVec3::new(p.x, p.y, p.z.max(0.0))), n)
             }
-            _ => (DVec3::new(g.x, g.y, g.z + self.opts.z_offset), DVec3::Z),
+            _ => (DVec3::new(g.x + self.shift.x, g.y + self.shift.y, g.z + self.opts.z_offset), DVec3::Z),
         }
     }
 

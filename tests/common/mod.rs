@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod inside;
+pub mod machine;
 
 use std::path::PathBuf;
 
@@ -78,6 +79,8 @@ pub struct CaseStats {
     pub e_expected: f64,
     pub min_z: f64,
     pub clamped: u64,
+    /// Wall time of the slicer, s (for the table; never asserted).
+    pub slice_secs: f64,
 }
 
 /// Read every move and non-move line of a G-code with the crate's reader.
