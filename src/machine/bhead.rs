@@ -133,14 +133,10 @@ impl Machine for BHead {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: if self.params.clip {
-                180.0
-            } else {
-                self.params.b_limit_deg.min(180.0)
-            },
-        }
+        Workspace::desktop(if self.params.clip {
+            180.0
+        } else {
+            self.params.b_limit_deg.min(180.0)
+        })
     }
 }

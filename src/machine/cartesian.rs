@@ -63,10 +63,6 @@ impl Machine for Cartesian {
         DVec3::Z
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: self.params.max_tilt_deg.unwrap_or(180.0),
-        }
+        Workspace::desktop(self.params.max_tilt_deg.unwrap_or(180.0))
     }
 }

@@ -82,6 +82,18 @@ pub struct Workspace {
     pub max_tilt_deg: f64,
 }
 
+impl Workspace {
+    /// The box of a desktop printer, x, y ∈ [−100, 100] mm and z ∈ [0, 200] mm, with tilts up
+    /// to `max_tilt_deg`.
+    pub fn desktop(max_tilt_deg: f64) -> Workspace {
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg,
+        }
+    }
+}
+
 /// A machine's kinematics. See the module documentation for the conventions.
 pub trait Machine: Send + Sync + fmt::Debug {
     /// The machine's name and axes.

@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-use super::angles::{tilt, unwrap_near, wrap180};
+use super::angles::{nearer_half_turn, tilt, wrap180};
 use super::{
     require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
 };
@@ -89,13 +89,8 @@ impl Machine for Pax {
             match prev_a {
                 None => (wrap180(a1), t),
                 Some(pa) => {
-                    let c1 = unwrap_near(a1, pa);
-                    let c2 = unwrap_near(a1 + 180.0, pa);
-                    if (c2 - pa).abs() < (c1 - pa).abs() - 1e-9 {
-                        (c2, -t)
-                    } else {
-                        (c1, t)
-                    }
+                    let (a, s) = nearer_half_turn(a1, pa);
+                    (a, s * t)
                 }
             }
         };
@@ -114,10 +109,6 @@ impl Machine for Pax {
         ))
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: self.params.max_tilt_deg,
-        }
+        Workspace::desktop(self.params.max_tilt_deg)
     }
 }

@@ -21,7 +21,7 @@
 
 use glam::DVec3;
 
-use super::angles::{rot_z, unwrap_near, wrap180};
+use super::angles::{nearer_half_turn, rot_z, wrap180};
 use super::{
     require, AxisLimit, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
     UNLIMITED,
@@ -99,13 +99,8 @@ impl RTheta {
         match prev_c {
             None => (wrap180(c1), rho),
             Some(pc) => {
-                let a = unwrap_near(c1, pc);
-                let b = unwrap_near(c1 + 180.0, pc);
-                if (b - pc).abs() < (a - pc).abs() - 1e-9 {
-                    (b, -rho)
-                } else {
-                    (a, rho)
-                }
+                let (c, s) = nearer_half_turn(c1, pc);
+                (c, s * rho)
             }
         }
     }

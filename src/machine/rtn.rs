@@ -177,10 +177,6 @@ impl Machine for Rtn {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: 180.0,
-        }
+        Workspace::desktop(180.0)
     }
 }
