@@ -39,7 +39,7 @@
 use glam::DVec3;
 
 use super::angles::{rotate, unwrap_near, wrap180};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace, UNLIMITED};
 use crate::num;
 
 /// Parameters of [`AbTable`] (JSON `"kind": "ab-table"`).
@@ -83,8 +83,7 @@ impl Default for AbTableParams {
 /// The A/B table machine.
 #[derive(Clone, Debug)]
 pub struct AbTable {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: AbTableParams,
 }
 
@@ -96,26 +95,23 @@ impl AbTable {
         names: &[String],
         mut params: AbTableParams,
     ) -> Result<AbTable, MachineError> {
-        let bad = |m: &str| MachineError::BadSpec {
-            machine: name.to_string(),
-            message: m.to_string(),
-        };
-        if !(params.a_dir.is_finite()
-            && params.b_dir.is_finite()
-            && params.a_pos.is_finite()
-            && params.b_pos.is_finite())
-        {
-            return Err(bad("a_pos, a_dir, b_pos, b_dir must be finite"));
-        }
-        if params.a_dir.length() < 1e-9 || params.b_dir.length() < 1e-9 {
-            return Err(bad("a_dir and b_dir must be non-zero"));
-        }
+        require(
+            name,
+            params.a_dir.is_finite()
+                && params.b_dir.is_finite()
+                && params.a_pos.is_finite()
+                && params.b_pos.is_finite(),
+            "a_pos, a_dir, b_pos, b_dir must be finite",
+        )?;
+        require(
+            name,
+            params.a_dir.length() >= 1e-9 && params.b_dir.length() >= 1e-9,
+            "a_dir and b_dir must be non-zero",
+        )?;
         params.a_dir = params.a_dir.normalize();
         params.b_dir = params.b_dir.normalize();
         let w = params.a_dir.cross(params.b_dir);
-        if w.length() < 1e-6 {
-            return Err(bad("the A and B lines are parallel"));
-        }
+        require(name, w.length() >= 1e-6, "the A and B lines are parallel")?;
         // Closest approach: B_pos + s·B_dir with (B_pos + s B_dir − A_pos − u A_dir) ⟂ both.
         let (a, b) = (params.a_dir, params.b_dir);
         let r = params.b_pos - params.a_pos;
@@ -124,25 +120,14 @@ impl AbTable {
         let origin = params.b_pos + b * s;
         params.a_pos -= origin;
         params.b_pos -= origin;
-        if !(params.pole_hold_deg >= 0.0 && params.a_limit_deg > 0.0) {
-            return Err(bad("pole_hold_deg must be ≥ 0 and a_limit_deg > 0"));
-        }
-        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(
-            &names[3],
-            -params.a_limit_deg,
-            params.a_limit_deg,
-        ));
-        limits.push(AxisLimit::rotary(
-            &names[4],
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-        ));
-        Ok(AbTable {
-            name: name.to_string(),
-            limits,
-            params,
-        })
+        require(
+            name,
+            params.pole_hold_deg >= 0.0 && params.a_limit_deg > 0.0,
+            "pole_hold_deg must be ≥ 0 and a_limit_deg > 0",
+        )?;
+        let a = params.a_limit_deg;
+        let axis_set = AxisSet::linear_then_rotary(name, names, &[(-a, a), UNLIMITED]);
+        Ok(AbTable { axis_set, params })
     }
 
     /// Eq. 5.1: the Z correction at A (degrees), mm.
@@ -264,19 +249,11 @@ impl AbTable {
 }
 
 impl Machine for AbTable {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let prev_b = previous.and_then(|a| a.get(4).copied());
         let off_pole = n.cross(self.params.b_dir).length();
         let hold = prev_b.is_some() && off_pole < num::sin(self.hold_radius());
@@ -293,20 +270,18 @@ impl Machine for AbTable {
             }
         };
         if a.abs() > self.params.a_limit_deg + super::LIMIT_SLACK_DEG {
-            return Err(MachineError::UnreachableOrientation {
-                machine: self.name.clone(),
+            return Err(self.axis_set.unreachable(
                 p,
                 n,
-                reason: format!("the table would have to tilt A = {a:.3}°, beyond ±{}° (the tool axis points below the horizon)", self.params.a_limit_deg),
-            });
+                format!("the table would have to tilt A = {a:.3}°, beyond ±{}° (the tool axis points below the horizon)", self.params.a_limit_deg),
+            ));
         }
         let q = self.transform(p + self.params.part_offset, num::rad(a), num::rad(b));
         let axes = vec![q.x, q.y, q.z + self.z_wobble(a), a, b];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 5, axes)?;
+        self.axis_set.check_count(5, axes)?;
         let (a, b) = (axes[3], axes[4]);
         let q = DVec3::new(axes[0], axes[1], axes[2] - self.z_wobble(a));
         let (ar, br) = (num::rad(a), num::rad(b));

@@ -22,6 +22,25 @@ pub fn unwrap_near(target: f64, previous: f64) -> f64 {
     previous + wrap180(target - previous)
 }
 
+/// How much nearer (degrees) the flipped branch of [`nearer_half_turn`] must be to be taken, so
+/// that rounding does not flip between two equally near branches.
+pub const BRANCH_TIE_DEG: f64 = 1e-9;
+
+/// Of `angle` and `angle + 180°` (degrees), each unwrapped next to `previous`, the nearer one,
+/// with the sign `s` (±1) that goes with it: `(unwrap_near(angle, previous), 1)` or
+/// `(unwrap_near(angle + 180°, previous), −1)`. For an axis whose value `(a, x)` and
+/// `(a + 180°, −x)` mean the same pose (a tilt or a radius `x` across the centre); ties keep
+/// `angle`.
+pub fn nearer_half_turn(angle: f64, previous: f64) -> (f64, f64) {
+    let a = unwrap_near(angle, previous);
+    let flipped = unwrap_near(angle + 180.0, previous);
+    if (flipped - previous).abs() < (a - previous).abs() - BRANCH_TIE_DEG {
+        (flipped, -1.0)
+    } else {
+        (a, 1.0)
+    }
+}
+
 /// Rodrigues: rotate `v` about the unit `axis` by `angle` radians (right-hand rule).
 /// `v cos θ + (a × v) sin θ + a (a·v)(1 − cos θ)`.
 pub fn rotate(v: DVec3, axis: DVec3, angle: f64) -> DVec3 {
@@ -65,6 +84,15 @@ mod tests {
         assert_eq!(wrap180(720.0 + 10.0), 10.0);
         assert!((unwrap_near(-179.0, 179.0) - 181.0).abs() < 1e-12);
         assert!((unwrap_near(179.0, -179.0 + 720.0) - (-181.0 + 720.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nearer_half_turn_flips_only_when_nearer() {
+        assert_eq!(nearer_half_turn(10.0, 0.0), (10.0, 1.0));
+        assert_eq!(nearer_half_turn(-170.0, 0.0), (10.0, -1.0));
+        assert_eq!(nearer_half_turn(-170.0, 360.0), (370.0, -1.0));
+        // Equally near (±90° from previous): keep `angle`.
+        assert_eq!(nearer_half_turn(90.0, 0.0), (90.0, 1.0));
     }
 
     #[test]

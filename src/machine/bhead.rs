@@ -23,10 +23,7 @@
 
 use glam::DVec3;
 
-use super::{
-    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
-    POLE_EPSILON,
-};
+use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON};
 use crate::num;
 
 /// Parameters of [`BHead`] (JSON `"kind": "b-head"`).
@@ -60,35 +57,23 @@ impl Default for BHeadParams {
 /// The tilting-head machine.
 #[derive(Clone, Debug)]
 pub struct BHead {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: BHeadParams,
 }
 
 impl BHead {
     /// Build with axis letters `names` (X Y Z B).
     pub fn new(name: &str, names: &[String], params: BHeadParams) -> Result<BHead, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite()
-            && params.clip_z_mm > 0.0
-            && params.b_limit_deg > 0.0)
-        {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: "pivot_to_tip_mm must be finite, clip_z_mm and b_limit_deg positive"
-                    .into(),
-            });
-        }
-        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(
-            &names[3],
-            -params.b_limit_deg,
-            params.b_limit_deg,
-        ));
-        Ok(BHead {
-            name: name.to_string(),
-            limits,
-            params,
-        })
+        require(
+            name,
+            params.pivot_to_tip_mm.is_finite()
+                && params.clip_z_mm > 0.0
+                && params.b_limit_deg > 0.0,
+            "pivot_to_tip_mm must be finite, clip_z_mm and b_limit_deg positive",
+        )?;
+        let b = params.b_limit_deg;
+        let axis_set = AxisSet::linear_then_rotary(name, names, &[(-b, b)]);
+        Ok(BHead { axis_set, params })
     }
 
     /// The largest |B| allowed at tip height `z` (degrees), seed 000 §4.3.1.
@@ -114,29 +99,20 @@ impl BHead {
 }
 
 impl Machine for BHead {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let held = previous.and_then(|a| a.get(3).copied()).unwrap_or(0.0);
         let b = self.b_of(n, p.z, held);
         let r = self.params.pivot_to_tip_mm;
         let br = num::rad(b);
         let axes = vec![p.x + r * num::sin(br), p.y, p.z + r * num::cos(br) - r, b];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 4, axes)?;
+        self.axis_set.check_count(4, axes)?;
         let r = self.params.pivot_to_tip_mm;
         let br = num::rad(axes[3]);
         let (s, c) = (num::sin(br), num::cos(br));
@@ -157,14 +133,10 @@ impl Machine for BHead {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: if self.params.clip {
-                180.0
-            } else {
-                self.params.b_limit_deg.min(180.0)
-            },
-        }
+        Workspace::desktop(if self.params.clip {
+            180.0
+        } else {
+            self.params.b_limit_deg.min(180.0)
+        })
     }
 }

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use super::{AxisSet, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
 /// Parameters of [`Cartesian`] (JSON `"kind": "cartesian"`).
@@ -20,8 +20,7 @@ pub struct CartesianParams {
 /// The 3-axis machine.
 #[derive(Clone, Debug)]
 pub struct Cartesian {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: CartesianParams,
 }
 
@@ -29,56 +28,41 @@ impl Cartesian {
     /// Build with axis letters `names` (3 of them).
     pub fn new(name: &str, names: &[String], params: CartesianParams) -> Cartesian {
         Cartesian {
-            name: name.to_string(),
-            limits: names.iter().map(|n| AxisLimit::linear(n)).collect(),
+            axis_set: AxisSet::linear(name, names),
             params,
         }
     }
 }
 
 impl Machine for Cartesian {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        _previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         if let Some(max) = self.params.max_tilt_deg {
             let t = num::deg(super::angles::tilt(n));
             if t > max + super::LIMIT_SLACK_DEG {
-                return Err(MachineError::UnreachableOrientation {
-                    machine: self.name.clone(),
+                return Err(self.axis_set.unreachable(
                     p,
                     n,
-                    reason: format!(
+                    format!(
                         "the slope {t:.3}° exceeds max_tilt_deg = {max}° of this 3-axis machine"
                     ),
-                });
+                ));
             }
         }
         let axes = vec![p.x, p.y, p.z];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 3, axes)?;
+        self.axis_set.check_count(3, axes)?;
         Ok((DVec3::new(axes[0], axes[1], axes[2]), DVec3::Z))
     }
     fn realised_axis(&self, _p: DVec3, _n: DVec3) -> DVec3 {
         DVec3::Z
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: self.params.max_tilt_deg.unwrap_or(180.0),
-        }
+        Workspace::desktop(self.params.max_tilt_deg.unwrap_or(180.0))
     }
 }

@@ -26,8 +26,7 @@ use glam::DVec3;
 
 use super::angles::{rot_x, unwrap_near, wrap180};
 use super::{
-    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
-    POLE_EPSILON,
+    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
 };
 use crate::num;
 
@@ -46,8 +45,7 @@ pub struct LatheParams {
 /// The rotating-mandrel machine.
 #[derive(Clone, Debug)]
 pub struct Lathe {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     c: DVec3,
     with_y: bool,
 }
@@ -65,22 +63,9 @@ impl Lathe {
     /// Build with axis letters `names` (X Z A, or X Y Z A with `with_y`).
     pub fn new(name: &str, names: &[String], params: LatheParams) -> Result<Lathe, MachineError> {
         let c = DVec3::new(0.0, params.axis_y_mm, params.axis_z_mm);
-        if !c.is_finite() {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: "axis_y_mm/axis_z_mm must be finite".into(),
-            });
-        }
-        let k = names.len() - 1;
-        let mut limits: Vec<AxisLimit> = names[..k].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(
-            &names[k],
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-        ));
+        require(name, c.is_finite(), "axis_y_mm/axis_z_mm must be finite")?;
         Ok(Lathe {
-            name: name.to_string(),
-            limits,
+            axis_set: AxisSet::linear_then_rotary(name, names, &[UNLIMITED]),
             c,
             with_y: params.with_y,
         })
@@ -97,19 +82,11 @@ impl Lathe {
 }
 
 impl Machine for Lathe {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let prev = previous.and_then(|a| a.last().copied());
         let a = match (self.target(p, n), prev) {
             (None, pr) => pr.unwrap_or(0.0),
@@ -123,11 +100,10 @@ impl Machine for Lathe {
             // q_y = axis_y by the choice of A (exactly, up to rounding).
             vec![q.x, q.z, a]
         };
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, self.limits.len(), axes)?;
+        self.axis_set.check_count(self.limits().len(), axes)?;
         let (q, a) = if self.with_y {
             (DVec3::new(axes[0], axes[1], axes[2]), axes[3])
         } else {

@@ -11,6 +11,8 @@
 //!   `n` at `p` without a previous pose (e.g. the B head drops the Y component and clips the
 //!   angle). `forward(inverse(p, n, None)) == (p, realised_axis(p, n))` is the law
 //!   ([`laws`]). The angle between `n` and the realised axis is what a report calls "dropped".
+//! - [`Machine::axis_set`]: the name and axes ([`AxisSet`], see [`axes`]), which also does the
+//!   checks all machines share (input `(p, n)`, travel limits, axis count).
 //!
 //! ## Units
 //! Linear axes in mm, rotary axes in **degrees** (as written to G-code), raw values (no `G92`
@@ -36,6 +38,7 @@ use glam::DVec3;
 
 pub mod abtable;
 pub mod angles;
+pub mod axes;
 pub mod batch;
 pub mod bhead;
 pub mod cartesian;
@@ -51,6 +54,8 @@ pub mod spec;
 pub mod tessellate;
 pub mod threez;
 
+pub(crate) use axes::{check_limits, require};
+pub use axes::{AxisLimit, AxisSet, InverseResult, UNLIMITED};
 pub use emit::{MachineEmitter, MachineReport};
 pub use feed::FeedMode;
 pub use flavour::Flavour;
@@ -65,40 +70,6 @@ pub const LIMIT_SLACK_DEG: f64 = 1e-9;
 /// n is normalised anyway).
 pub const UNIT_SLACK: f64 = 1e-6;
 
-/// One axis: its letter, whether it is rotary (degrees) and its travel.
-#[derive(Clone, Debug, PartialEq)]
-pub struct AxisLimit {
-    /// The output letter (G-code word), e.g. `"X"`, `"B"`, `"U"`.
-    pub name: String,
-    /// Rotary axis (degrees) rather than linear (mm).
-    pub rotary: bool,
-    /// Lowest allowed value (mm or degrees; `-inf` when unlimited).
-    pub min: f64,
-    /// Highest allowed value.
-    pub max: f64,
-}
-
-impl AxisLimit {
-    /// A linear axis without travel limits.
-    pub fn linear(name: &str) -> AxisLimit {
-        AxisLimit {
-            name: name.to_string(),
-            rotary: false,
-            min: f64::NEG_INFINITY,
-            max: f64::INFINITY,
-        }
-    }
-    /// A rotary axis limited to `[min, max]` degrees.
-    pub fn rotary(name: &str, min: f64, max: f64) -> AxisLimit {
-        AxisLimit {
-            name: name.to_string(),
-            rotary: true,
-            min,
-            max,
-        }
-    }
-}
-
 /// Where the law tests sample a machine: a box of tip positions (output frame, mm) and the
 /// largest tool-axis tilt from vertical (degrees) the machine realises without error.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,24 +82,37 @@ pub struct Workspace {
     pub max_tilt_deg: f64,
 }
 
+impl Workspace {
+    /// The box of a desktop printer, x, y ∈ [−100, 100] mm and z ∈ [0, 200] mm, with tilts up
+    /// to `max_tilt_deg`.
+    pub fn desktop(max_tilt_deg: f64) -> Workspace {
+        Workspace {
+            min: DVec3::new(-100.0, -100.0, 0.0),
+            max: DVec3::new(100.0, 100.0, 200.0),
+            max_tilt_deg,
+        }
+    }
+}
+
 /// A machine's kinematics. See the module documentation for the conventions.
 pub trait Machine: Send + Sync + fmt::Debug {
+    /// The machine's name and axes.
+    fn axis_set(&self) -> &AxisSet;
     /// The preset/machine name (for messages).
-    fn name(&self) -> &str;
+    fn name(&self) -> &str {
+        self.axis_set().name()
+    }
     /// Axis letters in output order.
     fn axis_names(&self) -> Vec<String> {
         self.limits().iter().map(|l| l.name.clone()).collect()
     }
     /// Axis limits, in output order (same length as the axes).
-    fn limits(&self) -> &[AxisLimit];
+    fn limits(&self) -> &[AxisLimit] {
+        self.axis_set().limits()
+    }
     /// Inverse kinematics: axes that put the tip at `p` with (the realisable part of) tool axis
     /// `n`. `previous` picks the branch and keeps rotary axes continuous.
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError>;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult;
     /// Forward kinematics: `(tip, unit tool axis)` in the output frame.
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError>;
     /// The tool axis the machine realises for `n` at `p` when no previous pose is given.
@@ -240,65 +224,3 @@ impl fmt::Display for MachineError {
 }
 
 impl std::error::Error for MachineError {}
-
-/// Validate and normalise `(p, n)`; the error names the machine.
-pub(crate) fn check_input(machine: &str, p: DVec3, n: DVec3) -> Result<DVec3, MachineError> {
-    let len = n.length();
-    if !(p.is_finite() && n.is_finite() && len > POLE_EPSILON) {
-        return Err(MachineError::InvalidInput {
-            machine: machine.to_string(),
-            p,
-            n,
-        });
-    }
-    Ok(n / len)
-}
-
-/// Check `axes` against `limits`; the first violation is the error.
-pub(crate) fn check_limits(
-    machine: &str,
-    limits: &[AxisLimit],
-    axes: &[f64],
-    p: DVec3,
-) -> Result<(), MachineError> {
-    for (l, &v) in limits.iter().zip(axes) {
-        let slack = if l.rotary {
-            LIMIT_SLACK_DEG
-        } else {
-            crate::tolerance::LENGTH_EPSILON
-        };
-        if !(v >= l.min - slack && v <= l.max + slack) {
-            return Err(MachineError::AxisLimit {
-                machine: machine.to_string(),
-                axis: l.name.clone(),
-                value: v,
-                min: l.min,
-                max: l.max,
-                p,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// Check the number of axis values given to `forward`.
-pub(crate) fn check_count(
-    machine: &str,
-    expected: usize,
-    axes: &[f64],
-) -> Result<(), MachineError> {
-    if axes.len() != expected {
-        return Err(MachineError::WrongAxisCount {
-            machine: machine.to_string(),
-            expected,
-            got: axes.len(),
-        });
-    }
-    if axes.iter().any(|v| !v.is_finite()) {
-        return Err(MachineError::InvalidAxes {
-            machine: machine.to_string(),
-            axes: axes.to_vec(),
-        });
-    }
-    Ok(())
-}

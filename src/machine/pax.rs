@@ -14,10 +14,9 @@
 
 use glam::DVec3;
 
-use super::angles::{tilt, unwrap_near, wrap180};
+use super::angles::{nearer_half_turn, tilt, wrap180};
 use super::{
-    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
-    POLE_EPSILON,
+    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
 };
 use crate::num;
 
@@ -46,39 +45,21 @@ impl Default for PaxParams {
 /// The 5-axis head.
 #[derive(Clone, Debug)]
 pub struct Pax {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: PaxParams,
 }
 
 impl Pax {
     /// Build with axis letters `names` (X Y Z A B).
     pub fn new(name: &str, names: &[String], params: PaxParams) -> Result<Pax, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite()
-            && params.max_tilt_deg > 0.0
-            && params.max_tilt_deg <= 180.0)
-        {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: "pivot_to_tip_mm must be finite and max_tilt_deg in (0, 180]".into(),
-            });
-        }
-        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(AxisLimit::rotary(
-            &names[3],
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-        ));
-        limits.push(AxisLimit::rotary(
-            &names[4],
-            -params.max_tilt_deg,
-            params.max_tilt_deg,
-        ));
-        Ok(Pax {
-            name: name.to_string(),
-            limits,
-            params,
-        })
+        let t = params.max_tilt_deg;
+        require(
+            name,
+            params.pivot_to_tip_mm.is_finite() && t > 0.0 && t <= 180.0,
+            "pivot_to_tip_mm must be finite and max_tilt_deg in (0, 180]",
+        )?;
+        let axis_set = AxisSet::linear_then_rotary(name, names, &[UNLIMITED, (-t, t)]);
+        Ok(Pax { axis_set, params })
     }
 
     fn axis_of(&self, a: f64, b: f64) -> DVec3 {
@@ -93,19 +74,11 @@ impl Pax {
 }
 
 impl Machine for Pax {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let prev_a = previous.and_then(|a| a.get(3).copied());
         let t = num::deg(tilt(n));
         let (a, b) = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
@@ -116,24 +89,18 @@ impl Machine for Pax {
             match prev_a {
                 None => (wrap180(a1), t),
                 Some(pa) => {
-                    let c1 = unwrap_near(a1, pa);
-                    let c2 = unwrap_near(a1 + 180.0, pa);
-                    if (c2 - pa).abs() < (c1 - pa).abs() - 1e-9 {
-                        (c2, -t)
-                    } else {
-                        (c1, t)
-                    }
+                    let (a, s) = nearer_half_turn(a1, pa);
+                    (a, s * t)
                 }
             }
         };
         let l = self.params.pivot_to_tip_mm;
         let q = p + self.axis_of(a, b) * l - DVec3::Z * l;
         let axes = vec![q.x, q.y, q.z, a, b];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 5, axes)?;
+        self.axis_set.check_count(5, axes)?;
         let n = self.axis_of(axes[3], axes[4]);
         let l = self.params.pivot_to_tip_mm;
         Ok((
@@ -142,10 +109,6 @@ impl Machine for Pax {
         ))
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: self.params.max_tilt_deg,
-        }
+        Workspace::desktop(self.params.max_tilt_deg)
     }
 }

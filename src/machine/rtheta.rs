@@ -21,10 +21,10 @@
 
 use glam::DVec3;
 
-use super::angles::{rot_z, unwrap_near, wrap180};
+use super::angles::{nearer_half_turn, rot_z, wrap180};
 use super::{
-    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
-    POLE_EPSILON,
+    require, AxisLimit, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
+    UNLIMITED,
 };
 use crate::num;
 
@@ -53,41 +53,40 @@ impl Default for RThetaParams {
 /// The polar machine.
 #[derive(Clone, Debug)]
 pub struct RTheta {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: RThetaParams,
 }
 
 impl RTheta {
     /// Build with axis letters `names` (X C Z B).
     pub fn new(name: &str, names: &[String], params: RThetaParams) -> Result<RTheta, MachineError> {
-        if !(params.pivot_to_tip_mm.is_finite()
-            && params.max_tilt_deg > 0.0
-            && params.max_radius_mm > 0.0)
-        {
-            return Err(MachineError::BadSpec {
+        let (r, t) = (params.max_radius_mm, params.max_tilt_deg);
+        require(
+            name,
+            params.pivot_to_tip_mm.is_finite() && t > 0.0 && r > 0.0,
+            "pivot_to_tip_mm must be finite, max_tilt_deg and max_radius_mm positive",
+        )?;
+        let [x, c, z, b] = names else {
+            return Err(MachineError::WrongAxisCount {
                 machine: name.to_string(),
-                message: "pivot_to_tip_mm must be finite, max_tilt_deg and max_radius_mm positive"
-                    .into(),
+                expected: 4,
+                got: names.len(),
             });
-        }
-        let r = params.max_radius_mm;
+        };
+        let (c_min, c_max) = UNLIMITED;
         let limits = vec![
             AxisLimit {
-                name: names[0].clone(),
+                name: x.clone(),
                 rotary: false,
                 min: -r,
                 max: r,
             },
-            AxisLimit::rotary(&names[1], f64::NEG_INFINITY, f64::INFINITY),
-            AxisLimit::linear(&names[2]),
-            AxisLimit::rotary(&names[3], -params.max_tilt_deg, params.max_tilt_deg),
+            AxisLimit::rotary(c, c_min, c_max),
+            AxisLimit::linear(z),
+            AxisLimit::rotary(b, -t, t),
         ];
-        Ok(RTheta {
-            name: name.to_string(),
-            limits,
-            params,
-        })
+        let axis_set = AxisSet::new(name, limits);
+        Ok(RTheta { axis_set, params })
     }
 
     /// (C degrees, q_x) for `p`, branch chosen next to `prev_c`.
@@ -100,13 +99,8 @@ impl RTheta {
         match prev_c {
             None => (wrap180(c1), rho),
             Some(pc) => {
-                let a = unwrap_near(c1, pc);
-                let b = unwrap_near(c1 + 180.0, pc);
-                if (b - pc).abs() < (a - pc).abs() - 1e-9 {
-                    (b, -rho)
-                } else {
-                    (a, rho)
-                }
+                let (c, s) = nearer_half_turn(c1, pc);
+                (c, s * rho)
             }
         }
     }
@@ -123,19 +117,11 @@ impl RTheta {
 }
 
 impl Machine for RTheta {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let (c, qx) = RTheta::c_of(p, previous.and_then(|a| a.get(1).copied()));
         let b = RTheta::b_of(
             n,
@@ -145,11 +131,10 @@ impl Machine for RTheta {
         let l = self.params.pivot_to_tip_mm;
         let br = num::rad(b);
         let axes = vec![qx + l * num::sin(br), c, p.z + l * num::cos(br) - l, b];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 4, axes)?;
+        self.axis_set.check_count(4, axes)?;
         let l = self.params.pivot_to_tip_mm;
         let br = num::rad(axes[3]);
         let (s, co) = (num::sin(br), num::cos(br));

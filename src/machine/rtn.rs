@@ -25,8 +25,7 @@ use glam::DVec3;
 
 use super::angles::{rot_z, unwrap_near, wrap180};
 use super::{
-    check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace,
-    POLE_EPSILON,
+    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
 };
 use crate::num;
 
@@ -71,30 +70,24 @@ impl Default for RtnParams {
 /// The rotating tilted nozzle.
 #[derive(Clone, Debug)]
 pub struct Rtn {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: RtnParams,
 }
 
 impl Rtn {
     /// Build with axis letters `names` (X Y Z R).
     pub fn new(name: &str, names: &[String], params: RtnParams) -> Result<Rtn, MachineError> {
-        if !(params.tilt_deg > 0.0 && params.tilt_deg < 90.0) {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: format!("tilt_deg = {} must be in (0, 90)", params.tilt_deg),
-            });
-        }
-        let mut limits: Vec<AxisLimit> = names[..3].iter().map(|n| AxisLimit::linear(n)).collect();
-        limits.push(match params.revolution {
-            Revolution::Single => AxisLimit::rotary(&names[3], -180.0, 180.0),
-            Revolution::Unlimited => AxisLimit::rotary(&names[3], f64::NEG_INFINITY, f64::INFINITY),
-        });
-        Ok(Rtn {
-            name: name.to_string(),
-            limits,
-            params,
-        })
+        require(
+            name,
+            params.tilt_deg > 0.0 && params.tilt_deg < 90.0,
+            format!("tilt_deg = {} must be in (0, 90)", params.tilt_deg),
+        )?;
+        let r = match params.revolution {
+            Revolution::Single => (-180.0, 180.0),
+            Revolution::Unlimited => UNLIMITED,
+        };
+        let axis_set = AxisSet::linear_then_rotary(name, names, &[r]);
+        Ok(Rtn { axis_set, params })
     }
 
     /// The parameters.
@@ -131,19 +124,11 @@ impl Rtn {
 }
 
 impl Machine for Rtn {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        let n = self.axis_set.check_input(p, n)?;
         let prev = previous.and_then(|a| a.get(3).copied());
         let target = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
             prev.unwrap_or(self.params.rot_offset_deg)
@@ -166,11 +151,10 @@ impl Machine for Rtn {
         let phi = num::rad(r - self.params.rot_offset_deg);
         let o = self.offset(phi);
         let axes = vec![p.x - o.x, p.y - o.y, p.z, r];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 4, axes)?;
+        self.axis_set.check_count(4, axes)?;
         let phi = num::rad(axes[3] - self.params.rot_offset_deg);
         Ok((
             DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
@@ -193,10 +177,6 @@ impl Machine for Rtn {
         }
     }
     fn workspace(&self) -> Workspace {
-        Workspace {
-            min: DVec3::new(-100.0, -100.0, 0.0),
-            max: DVec3::new(100.0, 100.0, 200.0),
-            max_tilt_deg: 180.0,
-        }
+        Workspace::desktop(180.0)
     }
 }

@@ -39,7 +39,7 @@
 use glam::{DVec2, DVec3};
 
 use super::angles::{rot_z, rotate, tilt};
-use super::{check_count, check_input, check_limits, AxisLimit, Machine, MachineError, Workspace};
+use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
 /// Parameters of [`ThreeZ`] (JSON `"kind": "three-z"`).
@@ -105,8 +105,7 @@ fn perp(v: DVec2) -> DVec2 {
 /// The triple-Z bed machine.
 #[derive(Clone, Debug)]
 pub struct ThreeZ {
-    name: String,
-    limits: Vec<AxisLimit>,
+    axis_set: AxisSet,
     params: ThreeZParams,
     /// b̂ᵢ (bed space, 3-D).
     b_hat: [DVec3; 3],
@@ -128,12 +127,11 @@ impl ThreeZ {
             && params.slot_angles_deg.iter().all(|v| v.is_finite())
             && params.max_tilt_deg > 0.0
             && params.max_tilt_deg < 90.0;
-        if !ok {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: "balls_xy, ball_z_mm, slot_angles_deg must be finite and max_tilt_deg in (0, 90)".into(),
-            });
-        }
+        require(
+            name,
+            ok,
+            "balls_xy, ball_z_mm, slot_angles_deg must be finite and max_tilt_deg in (0, 90)",
+        )?;
         let b_hat = params
             .balls_xy
             .map(|[x, y]| DVec3::new(x, y, params.ball_z_mm));
@@ -144,16 +142,10 @@ impl ThreeZ {
         let nrm = d.map(perp);
         let k = [0, 1, 2].map(|i| -nrm[i].dot(l[i].truncate()));
         let tri = l[1].truncate().perp_dot(l[2].truncate());
-        if tri.abs() < 1e-6 || nrm[0].dot(d[0]).abs() > 1e-12 {
-            return Err(MachineError::BadSpec {
-                machine: name.to_string(),
-                message: "the three balls are collinear".into(),
-            });
-        }
-        let limits = names.iter().map(|n| AxisLimit::linear(n)).collect();
+        let collinear = tri.abs() < 1e-6 || nrm[0].dot(d[0]).abs() > 1e-12;
+        require(name, !collinear, "the three balls are collinear")?;
         Ok(ThreeZ {
-            name: name.to_string(),
-            limits,
+            axis_set: AxisSet::linear(name, names),
             params,
             b_hat,
             l,
@@ -187,15 +179,6 @@ impl ThreeZ {
         let t = -(c1 * num::cos(theta) + s1 * num::sin(theta) + k1) / dn1;
         Some((t, theta))
     }
-
-    fn unreachable(&self, p: DVec3, n: DVec3, reason: String) -> MachineError {
-        MachineError::UnreachableOrientation {
-            machine: self.name.clone(),
-            p,
-            n,
-            reason,
-        }
-    }
 }
 
 /// `M v` and `Mᵀ w` for M = [t b n']ᵀ.
@@ -215,22 +198,14 @@ impl Basis {
 }
 
 impl Machine for ThreeZ {
-    fn name(&self) -> &str {
-        &self.name
+    fn axis_set(&self) -> &AxisSet {
+        &self.axis_set
     }
-    fn limits(&self) -> &[AxisLimit] {
-        &self.limits
-    }
-    fn inverse(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        _previous: Option<&[f64]>,
-    ) -> Result<Vec<f64>, MachineError> {
-        let n_hat = check_input(&self.name, p, n)?;
+    fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
+        let n_hat = self.axis_set.check_input(p, n)?;
         let tilt_deg = num::deg(tilt(n_hat));
         if tilt_deg > self.params.max_tilt_deg + super::LIMIT_SLACK_DEG {
-            return Err(self.unreachable(
+            return Err(self.axis_set.unreachable(
                 p,
                 n_hat,
                 format!(
@@ -257,7 +232,7 @@ impl Machine for ThreeZ {
             self.k[2],
         )
         .ok_or_else(|| {
-            self.unreachable(
+            self.axis_set.unreachable(
                 p,
                 n_hat,
                 "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into(),
@@ -284,7 +259,7 @@ impl Machine for ThreeZ {
                 if slide > inward + crate::tolerance::LENGTH_EPSILON
                     || -slide > outward + crate::tolerance::LENGTH_EPSILON
                 {
-                    return Err(self.unreachable(
+                    return Err(self.axis_set.unreachable(
                         p,
                         n_hat,
                         format!("ball {i} would slide {slide:.3} mm inward along its rail, beyond the rail travel [-{outward}, {inward}] mm"),
@@ -293,19 +268,17 @@ impl Machine for ThreeZ {
             }
         }
         let axes = vec![pp.x, pp.y, z0, z0 - rot(self.l[1]).z, z0 - rot(self.l[2]).z];
-        check_limits(&self.name, &self.limits, &axes, p)?;
-        Ok(axes)
+        self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        check_count(&self.name, 5, axes)?;
+        self.axis_set.check_count(5, axes)?;
         let (x, y, z0, z1, z2) = (axes[0], axes[1], axes[2], axes[3], axes[4]);
-        let fail = |what: &str| MachineError::UnreachableOrientation {
-            machine: self.name.clone(),
-            p: DVec3::new(x, y, z0),
-            n: DVec3::Z,
-            reason: format!(
-                "the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"
-            ),
+        let fail = |what: &str| {
+            self.axis_set.unreachable(
+                DVec3::new(x, y, z0),
+                DVec3::Z,
+                format!("the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"),
+            )
         };
         // Eqs. 16–19: rotation of v about a so that its z becomes zt.
         let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
