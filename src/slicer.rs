@@ -172,6 +172,9 @@ pub struct SliceOptions {
     pub nozzle_diameter: f64,
     /// Filament diameter, mm (> 0).
     pub filament_diameter: f64,
+    /// PrusaSlicer and Slic3r `--resolution`, mm (≥ 0; 0 = full resolution): see
+    /// [`crate::tolerance::SLICER_RESOLUTION`].
+    pub resolution: f64,
     /// Extra arguments appended to the slicer's command line after the defaults above (for
     /// PrusaSlicer and Slic3r a later option wins, e.g. `--bed-shape 0x0,400x0,400x400,0x400`;
     /// for CuraEngine they are global `-s key=value` settings, placed before the `-e0` block).
@@ -194,6 +197,7 @@ impl Default for SliceOptions {
             layer_height: crate::tolerance::DEFAULT_LAYER_HEIGHT,
             nozzle_diameter: DEFAULT_NOZZLE_DIAMETER,
             filament_diameter: DEFAULT_FILAMENT_DIAMETER,
+            resolution: crate::tolerance::SLICER_RESOLUTION,
             extra_args: Vec::new(),
             executable: None,
             cura_resources: None,

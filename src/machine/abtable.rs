@@ -315,6 +315,10 @@ impl Machine for AbTable {
             0.0
         }
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         // Calibrated axes reach a little less (or more) than A's limit in some directions.
         let misalign = num::deg(

@@ -132,6 +132,10 @@ impl Machine for BHead {
             0.0
         }
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(if self.params.clip {
             180.0

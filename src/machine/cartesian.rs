@@ -62,6 +62,10 @@ impl Machine for Cartesian {
     fn realised_axis(&self, _p: DVec3, _n: DVec3) -> DVec3 {
         DVec3::Z
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(self.params.max_tilt_deg.unwrap_or(180.0))
     }

@@ -124,6 +124,10 @@ impl Machine for Lathe {
             0.0
         }
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         Workspace {
             min: DVec3::new(-100.0, self.c.y - 40.0, self.c.z - 40.0),

@@ -14,6 +14,12 @@
 //!    exactly 360°), except where the realised axis itself jumps (a fixed-tilt nozzle passing
 //!    over the vertical) and next to a hold zone (`branch_freedom > 0`: on leaving it a held
 //!    axis may have to catch up; the interpolation splits such moves).
+//! 3. **Fixed pose** ([`check_fixed_pose`]), for machines that are
+//!    [`Machine::linear_at_fixed_pose`]: on straight tip segments with one tool axis whose ends
+//!    solve to the same rotary axes (grid pairs, and segments along X, along Z and radial from
+//!    the origin, where polar and mandrel machines keep their rotary axes), the linear
+//!    interpolation of the axes lands on the exact pose at 100 points within
+//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`].
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -242,5 +248,55 @@ pub fn check_paths(m: &dyn Machine) -> Result<LawReport, String> {
         })
         .collect();
     walk(m, p, &path, 0.05, &mut rep)?;
+    Ok(rep)
+}
+
+/// Law 3 (see the module documentation). Returns the points checked (0 for a machine that
+/// does not claim [`Machine::linear_at_fixed_pose`]).
+pub fn check_fixed_pose(m: &dyn Machine) -> Result<LawReport, String> {
+    let mut rep = LawReport::default();
+    if !m.linear_at_fixed_pose() {
+        return Ok(rep);
+    }
+    let ws = m.workspace();
+    let grid = positions(&ws);
+    let span = ws.max - ws.min;
+    let rotary: Vec<bool> = m.limits().iter().map(|l| l.rotary).collect();
+    let mut pairs: Vec<(DVec3, DVec3)> = Vec::new();
+    for (i, &a) in grid.iter().enumerate() {
+        for &b in &grid[i + 1..] {
+            pairs.push((a, b));
+        }
+        pairs.push((a, a + DVec3::new(span.x * 0.3, 0.0, 0.0)));
+        pairs.push((a, a + DVec3::new(0.0, 0.0, span.z * 0.3)));
+        pairs.push((a, a * 0.6));
+    }
+    for n in axes(&ws) {
+        for &(p0, p1) in &pairs {
+            let Ok(a0) = m.inverse(p0, n, None) else { continue };
+            let Ok(a1) = m.inverse(p1, n, Some(&a0)) else { continue };
+            if rotary.iter().zip(a0.iter().zip(&a1)).any(|(r, (x, y))| *r && x != y) {
+                continue;
+            }
+            for k in 1..100 {
+                let s = k as f64 / 100.0;
+                let lerped: Vec<f64> = a0.iter().zip(&a1).map(|(x, y)| x + (y - x) * s).collect();
+                let fw = m.forward(&lerped).map_err(|e| e.to_string())?;
+                let exact_axes = m.inverse(p0.lerp(p1, s), n, Some(&a0)).map_err(|e| e.to_string())?;
+                let exact = m.forward(&exact_axes).map_err(|e| e.to_string())?;
+                let dp = (fw.0 - exact.0).length();
+                let da = num::angle_between(fw.1, exact.1);
+                rep.points += 1;
+                rep.worst_position_mm = rep.worst_position_mm.max(dp);
+                rep.worst_angle_rad = rep.worst_angle_rad.max(da);
+                if !(dp <= POSITION_TOLERANCE && da <= ANGLE_TOLERANCE) {
+                    return Err(format!(
+                        "{}: linear_at_fixed_pose is false here: from {p0} to {p1} with n = {n}, the interpolated axes at s = {s} are {dp:.3e} mm / {da:.3e} rad off the exact pose",
+                        m.name()
+                    ));
+                }
+            }
+        }
+    }
     Ok(rep)
 }

@@ -126,6 +126,15 @@ pub trait Machine: Send + Sync + fmt::Debug {
     }
     /// Where the law tests sample this machine.
     fn workspace(&self) -> Workspace;
+    /// `true` promises (and the law [`laws::check_fixed_pose`] checks) that a straight tip
+    /// segment with one tool axis n, whose ends solve to the same rotary axes, is solved all
+    /// along to those rotary axes with linear axes affine in the tip: the firmware's linear
+    /// interpolation is then exact, and the interpolation check skips such moves
+    /// (see [`tessellate`]). False for the triple-Z bed (no rotary axes; its motor heights are
+    /// not affine in the bed's pose).
+    fn linear_at_fixed_pose(&self) -> bool {
+        false
+    }
 }
 
 /// Errors of the machine area.

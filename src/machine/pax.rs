@@ -108,6 +108,10 @@ impl Machine for Pax {
             n,
         ))
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(self.params.max_tilt_deg)
     }

@@ -158,6 +158,10 @@ impl Machine for RTheta {
             0.0
         }
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         // A square inside the reach: |p_xy| + L ≤ max_radius.
         let h = ((self.params.max_radius_mm - self.params.pivot_to_tip_mm.abs()) / 2f64.sqrt())

@@ -176,6 +176,10 @@ impl Machine for Rtn {
             0.0
         }
     }
+    /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
+    fn linear_at_fixed_pose(&self) -> bool {
+        true
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(180.0)
     }

@@ -20,6 +20,10 @@
 //! the error left there is still measured and reported. A single-revolution rotary axis that
 //! wraps (|ΔA| > 180°) marks the move `rotate_around` and is not interpolated (the emitter lifts
 //! and turns around, Slicer4RTN style).
+//!
+//! A piece with one tool axis whose ends have the same rotary axes, on a machine that is
+//! [`Machine::linear_at_fixed_pose`], is exact (error 0, no samples): the firmware moves only
+//! linear axes there and the tip follows them affinely (a law test checks the promise).
 
 use glam::DVec3;
 
@@ -143,22 +147,56 @@ pub const SLERP_EPSILON: f64 = 1e-9;
 
 /// Spherical interpolation of unit vectors (normalised lerp when nearly parallel or opposite).
 pub fn slerp(a: DVec3, b: DVec3, s: f64) -> DVec3 {
-    let w = num::angle_between(a, b);
-    let v = if !(SLERP_EPSILON..=core::f64::consts::PI - SLERP_EPSILON).contains(&w) {
-        a * (1.0 - s) + b * s
-    } else {
-        (a * num::sin((1.0 - s) * w) + b * num::sin(s * w)) / num::sin(w)
-    };
-    let l = v.length();
-    if l > 1e-12 {
-        v / l
-    } else {
-        a
+    Slerp::new(a, b).at(s)
+}
+
+/// [`slerp`] from `a` to `b` with the angle between them computed once (the splitting samples
+/// one piece many times). `at` gives bit for bit what `slerp` gives.
+#[derive(Clone, Copy, Debug)]
+pub struct Slerp {
+    a: DVec3,
+    b: DVec3,
+    /// The angle between a and b, rad.
+    w: f64,
+}
+
+impl Slerp {
+    pub fn new(a: DVec3, b: DVec3) -> Slerp {
+        // equal vectors (the common case: one layer normal along a move) need no trigonometry
+        let w = if a == b { 0.0 } else { num::angle_between(a, b) };
+        Slerp { a, b, w }
+    }
+
+    pub fn at(&self, s: f64) -> DVec3 {
+        let (a, b, w) = (self.a, self.b, self.w);
+        let v = if !(SLERP_EPSILON..=core::f64::consts::PI - SLERP_EPSILON).contains(&w) {
+            a * (1.0 - s) + b * s
+        } else {
+            (a * num::sin((1.0 - s) * w) + b * num::sin(s * w)) / num::sin(w)
+        };
+        let l = v.length();
+        if l > 1e-12 {
+            v / l
+        } else {
+            a
+        }
     }
 }
 
 fn lerp_axes(a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect()
+}
+
+/// Most axes a machine has (the stack buffer of the splitting's samples).
+const MAX_AXES: usize = 8;
+
+/// The angle between two unit vectors in degrees, without trigonometry when they are equal.
+fn angle_deg(a: DVec3, b: DVec3) -> f64 {
+    if a == b {
+        0.0
+    } else {
+        num::deg(num::angle_between(a, b))
+    }
 }
 
 struct Piece<'a> {
@@ -173,6 +211,8 @@ struct Ctx<'m> {
     machine: &'m dyn Machine,
     bounds: Bounds,
     wrap_axes: Vec<bool>,
+    /// The rotary axes, when the machine is [`Machine::linear_at_fixed_pose`].
+    fixed_pose_rotary: Option<Vec<bool>>,
 }
 
 impl Ctx<'_> {
@@ -180,16 +220,26 @@ impl Ctx<'_> {
     fn error(&self, pc: &Piece, a1: &[f64]) -> Result<(f64, f64), MachineError> {
         let k = self.bounds.samples.max(2);
         let (mut dp, mut da) = (0.0f64, 0.0f64);
+        let sl = Slerp::new(pc.n0, pc.n1);
+        let mut buf = [0.0; MAX_AXES];
+        let lerped = &mut buf[..pc.a0.len().min(MAX_AXES)];
         for i in 1..k {
             let s = i as f64 / k as f64;
             let p = pc.p0.lerp(pc.p1, s);
-            let n = slerp(pc.n0, pc.n1, s);
+            let n = sl.at(s);
             let exact = self
                 .machine
                 .forward(&self.machine.inverse(p, n, Some(pc.a0))?)?;
-            let fw = self.machine.forward(&lerp_axes(pc.a0, a1, s))?;
+            let fw = if pc.a0.len() <= MAX_AXES {
+                for (v, (x, y)) in lerped.iter_mut().zip(pc.a0.iter().zip(a1)) {
+                    *v = x + (y - x) * s;
+                }
+                self.machine.forward(lerped)?
+            } else {
+                self.machine.forward(&lerp_axes(pc.a0, a1, s))?
+            };
             dp = dp.max((fw.0 - exact.0).length());
-            da = da.max(num::deg(num::angle_between(fw.1, exact.1)));
+            da = da.max(angle_deg(fw.1, exact.1));
         }
         Ok((dp, da))
     }
@@ -298,6 +348,15 @@ impl Ctx<'_> {
         Ok(None)
     }
 
+    /// A piece the firmware interpolates exactly: one tool axis, the same rotary axes at both
+    /// ends, on a machine that is [`Machine::linear_at_fixed_pose`] (most moves of a layer
+    /// whose normal does not change; no sampling needed).
+    fn exact_at_fixed_pose(&self, pc: &Piece, a1: &[f64]) -> bool {
+        self.fixed_pose_rotary.as_ref().is_some_and(|rotary| {
+            pc.n0 == pc.n1 && rotary.iter().zip(pc.a0.iter().zip(a1)).all(|(r, (x, y))| !*r || x == y)
+        })
+    }
+
     fn wraps(&self, a0: &[f64], a1: &[f64]) -> bool {
         self.wrap_axes
             .iter()
@@ -330,7 +389,11 @@ impl Ctx<'_> {
         let turn = num::deg(num::angle_between(pc.n0, pc.n1));
         let capped = self.bounds.max_step_mm.is_some_and(|c| len > c)
             || self.bounds.max_step_deg.is_some_and(|c| turn > c);
-        let (dp, da) = self.error(&pc, &a1)?;
+        let (dp, da) = if self.exact_at_fixed_pose(&pc, &a1) {
+            (0.0, 0.0)
+        } else {
+            self.error(&pc, &a1)?
+        };
         let over = dp > SAMPLING_MARGIN * self.bounds.max_position_mm
             || da > SAMPLING_MARGIN * self.bounds.max_angle_deg;
         if (over || capped) && depth < self.bounds.max_depth {
@@ -436,6 +499,9 @@ pub fn tessellate_move(
         machine,
         bounds: *bounds,
         wrap_axes: wrap_axes(machine),
+        fixed_pose_rotary: machine
+            .linear_at_fixed_pose()
+            .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
     };
     let (a0_in, p0, n0) = from;
     let mut ends = Vec::new();

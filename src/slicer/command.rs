@@ -31,6 +31,13 @@ pub fn validate(stl_path: &Path, opts: &SliceOptions) -> Result<(), SlicerError>
             });
         }
     }
+    if !(opts.resolution.is_finite() && opts.resolution >= 0.0) {
+        return Err(SlicerError::InvalidOption {
+            option: "resolution",
+            value: opts.resolution.to_string(),
+            expected: "a length in mm, 0 or more (0: full resolution)",
+        });
+    }
     let is_stl = stl_path
         .extension()
         .and_then(|e| e.to_str())
@@ -63,6 +70,7 @@ pub fn build(
     let lh = opts.layer_height.to_string();
     let nozzle = opts.nozzle_diameter.to_string();
     let filament = opts.filament_diameter.to_string();
+    let resolution = opts.resolution.to_string();
     let relative = opts.e_mode == EMode::Relative;
     let mut env = Vec::new();
     let mut args: Vec<String> = match opts.slicer {
@@ -72,6 +80,7 @@ pub fn build(
             a.extend(strs(&["--nozzle-diameter", &nozzle]));
             a.extend(strs(&["--filament-diameter", &filament]));
             a.extend(strs(&["--gcode-flavor", "marlin2"]));
+            a.extend(strs(&["--resolution", &resolution]));
             if relative {
                 // PrusaSlicer refuses relative E unless every layer resets E.
                 a.extend(strs(&[
@@ -90,6 +99,7 @@ pub fn build(
             a.extend(strs(&["--nozzle-diameter", &nozzle]));
             a.extend(strs(&["--filament-diameter", &filament]));
             a.extend(strs(&["--gcode-flavor", "reprap"]));
+            a.extend(strs(&["--resolution", &resolution]));
             if relative {
                 a.push("--use-relative-e-distances".to_string());
             }
@@ -164,6 +174,7 @@ mod tests {
         assert!(joined.contains("--use-relative-e-distances --layer-gcode G92 E0"));
         assert!(joined.contains("--layer-height 0.2 --first-layer-height 0.2"));
         assert!(joined.contains("--loglevel 1"));
+        assert!(joined.contains("--resolution 0.005"), "{joined}");
         assert_eq!(inv.args.last().map(String::as_str), Some("a.stl"));
     }
 

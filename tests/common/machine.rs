@@ -144,7 +144,14 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
             };
             let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
             li += 1;
-            if line.rotate_around {
+            let dtip = (p - tp.p).length();
+            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
+            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
+            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
+            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
+            if line.rotate_around && !is_end {
+                // a lifted turn-around (single-revolution axis): off the path by design; its
+                // descent lands on the point
                 continue;
             }
             let (dseg, s) = to_segment(p, start, tp.p);
@@ -152,11 +159,6 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
             if k > 0 && dseg > INTERP_MM {
                 return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
             }
-            let dtip = (p - tp.p).length();
-            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
-            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
-            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
-            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
             owner[li - 1] = Some((k, if (tp.p - start).length() > 1e-9 { s } else { 1.0 }));
             if is_end {
                 r.worst_tip = r.worst_tip.max(dtip);

@@ -245,6 +245,15 @@ try {
       await download('job-download', join(dir, 'W.job.json'));
       slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
       const machineArgs = name === 'cartesian' ? [] : ['--machine', name];
+      // the machines turning about the origin get the part placed there (the polar one off
+      // its centre), in the page and on the CLI alike
+      const place = { 'open5x-ab': [0, 0], 'lathe-a': [0, 0], 'core-r-theta': [60, 0] }[name];
+      await tid('place-on').setChecked(!!place);
+      if (place) {
+        await page.locator('#p-place-x').fill(String(place[0]));
+        await page.locator('#p-place-y').fill(String(place[1]));
+        machineArgs.push('--place', place.join(','));
+      }
       let cliError = null;
       try {
         sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
@@ -270,6 +279,7 @@ try {
       assert(out.equals(cli), `${name}: browser G-code (${out.length} B, ${sha(out)}) differs from the CLI's (${cli.length} B, ${sha(cli)})`);
       await screenshot(`preset-${name}-result`);
     }
+    await tid('place-on').setChecked(false);
     await tid('machine-select').selectOption('cartesian');
     await warpSettled();
   });
