@@ -107,17 +107,26 @@ mod native {
             &WarpOptions::new(conic()),
         )
         .expect("warp ball");
+        // `--reuse-inputs`: the G-code a previous run left (scripts/bench-wasm.sh, so native and
+        // wasm unwarp the same bytes; PrusaSlicer's output differs slightly from run to run)
+        let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
+        let reuse = std::env::args().any(|a| a == "--reuse-inputs");
+        let kept = if reuse { std::fs::read(keep.join("ball.gcode")).ok() } else { None };
         let dir = std::env::temp_dir().join(format!("warpslice-bench-{}", std::process::id()));
         let _ = std::fs::create_dir_all(&dir);
         let (stl_path, gcode_path) = (dir.join("ball.stl"), dir.join("ball.gcode"));
-        let sliced = std::fs::write(&stl_path, &w.stl).is_ok()
+        let sliced = kept.is_none()
+            && std::fs::write(&stl_path, &w.stl).is_ok()
             && warpslice::slicer::slice(
                 &stl_path,
                 &gcode_path,
                 &warpslice::slicer::SliceOptions::default(),
             )
             .is_ok();
-        let gcode = if sliced {
+        let gcode = if let Some(g) = kept {
+            println!("unwarp input: target/bench-inputs/ball.gcode (--reuse-inputs)");
+            g
+        } else if sliced {
             println!("unwarp input: PrusaSlicer's G-code of a 64 mm sphere, conic 30° outward");
             std::fs::read(&gcode_path).expect("sliced G-code")
         } else {
@@ -127,8 +136,7 @@ mod native {
             synthetic::gcode(&w.job, true, 1.0).into_bytes()
         };
         let _ = std::fs::remove_dir_all(&dir);
-        let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
-        if std::fs::create_dir_all(&keep).is_ok() {
+        if !reuse && std::fs::create_dir_all(&keep).is_ok() {
             let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
             let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
             let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
@@ -155,7 +163,28 @@ mod native {
             bytes_out = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
         });
         let _ = std::fs::remove_file(&path);
+        // the same work into memory (what the Node wasm figure measures: no file writes)
+        let (t_mem, _) = best_of(3, || {
+            let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
+            for c in gcode.chunks(1 << 20) {
+                u.scan(c).expect("scan");
+            }
+            u.end_scan().expect("registration");
+            let mut bytes = 0;
+            for c in gcode.chunks(1 << 20) {
+                u.push(c).expect("push");
+                bytes += u.take_output().len();
+            }
+            u.finish().expect("finish");
+            bytes += u.take_output().len();
+            std::hint::black_box(bytes);
+        });
         let mb_in = gcode.len() as f64 / 1e6;
+        println!(
+            "unwarp (2 streaming passes, into memory, as the wasm figure): {:.3} s = {:.1} MB/s input",
+            t_mem,
+            mb_in / t_mem
+        );
         println!(
             "unwarp (2 streaming passes, to a file): {:.1} MB → {:.1} MB ({lines_out} lines) in {:.3} s = {:.1} MB/s input, {:.2} M lines/s output; peak memory {}",
             mb_in,
