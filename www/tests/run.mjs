@@ -270,6 +270,7 @@ try {
       if (await err.isVisible()) {
         const text = await err.innerText();
         assert(cliError !== null, `${name}: the page showed an error the CLI did not: ${text}`);
+        assert(!place, `${name}: placed at ${place} the part must print, but: ${text}`);
         await screenshot(`preset-${name}-error`);
         continue;
       }
