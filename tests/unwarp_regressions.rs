@@ -106,3 +106,26 @@ fn place_moves_part_and_skirt_but_not_the_start_gcode() {
     let bad = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { place: Some([f64::NAN, 0.0]), ..opts }).unwrap_err().to_string();
     assert!(bad.contains("is not a position"), "{bad}");
 }
+
+/// A cylindrical job on the mandrel machine must have its layer axis on the mandrel's, or the
+/// layers are wound round the wrong line (found by hand: the lathe preset turns about z = 0
+/// while the warp's default axis lies one radius under the part).
+#[test]
+fn cylindrical_job_off_the_mandrel_axis_is_refused() {
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let p = WarpParams { spec: WarpSpec::Cylindrical { radius: 20.0, axis: [0.0, -20.0] }, base: None };
+    let w = warp_model(&stl, &WarpOptions::new(p)).unwrap();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let mut lathe = warpslice::machine::preset("lathe-a").unwrap();
+    let opts = UnwarpOptions { machine: Some(lathe.clone()), place: Some([0.0, 0.0]), ..UnwarpOptions::default() };
+    let e = unwarp(g.as_bytes(), &w.job, &opts).unwrap_err().to_string();
+    assert!(e.contains("y = 0, z = -20") && e.contains("\"axis_z_mm\": -20") && e.contains("lathe-a"), "{e}");
+    if let warpslice::machine::spec::Kinematics::LatheA(l) = &mut lathe.kinematics {
+        l.axis_z_mm = -20.0;
+    }
+    // the slicer's placement (100, 100) is off the mandrel too
+    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { machine: Some(lathe.clone()), ..UnwarpOptions::default() }).unwrap_err().to_string();
+    assert!(e.contains("turns about y = 0, z = -20"), "{e}");
+    let ok = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { machine: Some(lathe), place: Some([0.0, 0.0]), ..UnwarpOptions::default() });
+    assert!(ok.is_ok(), "{:?}", ok.err().map(|e| e.to_string()));
+}

@@ -185,6 +185,9 @@ pub enum UnwarpError {
     Machine { line: Option<u64>, error: MachineError },
     /// `place` is not two finite numbers.
     BadPlace { place: [f64; 2] },
+    /// A cylindrical job's layer axis is not the lathe's mandrel axis (output frame, y and z
+    /// in mm): printing would wind the layers round the wrong line.
+    MandrelMismatch { machine: String, warp: [f64; 2], mandrel: [f64; 2] },
 }
 
 impl From<GcodeError> for UnwarpError {
@@ -211,6 +214,11 @@ impl std::fmt::Display for UnwarpError {
             UnwarpError::Order { expected } => write!(f, "unwarp: call {expected} first"),
             UnwarpError::Machine { line: Some(line), error } => write!(f, "G-code line {line}: {error}"),
             UnwarpError::Machine { line: None, error } => error.fmt(f),
+            UnwarpError::MandrelMismatch { machine, warp, mandrel } => write!(
+                f,
+                "the cylindrical warp's layers are coaxial about the line y = {}, z = {} (along X, in the output) but machine {machine} turns about y = {}, z = {}: set \"axis_y_mm\": {}, \"axis_z_mm\": {} in the machine JSON, or --place the part so that its warp axis lies on the mandrel",
+                fmt(warp[0]), fmt(warp[1]), fmt(mandrel[0]), fmt(mandrel[1]), fmt(warp[0]), fmt(warp[1])
+            ),
             UnwarpError::BadPlace { place } => {
                 write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
             }
@@ -335,6 +343,7 @@ impl Unwarper {
             Some(place) => return Err(UnwarpError::BadPlace { place }.into()),
             None => DVec3::ZERO,
         };
+        mandrel_check(&self.job, self.opts.machine.as_ref(), [dx + shift.x, dy + shift.y, self.opts.z_offset])?;
         let b = reg.gcode_bbox;
         let mut core = Core {
             job: self.job.clone(),
@@ -764,6 +773,24 @@ impl Core {
             self.emit.reset_e(self.slicer_e);
         }
     }
+}
+
+/// Largest distance between a cylindrical job's layer axis and a lathe's mandrel axis, mm.
+pub const MANDREL_AXIS_TOLERANCE: f64 = 0.01;
+
+/// A cylindrical job on a `lathe-a` machine: the warp's axis (model frame, moved to the output
+/// by `model_to_output`) must be the mandrel's, or the layers are wound round the wrong line.
+fn mandrel_check(job: &Job, machine: Option<&MachineSpec>, m2o: [f64; 3]) -> Result<(), UnwarpError> {
+    use crate::machine::spec::Kinematics;
+    use crate::warp::WarpSpec;
+    let (Some(spec), WarpSpec::Cylindrical { axis, .. }) = (machine, &job.warp.spec) else { return Ok(()) };
+    let Kinematics::LatheA(lathe) = &spec.kinematics else { return Ok(()) };
+    let warp = [axis[0] + m2o[1], axis[1] + m2o[2]];
+    let mandrel = [lathe.axis_y_mm, lathe.axis_z_mm];
+    if (warp[0] - mandrel[0]).hypot(warp[1] - mandrel[1]) > MANDREL_AXIS_TOLERANCE {
+        return Err(UnwarpError::MandrelMismatch { machine: spec.name.clone(), warp, mandrel });
+    }
+    Ok(())
 }
 
 /// Where the head was before `line` (its first move's start, or the state's position).
