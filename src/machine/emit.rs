@@ -436,7 +436,7 @@ impl Emitter for MachineEmitter {
                 names.join(" ")
             ));
         }
-        lines.extend(self.flavour.header(&self.limits));
+        lines.extend(self.flavour.header(&self.limits, self.feed));
         for l in lines {
             out.extend_from_slice(l.as_bytes());
             out.push(b'\n');

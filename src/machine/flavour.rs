@@ -2,7 +2,8 @@
 //! gets, and where it is refused.
 //!
 //! - [`Flavour::RepRapFirmware`]: every axis letter is a G-code word; the header lists the
-//!   `M584` axis mapping the file expects (rotary axes created with `R1`, RepRapFirmware 3).
+//!   `M584` axis mapping the file expects (rotary axes created with `R1`, and `S1` or `S0` as
+//!   the feed mode needs: RepRapFirmware 3.2 and later).
 //! - [`Flavour::Marlin`] (2.1): axes beyond X Y Z are `AXIS4_NAME`, `AXIS5_NAME`, … in
 //!   `Configuration.h`, named from A B C U V W; the header says which letter is which.
 //! - [`Flavour::Klipper`]: Klipper has no kinematics for rotary or independently addressed
@@ -12,7 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{AxisLimit, MachineError};
+use super::{AxisLimit, FeedMode, MachineError};
 
 /// The firmware the output is for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -92,7 +93,12 @@ impl Flavour {
     }
 
     /// Header comment lines (without the leading `; warpslice machine = …` line).
-    pub fn header(self, limits: &[AxisLimit]) -> Vec<String> {
+    ///
+    /// RepRapFirmware (3.2 and later): `M584 … R1` creates rotary axes, `R0` linear ones, and
+    /// `S1` keeps a rotary axis out of the feed-rate length (NIST RS274 §2.1.2.5; RRF's default
+    /// for `R1`) while `S0` counts its degrees like millimetres: `S1` for `--feed xyz` and
+    /// `inverse-time`, `S0` for `--feed all-axes` (see [`FeedMode`]).
+    pub fn header(self, limits: &[AxisLimit], feed: FeedMode) -> Vec<String> {
         let extra: Vec<&AxisLimit> = limits
             .iter()
             .filter(|l| !["X", "Y", "Z"].contains(&l.name.as_str()))
@@ -116,7 +122,11 @@ impl Flavour {
                             "linear, mm"
                         },
                         l.name,
-                        if l.rotary { " R1" } else { " R0" }
+                        match (l.rotary, feed) {
+                            (false, _) => " R0",
+                            (true, FeedMode::AllAxes) => " R1 S0",
+                            (true, _) => " R1 S1",
+                        }
                     ));
                 }
             }
@@ -149,5 +159,23 @@ impl Flavour {
             }
         }
         lines
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// RepRapFirmware counts an axis created with `S0` in the feed length: right for
+    /// `--feed all-axes`, wrong for `xyz`, whose F is the tip speed alone.
+    #[test]
+    fn reprapfirmware_header_creates_rotary_axes_for_the_feed_mode() {
+        let limits = [AxisLimit::linear("X"), AxisLimit::linear("U"), AxisLimit::rotary("A", -90.0, 90.0)];
+        let xyz = Flavour::RepRapFirmware.header(&limits, FeedMode::Xyz).join("\n");
+        assert!(xyz.contains("M584 … A R1 S1") && xyz.contains("M584 … U R0"), "{xyz}");
+        let all = Flavour::RepRapFirmware.header(&limits, FeedMode::AllAxes).join("\n");
+        assert!(all.contains("M584 … A R1 S0"), "{all}");
+        let marlin = Flavour::Marlin.header(&limits, FeedMode::Xyz).join("\n");
+        assert!(marlin.contains("#define AXIS4_NAME 'U'") && marlin.contains("AXIS5_NAME 'A'"), "{marlin}");
     }
 }
