@@ -64,7 +64,7 @@ mod cli {
             #[command(flatten)]
             unwarp: UnwarpArgs,
             /// The slicer's placement dx,dy (mm) instead of finding it.
-            #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+            #[arg(long, value_parser = pair, allow_hyphen_values = true)]
             offset: Option<[f64; 2]>,
             /// Chord tolerance, mm.
             #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_TOLERANCE)]
@@ -166,23 +166,23 @@ mod cli {
         #[arg(long, default_value_t = 30.0)]
         angle: f64,
         /// conic: axis position cx,cy in the model frame, mm.
-        #[arg(long, value_parser = pair, default_value = "0,0", allow_negative_numbers = true)]
+        #[arg(long, value_parser = pair, default_value = "0,0", allow_hyphen_values = true)]
         center: [f64; 2],
         /// belt: direction dx,dy the layers fall toward.
-        #[arg(long, value_parser = pair, default_value = "0,1", allow_negative_numbers = true)]
+        #[arg(long, value_parser = pair, default_value = "0,1", allow_hyphen_values = true)]
         toward: [f64; 2],
         /// cylindrical/spherical: radius R of the first layer (mandrel or inner sphere), mm.
         #[arg(long, default_value_t = 10.0)]
         radius: f64,
         /// cylindrical: the mandrel axis (parallel to X) at y,z in the model frame, mm
         /// (default: 0,−radius, just under the part).
-        #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
         axis_yz: Option<[f64; 2]>,
         /// spherical: the centre x,y,z in the model frame, mm (default: 0,0,−radius).
-        #[arg(long, value_parser = triple, allow_negative_numbers = true)]
+        #[arg(long, value_parser = triple, allow_hyphen_values = true)]
         sphere_center: Option<[f64; 3]>,
         /// Keep the layers flat below z0 and blend in the warp up to z1 (mm): --base z0,z1.
-        #[arg(long, value_parser = pair)]
+        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
         base: Option<[f64; 2]>,
         /// Split triangle edges longer than this, mm.
         #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_MAX_EDGE)]
@@ -204,7 +204,7 @@ mod cli {
         #[arg(long, default_value_t = 1.0)]
         flow: f64,
         /// Flow ramp f0,z_ramp: from f0 at z = 0 to 1 at z_ramp (seed 000: 0.8,1.2).
-        #[arg(long, value_parser = pair)]
+        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
         ramp: Option<[f64; 2]>,
         /// Added to every output z, mm.
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -214,7 +214,7 @@ mod cli {
         drop_skirt: bool,
         /// Put the part's footprint centre at x,y (mm) in the output instead of where the
         /// slicer put it (e.g. 0,0 on an A/B table whose axes meet at the origin).
-        #[arg(long, value_parser = pair, allow_negative_numbers = true)]
+        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
         place: Option<[f64; 2]>,
         /// Write a 4/5-axis machine's axes: a preset name or a machine JSON file (docs/machines.md).
         #[arg(long)]

@@ -356,3 +356,48 @@ fn split_halves_join_on_the_same_branch_near_the_pole() {
     }
     assert_eq!(rep.depth_limited, 0);
 }
+
+/// The README's one command per machine runs as written (found: `--center -15,0` was taken for
+/// a flag by the argument parser, so four of the documented commands failed).
+#[test]
+fn readme_machine_commands_run_as_written() {
+    if let Err(e) = slicer::available(SlicerKind::PrusaSlicer) {
+        if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
+            println!("SKIPPED the README's machine commands: {e}");
+            return;
+        }
+        panic!("PrusaSlicer is needed for this test: {e}");
+    }
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
+    let start = readme.find("One command per machine").expect("the README's machine commands");
+    let commands: Vec<&str> = readme[start..].lines().skip_while(|l| !l.starts_with("```sh")).skip(1).take_while(|l| !l.starts_with("```")).collect();
+    assert!(commands.len() >= warpslice::machine::preset_names().len(), "{commands:?}");
+    let dir = tmpdir("readme");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice")).args(args).current_dir(&dir).output().expect("run warpslice");
+        (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    assert!(run(&["example", "cube", "-o", "cube.stl"]).0);
+    let mut lathe = preset("lathe-a").unwrap();
+    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut lathe.kinematics {
+        p.axis_z_mm = -20.0;
+    }
+    std::fs::write(dir.join("lathe.json"), serde_json::to_string(&lathe).unwrap()).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for c in &commands {
+        let args: Vec<&str> = c.split_whitespace().skip(1).collect();
+        let (ok, err) = run(&args);
+        assert!(ok, "`{c}` failed: {err}");
+        let out = args.windows(2).find(|w| w[0] == "-o").map(|w| w[1]).expect("-o");
+        let text = std::fs::read_to_string(dir.join(out)).expect("output written");
+        if let Some(m) = args.windows(2).find(|w| w[0] == "--machine").map(|w| w[1]) {
+            let name = if m == "lathe.json" { "lathe-a" } else { m };
+            assert!(text.contains(&format!("; warpslice machine = {name} ")), "`{c}`: no machine header");
+            seen.insert(name.to_string());
+        } else {
+            seen.insert("cartesian".to_string());
+        }
+    }
+    let all: std::collections::BTreeSet<String> = warpslice::machine::preset_names().into_iter().map(String::from).collect();
+    assert_eq!(seen, all, "the README shows a command for every preset");
+}
