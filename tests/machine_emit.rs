@@ -8,7 +8,8 @@
 //!   on the toolpath segment;
 //! - interpolation: 100 points sampled on every output move stay within 0.02 mm / 0.1° of the
 //!   intended path (linear tip, slerp tool axis, realised by the machine);
-//! - each preset writes a sample G-code (kept in a temp dir) that parses.
+//! - each preset writes a sample G-code (kept in a temp dir) that parses; RotBot also with its
+//!   nozzle misaligned (e_parallel 0.4 mm, e_perpendicular −0.25 mm).
 //!
 //! A missing PrusaSlicer fails the test unless `WARPSLICE_ALLOW_SKIP=1`.
 #![cfg(not(target_arch = "wasm32"))]
@@ -53,7 +54,7 @@ fn warp_for(preset: &str) -> WarpSpec {
         }
         // the cone's apex is a singular point of the tool-axis field (its azimuth turns by
         // 180° across it): keep it outside the part
-        "rtn-slicer4rtn" | "rotbot" => conic(45.0, [-15.0, 0.0]),
+        "rtn-slicer4rtn" | "rotbot" | "rotbot-misaligned" => conic(45.0, [-15.0, 0.0]),
         "ratrig-vcore3-3z" => WarpSpec::Belt { angle: 20.0, toward: [0.0, 1.0] },
         // the mandrel of radius 20 mm under the part (the lathe's axis is moved there too)
         "lathe-a" => WarpSpec::Cylindrical { radius: 20.0, axis: [0.0, -20.0] },
@@ -93,8 +94,16 @@ fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &st
     Some((std::fs::read(&gcode).expect("read gcode"), w.job))
 }
 
+/// RotBot's nozzle misalignment (seed 002: e_parallel, e_perpendicular, rotated with U), mm.
+const ROTBOT_MISALIGNMENT: (f64, f64) = (0.4, -0.25);
+
 fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
-    let mut spec = preset(name).map_err(|e| e.to_string())?;
+    let base = if name == "rotbot-misaligned" { "rotbot" } else { name };
+    let mut spec = preset(base).map_err(|e| e.to_string())?;
+    if let (true, warpslice::machine::spec::Kinematics::Rtn(p)) = (base != name, &mut spec.kinematics) {
+        spec.name = name.to_string();
+        (p.e_parallel_mm, p.e_perpendicular_mm) = ROTBOT_MISALIGNMENT;
+    }
     if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
         p.axis_z_mm = -20.0;
     }
@@ -134,6 +143,8 @@ fn every_preset_end_to_end_with_prusaslicer() {
     let only = std::env::var("WARPSLICE_ONLY_PRESET").ok();
     let mut cases: Vec<(&str, WarpSpec)> = warpslice::machine::preset_names().into_iter().map(|n| (n, warp_for(n))).collect();
     cases.push(("pax-5axis", WarpSpec::Spherical { radius: 20.0, center: [0.0, 0.0, -20.0] }));
+    // the misaligned nozzle end to end (its kinematics alone are in machine_laws)
+    cases.push(("rotbot-misaligned", warp_for("rotbot-misaligned")));
     for (name, warp) in &cases {
         if only.as_deref().is_some_and(|o| o != *name) {
             continue;
