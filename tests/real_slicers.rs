@@ -50,7 +50,6 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
     d
 }
 
-/// Run every case; return (passed, failures).
 /// One matrix test: the models, the warps, how the machine presets are chosen, and which
 /// slicer × E-mode slot (0–5) of the corpus rotation this test is (`None`: every case).
 struct Matrix<'a> {
@@ -84,6 +83,7 @@ fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static s
 /// Slicer × E-mode combinations the corpus cases rotate through.
 const COMBOS: usize = 6;
 
+/// Run every case of one matrix test; print the table; fail with every failed case.
 fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     let Matrix { models, warps, presets, rotate } = mx;
     let (models, warps) = (&models[..], &warps[..]);
@@ -133,7 +133,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
                     )),
                     Err(e) => failures.lock().unwrap().push(format!("{name} × {wname}: {e}")),
                 }
-                if let Some(e) = machines.lock().unwrap().values_mut().find_map(|t| t.failure.take()) {
+                for e in machines.lock().unwrap().values_mut().filter_map(|t| t.failure.take()) {
                     failures.lock().unwrap().push(format!("{name} × {wname}: {e}"));
                 }
             });
@@ -254,7 +254,7 @@ struct MachineTally {
     worst_axis: f64,
     points: usize,
     lines: usize,
-    /// The last case's failure (taken by the matrix loop).
+    /// This case's failure (taken by the matrix loop after each case).
     failure: Option<String>,
 }
 
