@@ -3,7 +3,7 @@
 //! {relative E, absolute E} × the five acceptance warps on the generated parts; and every
 //! corpus model marked `accept` × the five warps, each case with one slicer and E mode in turn
 //! (so every slicer and E mode meets every model; the full product, `WARPSLICE_FULL_MATRIX=1`,
-//! passed all 480 cases but takes 35 min on this 2-core machine, over the suite's budget):
+//! passed all 480 cases but takes 26 min on this 2-core machine, over the suite's budget):
 //! warp → slice → unwarp, then checks a–e (tests/common). A warp that the acceptance requires to
 //! be refused (the base blend on a model wider than its monotonicity limit) must be refused,
 //! naming the limit. Identical geometry in two corpus files (ASCII and binary copies) is sliced
@@ -101,7 +101,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     }
     let dir = tmpdir(tag);
     let nw = warps.len();
-    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer: 35 min
+    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer: 26 min
     // here, over the suite's budget)
     let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") { None } else { rotate };
     let cases: Vec<(usize, usize)> = (0..models.len())
