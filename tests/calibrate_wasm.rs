@@ -7,16 +7,11 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use warpslice::calibrate::patterns::{self, PrintOptions, TestKind};
 use warpslice::calibrate::{calibrate_origin, parse_measurements, simulate, OriginOptions};
+use warpslice::job::fnv1a64;
 use warpslice::machine::preset;
 
 const LISTING_4_1: &str = "ab_values\na_axis {0,-0.1650009,-0.2140012}\na_z_in_y 0.0030937\na_axis_dir {0.9994476,0.0332315,-0.0004059}\nb_axis {-0.1399994,0.0900002,-10}\nb_axis_dir {0.0010010,0.0059996,0.9999815}\n";
 
-/// FNV-1a, 64 bit.
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf29ce484222325u64, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x100000001b3)
-    })
-}
 
 /// The calibrated machine JSON and the integrated test print for it (hashes).
 fn outputs() -> (u64, u64, u64) {
@@ -29,8 +24,8 @@ fn outputs() -> (u64, u64, u64) {
     let tp = patterns::test_print(&spec, TestKind::Integrated, &PrintOptions::default()).unwrap();
     let fig = simulate::fig_3_1(20.0, 2.0).unwrap();
     (
-        fnv(spec.to_json().as_bytes()),
-        fnv(&tp.gcode),
+        fnv1a64(spec.to_json().as_bytes()),
+        fnv1a64(&tp.gcode),
         fig.to_bits(),
     )
 }
