@@ -187,9 +187,6 @@ fn lerp_axes(a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect()
 }
 
-/// Most axes a machine has (the stack buffer of the splitting's samples).
-const MAX_AXES: usize = 8;
-
 /// The angle between two unit vectors in degrees, without trigonometry when they are equal.
 fn angle_deg(a: DVec3, b: DVec3) -> f64 {
     if a == b {
@@ -221,8 +218,6 @@ impl Ctx<'_> {
         let k = self.bounds.samples.max(2);
         let (mut dp, mut da) = (0.0f64, 0.0f64);
         let sl = Slerp::new(pc.n0, pc.n1);
-        let mut buf = [0.0; MAX_AXES];
-        let lerped = &mut buf[..pc.a0.len().min(MAX_AXES)];
         for i in 1..k {
             let s = i as f64 / k as f64;
             let p = pc.p0.lerp(pc.p1, s);
@@ -230,14 +225,7 @@ impl Ctx<'_> {
             let exact = self
                 .machine
                 .forward(&self.machine.inverse(p, n, Some(pc.a0))?)?;
-            let fw = if pc.a0.len() <= MAX_AXES {
-                for (v, (x, y)) in lerped.iter_mut().zip(pc.a0.iter().zip(a1)) {
-                    *v = x + (y - x) * s;
-                }
-                self.machine.forward(lerped)?
-            } else {
-                self.machine.forward(&lerp_axes(pc.a0, a1, s))?
-            };
+            let fw = self.machine.forward(&lerp_axes(pc.a0, a1, s))?;
             dp = dp.max((fw.0 - exact.0).length());
             da = da.max(angle_deg(fw.1, exact.1));
         }
