@@ -111,7 +111,11 @@ mod native {
         // wasm unwarp the same bytes; PrusaSlicer's output differs slightly from run to run)
         let keep = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bench-inputs");
         let reuse = std::env::args().any(|a| a == "--reuse-inputs");
-        let kept = if reuse { std::fs::read(keep.join("ball.gcode")).ok() } else { None };
+        let kept = if reuse {
+            std::fs::read(keep.join("ball.gcode")).ok()
+        } else {
+            None
+        };
         let dir = std::env::temp_dir().join(format!("warpslice-bench-{}", std::process::id()));
         let _ = std::fs::create_dir_all(&dir);
         let (stl_path, gcode_path) = (dir.join("ball.stl"), dir.join("ball.gcode"));

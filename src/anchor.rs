@@ -25,7 +25,11 @@ pub const MIN_FIRST_LAYER_AREA: f64 = 25.0;
 
 /// Whether the warped part (T-space) needs an anchor when sliced with `layer_height`.
 pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
-    let zmin = warped.vertices.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+    let zmin = warped
+        .vertices
+        .iter()
+        .map(|v| v.z)
+        .fold(f64::INFINITY, f64::min);
     let limit = zmin + 0.5 * layer_height;
     let area: f64 = warped
         .triangles
@@ -81,7 +85,8 @@ pub fn add_slab(mesh: &mut Mesh, top: f64, thickness: f64) -> bool {
     // Bottom (seen from below: clockwise in XY), top (counter-clockwise), sides.
     for i in 1..n - 1 {
         mesh.triangles.push([base, base + i + 1, base + i]);
-        mesh.triangles.push([base + n, base + n + i, base + n + i + 1]);
+        mesh.triangles
+            .push([base + n, base + n + i, base + n + i + 1]);
     }
     for i in 0..n {
         let j = (i + 1) % n;
@@ -108,19 +113,26 @@ mod tests {
         let h = convex_hull(&mut pts);
         assert_eq!(h.len(), 4);
         // counter-clockwise: positive signed area
-        let area: f64 = (0..h.len()).map(|i| h[i].perp_dot(h[(i + 1) % h.len()])).sum::<f64>() / 2.0;
+        let area: f64 = (0..h.len())
+            .map(|i| h[i].perp_dot(h[(i + 1) % h.len()]))
+            .sum::<f64>()
+            / 2.0;
         assert!((area - 1.0).abs() < 1e-12);
     }
 
     #[test]
     fn slab_is_closed_prism() {
         let mut m = Mesh {
-            vertices: vec![DVec3::new(0.0, 0.0, 1.0), DVec3::new(2.0, 0.0, 1.0), DVec3::new(0.0, 2.0, 1.0)],
+            vertices: vec![
+                DVec3::new(0.0, 0.0, 1.0),
+                DVec3::new(2.0, 0.0, 1.0),
+                DVec3::new(0.0, 2.0, 1.0),
+            ],
             triangles: vec![],
         };
         assert!(add_slab(&mut m, 1.0, 0.2));
         assert_eq!(m.triangles.len(), 2 + 2 * 3); // top + bottom fans of a triangle, 3 side quads
-        // volume by the divergence theorem = area · thickness = 2 · 0.2
+                                                  // volume by the divergence theorem = area · thickness = 2 · 0.2
         let vol = m.signed_volume();
         assert!((vol - 0.4).abs() < 1e-12, "{vol}");
     }

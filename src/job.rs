@@ -102,13 +102,21 @@ impl Job {
 
     /// Parse and check a job file.
     pub fn from_json(text: &str) -> Result<Job, JobError> {
-        let job: Job = serde_json::from_str(text).map_err(|e| JobError::Parse { message: e.to_string() })?;
+        let job: Job = serde_json::from_str(text).map_err(|e| JobError::Parse {
+            message: e.to_string(),
+        })?;
         if job.format != JOB_FORMAT {
-            return Err(JobError::Format { found: job.format, expected: JOB_FORMAT });
+            return Err(JobError::Format {
+                found: job.format,
+                expected: JOB_FORMAT,
+            });
         }
         let computed = job.compute_hash();
         if computed != job.hash {
-            return Err(JobError::Hash { found: job.hash.clone(), computed });
+            return Err(JobError::Hash {
+                found: job.hash.clone(),
+                computed,
+            });
         }
         Ok(job)
     }

@@ -29,18 +29,18 @@
 pub mod num;
 pub mod tolerance;
 
-pub mod mesh;
-pub mod warp;
 pub mod anchor;
-pub mod job;
+pub mod calibrate;
 pub mod gcode;
+pub mod job;
+pub mod machine;
+pub mod mesh;
+pub mod pipeline;
 pub mod register;
+pub mod shapes;
 pub mod toolpath;
 pub mod unwarp;
-pub mod pipeline;
-pub mod machine;
-pub mod shapes;
-pub mod calibrate;
+pub mod warp;
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod slicer;

@@ -88,7 +88,10 @@ mod cli {
             output: PathBuf,
         },
         /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
-        Calibrate { #[command(subcommand)] cmd: crate::calibrate_cli::CalibrateCommand },
+        Calibrate {
+            #[command(subcommand)]
+            cmd: crate::calibrate_cli::CalibrateCommand,
+        },
         /// Batch kinematics: CSV on stdin, CSV on stdout (`px,py,pz,nx,ny,nz` ↔ machine axes).
         Kinematics {
             #[arg(value_enum)]
@@ -228,11 +231,18 @@ mod cli {
     }
 
     fn machine_spec(arg: &str) -> Result<warpslice::machine::MachineSpec, String> {
-        warpslice::machine::MachineSpec::from_arg(arg, |p| fs::read_to_string(p).map_err(|e| e.to_string())).map_err(|e| e.to_string())
+        warpslice::machine::MachineSpec::from_arg(arg, |p| {
+            fs::read_to_string(p).map_err(|e| e.to_string())
+        })
+        .map_err(|e| e.to_string())
     }
 
     fn triple(s: &str) -> Result<[f64; 3], String> {
-        let v: Vec<f64> = s.split(',').filter_map(|p| p.trim().parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+        let v: Vec<f64> = s
+            .split(',')
+            .filter_map(|p| p.trim().parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .collect();
         match (v.len(), s.split(',').count()) {
             (3, 3) => Ok([v[0], v[1], v[2]]),
             _ => Err(format!("expected three numbers x,y,z but got '{s}'")),
@@ -249,20 +259,44 @@ mod cli {
 
     impl WarpArgs {
         fn options(&self, tolerance: f64) -> Result<WarpOptions, String> {
-            let direction: Direction = self.direction.parse().map_err(|e: warpslice::warp::WarpError| e.to_string())?;
+            let direction: Direction = self
+                .direction
+                .parse()
+                .map_err(|e: warpslice::warp::WarpError| e.to_string())?;
             let spec = match self.warp {
-                WarpKind::Curved => WarpSpec::Curved { strength: self.strength, direction, offset: self.offset, width: 0.0 },
-                WarpKind::Tilted => WarpSpec::Tilted { strength: self.strength, direction, offset: self.offset },
-                WarpKind::Conic => WarpSpec::Conic { angle: self.angle, direction, center: self.center },
-                WarpKind::Belt => WarpSpec::Belt { angle: self.angle, toward: self.toward },
-                WarpKind::Cylindrical => {
-                    WarpSpec::Cylindrical { radius: self.radius, axis: self.axis_yz.unwrap_or([0.0, -self.radius]) }
-                }
-                WarpKind::Spherical => {
-                    WarpSpec::Spherical { radius: self.radius, center: self.sphere_center.unwrap_or([0.0, 0.0, -self.radius]) }
-                }
+                WarpKind::Curved => WarpSpec::Curved {
+                    strength: self.strength,
+                    direction,
+                    offset: self.offset,
+                    width: 0.0,
+                },
+                WarpKind::Tilted => WarpSpec::Tilted {
+                    strength: self.strength,
+                    direction,
+                    offset: self.offset,
+                },
+                WarpKind::Conic => WarpSpec::Conic {
+                    angle: self.angle,
+                    direction,
+                    center: self.center,
+                },
+                WarpKind::Belt => WarpSpec::Belt {
+                    angle: self.angle,
+                    toward: self.toward,
+                },
+                WarpKind::Cylindrical => WarpSpec::Cylindrical {
+                    radius: self.radius,
+                    axis: self.axis_yz.unwrap_or([0.0, -self.radius]),
+                },
+                WarpKind::Spherical => WarpSpec::Spherical {
+                    radius: self.radius,
+                    center: self.sphere_center.unwrap_or([0.0, 0.0, -self.radius]),
+                },
             };
-            let mut o = WarpOptions::new(WarpParams { spec, base: self.base });
+            let mut o = WarpOptions::new(WarpParams {
+                spec,
+                base: self.base,
+            });
             o.max_edge = self.max_edge;
             o.tolerance = tolerance;
             o.layer_height = self.layer_height;
@@ -276,12 +310,19 @@ mod cli {
     }
 
     impl UnwarpArgs {
-        fn options(&self, tolerance: f64, offset: Option<[f64; 2]>) -> Result<UnwarpOptions, String> {
+        fn options(
+            &self,
+            tolerance: f64,
+            offset: Option<[f64; 2]>,
+        ) -> Result<UnwarpOptions, String> {
             use warpslice::machine::{FeedMode, Flavour};
             Ok(UnwarpOptions {
                 tolerance,
                 max_segment: self.max_segment,
-                flow: Flow { factor: self.flow, ramp: self.ramp },
+                flow: Flow {
+                    factor: self.flow,
+                    ramp: self.ramp,
+                },
                 z_offset: self.z_offset,
                 drop_skirt: self.drop_skirt,
                 place: self.place,
@@ -326,38 +367,69 @@ mod cli {
     fn do_warp(model: &Path, opts: &WarpOptions, output: &Path) -> Result<WarpOutput, String> {
         let bytes = read(model)?;
         let sp = spinner("warping");
-        let out = pipeline::warp_model(&bytes, opts).map_err(|e| format!("{}: {e}", model.display()))?;
+        let out =
+            pipeline::warp_model(&bytes, opts).map_err(|e| format!("{}: {e}", model.display()))?;
         if let Some(sp) = sp {
             sp.finish_and_clear();
         }
         write(output, &out.stl)?;
         write(&job_path(output), out.job.to_json_pretty().as_bytes())?;
         let r = &out.report;
-        say!("model: {} ({} triangles, {} vertices)", model.display(), r.mesh.triangles, r.mesh.vertices);
+        say!(
+            "model: {} ({} triangles, {} vertices)",
+            model.display(),
+            r.mesh.triangles,
+            r.mesh.vertices
+        );
         if r.mesh.degenerate + r.mesh.open_edges + r.mesh.nonmanifold_edges > 0 {
             say!(
                 "defects: {} degenerate triangles, {} open edges, {} non-manifold edges (reported, not repaired)",
                 r.mesh.degenerate, r.mesh.open_edges, r.mesh.nonmanifold_edges
             );
         }
-        say!("subdivided: {} → {} triangles", r.subdivide.triangles_before, r.subdivide.triangles_after);
+        say!(
+            "subdivided: {} → {} triangles",
+            r.subdivide.triangles_before,
+            r.subdivide.triangles_after
+        );
         match r.anchor {
             Some(t) => say!("anchor: {t} mm slab under the warped bottom (slice with a first layer of {t} mm; unwarp drops it)"),
             None => say!("anchor: none (the first layer holds enough of the part)"),
         }
         let s = r.warped_bbox.size();
-        say!("warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°", s.x, s.y, s.z, r.largest_tilt_deg);
-        say!("wrote {} and {} (job {})", output.display(), job_path(output).display(), out.job.hash);
+        say!(
+            "warped: {:.2} × {:.2} × {:.2} mm, largest tool tilt {:.2}°",
+            s.x,
+            s.y,
+            s.z,
+            r.largest_tilt_deg
+        );
+        say!(
+            "wrote {} and {} (job {})",
+            output.display(),
+            job_path(output).display(),
+            out.job.hash
+        );
         Ok(out)
     }
 
     /// Two streaming passes over the file, output written as it is produced.
-    fn do_unwarp(gcode: &Path, job: &Job, opts: &UnwarpOptions, output: &Path) -> Result<UnwarpReport, String> {
+    fn do_unwarp(
+        gcode: &Path,
+        job: &Job,
+        opts: &UnwarpOptions,
+        output: &Path,
+    ) -> Result<UnwarpReport, String> {
         const CHUNK: usize = 1 << 20;
-        let len = fs::metadata(gcode).map_err(|e| format!("{}: {e}", gcode.display()))?.len();
+        let len = fs::metadata(gcode)
+            .map_err(|e| format!("{}: {e}", gcode.display()))?
+            .len();
         let pb = std::io::stderr().is_terminal().then(|| {
             let pb = ProgressBar::new(2 * len);
-            pb.set_style(ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes}").unwrap_or_else(|_| ProgressStyle::default_bar()));
+            pb.set_style(
+                ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes}")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
             pb.set_message("unwarping");
             pb
         });
@@ -377,7 +449,9 @@ mod cli {
             }
         }
         u.end_scan().map_err(ctx)?;
-        let mut out = std::io::BufWriter::new(fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?);
+        let mut out = std::io::BufWriter::new(
+            fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?,
+        );
         let mut f = open()?;
         loop {
             let n = f.read(&mut buf).map_err(|e| e.to_string())?;
@@ -403,10 +477,26 @@ mod cli {
     fn print_report(r: &UnwarpReport, output: &Path) {
         say!(
             "registration: translation {:.3} {:.3} {:.3} mm, residual {:.3} mm",
-            r.translation[0], r.translation[1], r.translation[2], r.residual
+            r.translation[0],
+            r.translation[1],
+            r.translation[2],
+            r.residual
         );
-        say!("lines: {} in, {} out; {} moves split into {} segments", r.lines_in, r.lines_out, r.moves_split, r.segments_out);
-        say!("E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})", r.e_in, r.e_out, r.e_anchor, r.e_skirt, r.skirt);
+        say!(
+            "lines: {} in, {} out; {} moves split into {} segments",
+            r.lines_in,
+            r.lines_out,
+            r.moves_split,
+            r.segments_out
+        );
+        say!(
+            "E: {:.3} mm in, {:.3} mm out (anchor dropped {:.3} mm; skirt/brim {:.3} mm {})",
+            r.e_in,
+            r.e_out,
+            r.e_anchor,
+            r.e_skirt,
+            r.skirt
+        );
         say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
         if let Some(m) = &r.machine {
             say!(
@@ -420,17 +510,38 @@ mod cli {
     fn run() -> Result<(), String> {
         let cli = Cli::parse();
         match cli.command {
-            Command::Warp { model, warp, output } => {
+            Command::Warp {
+                model,
+                warp,
+                output,
+            } => {
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
                 do_warp(&model, &opts, &output)?;
             }
-            Command::Unwarp { gcode, job, unwarp, offset, tolerance, output } => {
-                let text = fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
+            Command::Unwarp {
+                gcode,
+                job,
+                unwarp,
+                offset,
+                tolerance,
+                output,
+            } => {
+                let text =
+                    fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
                 let job = Job::from_json(&text).map_err(|e| format!("{}: {e}", job.display()))?;
                 do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset)?, &output)?;
             }
-            Command::Run { model, slicer, e_mode, warp, unwarp, output } => {
-                let kind: warpslice::slicer::SlicerKind = slicer.parse().map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
+            Command::Run {
+                model,
+                slicer,
+                e_mode,
+                warp,
+                unwarp,
+                output,
+            } => {
+                let kind: warpslice::slicer::SlicerKind = slicer
+                    .parse()
+                    .map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
                 let uopts = unwarp.options(opts.tolerance, None)?;
                 let warped = output.with_extension("warped.stl");
@@ -450,26 +561,47 @@ mod cli {
                 if let Some(sp) = sp {
                     sp.finish_and_clear();
                 }
-                say!("sliced {} with {slicer} → {}", warped.display(), sliced.display());
+                say!(
+                    "sliced {} with {slicer} → {}",
+                    warped.display(),
+                    sliced.display()
+                );
                 do_unwarp(&sliced, &w.job, &uopts, &output)?;
             }
             Command::Kinematics { direction, machine } => {
                 let m = machine_spec(&machine)?.build().map_err(|e| e.to_string())?;
                 let mut input = String::new();
-                std::io::stdin().read_to_string(&mut input).map_err(|e| format!("stdin: {e}"))?;
+                std::io::stdin()
+                    .read_to_string(&mut input)
+                    .map_err(|e| format!("stdin: {e}"))?;
                 let out = match direction {
-                    KinematicsDirection::Inverse => warpslice::machine::batch::inverse_csv(m.as_ref(), &input),
-                    KinematicsDirection::Forward => warpslice::machine::batch::forward_csv(m.as_ref(), &input),
+                    KinematicsDirection::Inverse => {
+                        warpslice::machine::batch::inverse_csv(m.as_ref(), &input)
+                    }
+                    KinematicsDirection::Forward => {
+                        warpslice::machine::batch::forward_csv(m.as_ref(), &input)
+                    }
                 }
                 .map_err(|e| e.to_string())?;
                 let _ = std::io::stdout().write_all(out.as_bytes());
             }
             Command::Calibrate { cmd } => crate::calibrate_cli::run(cmd)?,
             Command::Example { name, output } => {
-                let m = warpslice::shapes::example(&name)
-                    .ok_or_else(|| format!("unknown example '{name}': one of {}", warpslice::shapes::EXAMPLES.join(", ")))?;
-                write(&output, &warpslice::mesh::write_stl(&m, &format!("warpslice example {name}")))?;
-                say!("wrote {} ({} triangles)", output.display(), m.triangles.len());
+                let m = warpslice::shapes::example(&name).ok_or_else(|| {
+                    format!(
+                        "unknown example '{name}': one of {}",
+                        warpslice::shapes::EXAMPLES.join(", ")
+                    )
+                })?;
+                write(
+                    &output,
+                    &warpslice::mesh::write_stl(&m, &format!("warpslice example {name}")),
+                )?;
+                say!(
+                    "wrote {} ({} triangles)",
+                    output.display(),
+                    m.triangles.len()
+                );
             }
         }
         Ok(())

@@ -97,7 +97,11 @@ pub enum Error {
     Register(crate::register::RegisterError),
     Unwarp(crate::unwarp::UnwarpError),
     /// A bad option value (name, value, what is allowed).
-    Option { name: &'static str, value: String, allowed: &'static str },
+    Option {
+        name: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
 }
 
 impl std::fmt::Display for Error {
@@ -109,7 +113,11 @@ impl std::fmt::Display for Error {
             Error::Gcode(e) => e.fmt(f),
             Error::Register(e) => e.fmt(f),
             Error::Unwarp(e) => e.fmt(f),
-            Error::Option { name, value, allowed } => write!(f, "option {name} = {value} is not allowed: {allowed}"),
+            Error::Option {
+                name,
+                value,
+                allowed,
+            } => write!(f, "option {name} = {value} is not allowed: {allowed}"),
         }
     }
 }
@@ -130,7 +138,11 @@ fn check_positive(name: &'static str, v: f64) -> Result<(), Error> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(Error::Option { name, value: v.to_string(), allowed: "a positive number (mm)" })
+        Err(Error::Option {
+            name,
+            value: v.to_string(),
+            allowed: "a positive number (mm)",
+        })
     }
 }
 
@@ -153,10 +165,21 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     let mut params = opts.warp.clone();
     let warp = params.build(&model_bbox)?;
 
-    let sub = SubdivideOptions { max_edge: opts.max_edge, tolerance: opts.tolerance };
-    let (model, warped_vertices, stats) = mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
-    let mut warped = Mesh { vertices: warped_vertices, triangles: model.triangles.clone() };
-    let min_nz = model.vertices.iter().map(|&p| warp.tool_axis(p).z).fold(1.0, f64::min);
+    let sub = SubdivideOptions {
+        max_edge: opts.max_edge,
+        tolerance: opts.tolerance,
+    };
+    let (model, warped_vertices, stats) =
+        mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
+    let mut warped = Mesh {
+        vertices: warped_vertices,
+        triangles: model.triangles.clone(),
+    };
+    let min_nz = model
+        .vertices
+        .iter()
+        .map(|&p| warp.tool_axis(p).z)
+        .fold(1.0, f64::min);
     let largest_tilt_deg = crate::num::deg(crate::num::acos(min_nz.clamp(-1.0, 1.0)));
 
     let part_bbox_t = warped.bbox();
@@ -171,7 +194,10 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
     }
     let stl_z_offset = -part_bbox_t.min.z + anchor_thickness.unwrap_or(0.0);
     warped.translate(DVec3::new(0.0, 0.0, stl_z_offset));
-    let warped_bbox = Aabb { min: part_bbox_t.min + DVec3::new(0.0, 0.0, stl_z_offset), max: part_bbox_t.max + DVec3::new(0.0, 0.0, stl_z_offset) };
+    let warped_bbox = Aabb {
+        min: part_bbox_t.min + DVec3::new(0.0, 0.0, stl_z_offset),
+        max: part_bbox_t.max + DVec3::new(0.0, 0.0, stl_z_offset),
+    };
 
     let mut job = Job {
         version: env!("CARGO_PKG_VERSION").to_string(),
@@ -199,5 +225,9 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
         largest_tilt_deg,
         triangles_out: warped.triangles.len(),
     };
-    Ok(WarpOutput { stl: out, job, report })
+    Ok(WarpOutput {
+        stl: out,
+        job,
+        report,
+    })
 }

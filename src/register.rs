@@ -43,9 +43,16 @@ pub enum RegisterError {
     /// The G-code has no object extrusions.
     NoExtrusions,
     /// The G-code's object does not match the warped mesh.
-    Mismatch { residual: f64, gcode_size: [f64; 3], mesh_size: [f64; 3] },
+    Mismatch {
+        residual: f64,
+        gcode_size: [f64; 3],
+        mesh_size: [f64; 3],
+    },
     /// With an anchor, the slicer's first layer must be exactly the anchor's thickness.
-    AnchorLayer { first_layer_z: f64, anchor: f64 },
+    AnchorLayer {
+        first_layer_z: f64,
+        anchor: f64,
+    },
     Gcode(GcodeError),
 }
 
@@ -165,7 +172,11 @@ impl Acc {
         }
         if m.layer == first_layer {
             if !self.in_run {
-                self.runs0.push(Run { first_line: line, last_line: line, bbox: Aabb::EMPTY });
+                self.runs0.push(Run {
+                    first_line: line,
+                    last_line: line,
+                    bbox: Aabb::EMPTY,
+                });
                 self.in_run = true;
             }
             if let Some(r) = self.runs0.last_mut() {
@@ -246,24 +257,42 @@ impl Scanner {
     }
 
     /// End of pass 1: classify the first layer, match bounding boxes, check the residual.
-    pub fn finish(mut self, job: &Job, offset: Option<[f64; 2]>) -> Result<Registration, RegisterError> {
+    pub fn finish(
+        mut self,
+        job: &Job,
+        offset: Option<[f64; 2]>,
+    ) -> Result<Registration, RegisterError> {
         let mut reader = std::mem::replace(&mut self.reader, Reader::new(ReadOptions::default()));
         reader.finish::<RegisterError>(&mut |l, s| {
             self.line(&l, s);
             Ok(())
         })?;
-        let acc = if self.typed { &self.typed_acc } else { &self.untyped };
+        let acc = if self.typed {
+            &self.typed_acc
+        } else {
+            &self.untyped
+        };
         let (Some(first), Some(last)) = (acc.first_any, acc.last_obj) else {
             return Err(RegisterError::NoExtrusions);
         };
-        let region = [self.markers[0].unwrap_or(first), self.markers[1].unwrap_or(last)];
+        let region = [
+            self.markers[0].unwrap_or(first),
+            self.markers[1].unwrap_or(last),
+        ];
         let first_layer_z = acc.first_layer_z.unwrap_or(0.0);
         if let Some(a) = job.anchor {
             if (first_layer_z - a).abs() > ANCHOR_LAYER_TOLERANCE {
-                return Err(RegisterError::AnchorLayer { first_layer_z, anchor: a });
+                return Err(RegisterError::AnchorLayer {
+                    first_layer_z,
+                    anchor: a,
+                });
             }
         }
-        let skirt = if self.typed { Vec::new() } else { skirt_runs(&acc.runs0) };
+        let skirt = if self.typed {
+            Vec::new()
+        } else {
+            skirt_runs(&acc.runs0)
+        };
         let mut bbox = acc.bbox_upper;
         if !self.anchor {
             for r in &acc.runs0 {
@@ -297,7 +326,11 @@ impl Scanner {
         .into_iter()
         .fold(0.0, f64::max);
         if offset.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
-            return Err(RegisterError::Mismatch { residual, gcode_size: gs.to_array(), mesh_size: ms.to_array() });
+            return Err(RegisterError::Mismatch {
+                residual,
+                gcode_size: gs.to_array(),
+                mesh_size: ms.to_array(),
+            });
         }
         Ok(Registration {
             translation: [dx, dy, 0.0],

@@ -10,7 +10,10 @@ pub use crate::mesh::shapes::cuboid;
 
 /// A cube of side `s` standing on z = 0, centred on the z axis.
 pub fn cube(s: f64) -> Mesh {
-    cuboid(DVec3::new(-s / 2.0, -s / 2.0, 0.0), DVec3::new(s / 2.0, s / 2.0, s))
+    cuboid(
+        DVec3::new(-s / 2.0, -s / 2.0, 0.0),
+        DVec3::new(s / 2.0, s / 2.0, s),
+    )
 }
 
 /// A closed cylinder of radius `r` and height `h` on z = 0, `n` sides.
@@ -32,7 +35,10 @@ pub fn cylinder(r: f64, h: f64, n: u32) -> Mesh {
         triangles.push([b0, b1, t1]);
         triangles.push([b0, t1, t0]);
     }
-    Mesh { vertices, triangles }
+    Mesh {
+        vertices,
+        triangles,
+    }
 }
 
 /// A UV sphere of radius `r` resting on z = 0.
@@ -118,7 +124,11 @@ pub fn weld(m: &Mesh) -> Mesh {
         });
         remap.push(idx);
     }
-    out.triangles = m.triangles.iter().map(|t| t.map(|i| remap[i as usize])).collect();
+    out.triangles = m
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .collect();
     out
 }
 
@@ -157,8 +167,13 @@ mod tests {
         let cyl = cylinder(10.0, 20.0, 64);
         let poly = 0.5 * 64.0 * 100.0 * (2.0 * std::f64::consts::PI / 64.0).sin() * 20.0;
         assert!((cyl.signed_volume() - poly).abs() < 1e-6);
-        assert!(sphere(10.0, 24, 48).signed_volume() > 0.95 * 4.0 / 3.0 * std::f64::consts::PI * 1000.0);
-        assert!((overhang_block().signed_volume() - (10.0 * 14.0 * 20.0 + 30.0 * 20.0 * 5.0)).abs() < 1e-9);
+        assert!(
+            sphere(10.0, 24, 48).signed_volume() > 0.95 * 4.0 / 3.0 * std::f64::consts::PI * 1000.0
+        );
+        assert!(
+            (overhang_block().signed_volume() - (10.0 * 14.0 * 20.0 + 30.0 * 20.0 * 5.0)).abs()
+                < 1e-9
+        );
     }
 
     #[test]

@@ -32,4 +32,3 @@ pub const BED_Z: f64 = 0.0;
 /// slower on it (measured: a warped gear wheel in Slic3r 27.8 s → 8.4 s, a warped cylinder in
 /// PrusaSlicer 16.0 s → 6.5 s). CuraEngine simplifies by default.
 pub const SLICER_RESOLUTION: f64 = 0.005;
-

@@ -49,8 +49,11 @@ impl Feature {
             "gap fill" | "gap infill" => Feature::GapFill,
             "ironing" => Feature::Ironing,
             "support material" | "support" | "support-material" => Feature::Support,
-            "support material interface" | "support-interface" | "support interface"
-            | "support-roof" | "support-floor" => Feature::SupportInterface,
+            "support material interface"
+            | "support-interface"
+            | "support interface"
+            | "support-roof"
+            | "support-floor" => Feature::SupportInterface,
             "skirt" | "skirt/brim" => Feature::Skirt,
             "brim" => Feature::Brim,
             "wipe tower" | "prime-tower" | "prime tower" => Feature::WipeTower,
@@ -62,7 +65,10 @@ impl Feature {
     /// Whether extrusions of this kind belong to the object (and are warped back).
     /// Skirt, brim, wipe tower and custom extrusions lie outside it and stay flat.
     pub fn is_object(self) -> bool {
-        !matches!(self, Feature::Skirt | Feature::Brim | Feature::WipeTower | Feature::Custom)
+        !matches!(
+            self,
+            Feature::Skirt | Feature::Brim | Feature::WipeTower | Feature::Custom
+        )
     }
 
     /// A short stable name (used in reports and the web preview).

@@ -20,7 +20,9 @@ fn to_js<T: serde::Serialize>(v: &T) -> Result<JsValue, JsError> {
 }
 
 fn set(obj: &js_sys::Object, key: &str, v: &JsValue) -> Result<(), JsError> {
-    js_sys::Reflect::set(obj, &JsValue::from_str(key), v).map(|_| ()).map_err(|_| JsError::new("cannot build the result object"))
+    js_sys::Reflect::set(obj, &JsValue::from_str(key), v)
+        .map(|_| ())
+        .map_err(|_| JsError::new("cannot build the result object"))
 }
 
 fn parse<T: serde::de::DeserializeOwned>(what: &str, json: &str) -> Result<T, JsError> {
@@ -39,7 +41,11 @@ pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsError> {
     let opts: WarpOptions = parse("warp options", options_json)?;
     let out = pipeline::warp_model(stl, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(&obj, "stl", &js_sys::Uint8Array::from(out.stl.as_slice()).into())?;
+    set(
+        &obj,
+        "stl",
+        &js_sys::Uint8Array::from(out.stl.as_slice()).into(),
+    )?;
     set(&obj, "job", &JsValue::from_str(&out.job.to_json_pretty()))?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
@@ -52,7 +58,11 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
     let opts: UnwarpOptions = parse("unwarp options", options_json)?;
     let out = unwarp::unwarp(gcode, &job, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(&obj, "gcode", &js_sys::Uint8Array::from(out.gcode.as_slice()).into())?;
+    set(
+        &obj,
+        "gcode",
+        &js_sys::Uint8Array::from(out.gcode.as_slice()).into(),
+    )?;
     set(&obj, "report", &to_js(&out.report)?)?;
     Ok(obj.into())
 }
@@ -60,8 +70,12 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
 /// An STL of a generated example part (`cube`, `cylinder`, `sphere`, `overhang`).
 #[wasm_bindgen]
 pub fn example_stl(name: &str) -> Result<Vec<u8>, JsError> {
-    let m = crate::shapes::example(name).ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
-    Ok(crate::mesh::write_stl(&m, &format!("warpslice example {name}")))
+    let m = crate::shapes::example(name)
+        .ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
+    Ok(crate::mesh::write_stl(
+        &m,
+        &format!("warpslice example {name}"),
+    ))
 }
 
 /// Streaming unwarp for the web worker: `scan` every chunk, `endScan`, `push` every chunk
@@ -77,7 +91,9 @@ impl UnwarpStream {
     pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsError> {
         let job = Job::from_json(job_json).map_err(js)?;
         let opts: UnwarpOptions = parse("unwarp options", options_json)?;
-        Ok(UnwarpStream { inner: Unwarper::new(&job, &opts).map_err(js)? })
+        Ok(UnwarpStream {
+            inner: Unwarper::new(&job, &opts).map_err(js)?,
+        })
     }
     /// Pass 1: a chunk of the G-code.
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsError> {
@@ -105,7 +121,18 @@ impl UnwarpStream {
         let tp = self.inner.take_toolpath();
         let mut v = Vec::with_capacity(tp.len() * 10);
         for p in tp {
-            v.extend_from_slice(&[p.p.x, p.p.y, p.p.z, p.n.x, p.n.y, p.n.z, p.e, p.layer as f64, if p.travel { 1.0 } else { 0.0 }, p.feature as u8 as f64]);
+            v.extend_from_slice(&[
+                p.p.x,
+                p.p.y,
+                p.p.z,
+                p.n.x,
+                p.n.y,
+                p.n.z,
+                p.e,
+                p.layer as f64,
+                if p.travel { 1.0 } else { 0.0 },
+                p.feature as u8 as f64,
+            ]);
         }
         v
     }
@@ -130,7 +157,10 @@ fn calibrate_machine(arg: &str) -> Result<crate::machine::MachineSpec, JsError> 
     }
 }
 
-fn parse_or_default<T: serde::de::DeserializeOwned + Default>(what: &str, json: &str) -> Result<T, JsError> {
+fn parse_or_default<T: serde::de::DeserializeOwned + Default>(
+    what: &str,
+    json: &str,
+) -> Result<T, JsError> {
     if json.trim().is_empty() {
         Ok(T::default())
     } else {
@@ -142,10 +172,16 @@ fn parse_or_default<T: serde::de::DeserializeOwned + Default>(what: &str, json: 
 /// machineJson: string }`. Options: `{ "bias": [x, y, z], "a_z_correction_deg": α }` (or "");
 /// machine: the base machine (JSON text, preset name, or "" for open5x-ab).
 #[wasm_bindgen]
-pub fn calibrate_origin(measurements: &str, options_json: &str, machine: &str) -> Result<JsValue, JsError> {
+pub fn calibrate_origin(
+    measurements: &str,
+    options_json: &str,
+    machine: &str,
+) -> Result<JsValue, JsError> {
     let series = crate::calibrate::parse_measurements(measurements).map_err(js)?;
     let opts: crate::calibrate::OriginOptions = parse_or_default("origin options", options_json)?;
-    let (report, spec) = crate::calibrate::calibrate_origin(&series, &opts, &calibrate_machine(machine)?).map_err(js)?;
+    let (report, spec) =
+        crate::calibrate::calibrate_origin(&series, &opts, &calibrate_machine(machine)?)
+            .map_err(js)?;
     let obj = js_sys::Object::new();
     set(&obj, "report", &to_js(&report)?)?;
     set(&obj, "text", &JsValue::from_str(&report.to_text()))?;
@@ -169,25 +205,48 @@ pub fn calibrate_probe(input_json: &str) -> Result<JsValue, JsError> {
 /// `calibrate_test_print(machine, kind, optionsJson)` → `{ gcode: Uint8Array, stl: Uint8Array,
 /// report: object }`; kind: a-position, a-orientation, b-position, b-orientation, integrated.
 #[wasm_bindgen]
-pub fn calibrate_test_print(machine: &str, kind: &str, options_json: &str) -> Result<JsValue, JsError> {
+pub fn calibrate_test_print(
+    machine: &str,
+    kind: &str,
+    options_json: &str,
+) -> Result<JsValue, JsError> {
     use crate::calibrate::patterns;
     let kind: patterns::TestKind = kind.parse().map_err(js)?;
     let opts: patterns::PrintOptions = parse_or_default("print options", options_json)?;
     let tp = patterns::test_print(&calibrate_machine(machine)?, kind, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
-    set(&obj, "gcode", &js_sys::Uint8Array::from(tp.gcode.as_slice()).into())?;
-    set(&obj, "stl", &js_sys::Uint8Array::from(patterns::base_stl(kind).as_slice()).into())?;
+    set(
+        &obj,
+        "gcode",
+        &js_sys::Uint8Array::from(tp.gcode.as_slice()).into(),
+    )?;
+    set(
+        &obj,
+        "stl",
+        &js_sys::Uint8Array::from(patterns::base_stl(kind).as_slice()).into(),
+    )?;
     set(&obj, "report", &to_js(&tp.report)?)?;
     Ok(obj.into())
 }
 
-fn sim_result(rep: &crate::calibrate::simulate::SimReport, svg: String) -> Result<JsValue, JsError> {
+fn sim_result(
+    rep: &crate::calibrate::simulate::SimReport,
+    svg: String,
+) -> Result<JsValue, JsError> {
     let obj = js_sys::Object::new();
     let errors: Vec<f64> = rep.points.iter().map(|l| l.error_mm).collect();
-    set(&obj, "errors", &js_sys::Float64Array::from(errors.as_slice()).into())?;
+    set(
+        &obj,
+        "errors",
+        &js_sys::Float64Array::from(errors.as_slice()).into(),
+    )?;
     set(&obj, "maxErrorMm", &JsValue::from_f64(rep.max_error_mm))?;
     set(&obj, "meanErrorMm", &JsValue::from_f64(rep.mean_error_mm))?;
-    set(&obj, "maxAxisErrorDeg", &JsValue::from_f64(rep.max_axis_error_deg))?;
+    set(
+        &obj,
+        "maxAxisErrorDeg",
+        &JsValue::from_f64(rep.max_axis_error_deg),
+    )?;
     set(&obj, "svg", &JsValue::from_str(&svg))?;
     set(&obj, "text", &JsValue::from_str(&rep.to_text()))?;
     Ok(obj.into())
@@ -197,9 +256,22 @@ fn sim_result(rep: &crate::calibrate::simulate::SimReport, svg: String) -> Resul
 /// maxErrorMm, meanErrorMm, maxAxisErrorDeg, svg, text }`: the B position test run by a machine
 /// whose B axis is off by (dx, dy) mm (Fig. 6.16).
 #[wasm_bindgen]
-pub fn calibrate_b_position_svg(machine: &str, dx: f64, dy: f64, options_json: &str, exaggerate: f64) -> Result<JsValue, JsError> {
-    let opts: crate::calibrate::patterns::PrintOptions = parse_or_default("print options", options_json)?;
-    let (rep, svg) = crate::calibrate::patterns::b_position_svg(&calibrate_machine(machine)?, glam::DVec3::new(dx, dy, 0.0), &opts, exaggerate).map_err(js)?;
+pub fn calibrate_b_position_svg(
+    machine: &str,
+    dx: f64,
+    dy: f64,
+    options_json: &str,
+    exaggerate: f64,
+) -> Result<JsValue, JsError> {
+    let opts: crate::calibrate::patterns::PrintOptions =
+        parse_or_default("print options", options_json)?;
+    let (rep, svg) = crate::calibrate::patterns::b_position_svg(
+        &calibrate_machine(machine)?,
+        glam::DVec3::new(dx, dy, 0.0),
+        &opts,
+        exaggerate,
+    )
+    .map_err(js)?;
     sim_result(&rep, svg)
 }
 
@@ -209,7 +281,14 @@ pub fn calibrate_b_position_svg(machine: &str, dx: f64, dy: f64, options_json: &
 /// (`{"a_rot_z_deg": 2, "b_offset": [0, -0.2, 0], …}`); the toolpath is the CSV
 /// (`x,y,z,nx,ny,nz` lines) or, when "", the path of the test print `testKind`.
 #[wasm_bindgen]
-pub fn calibrate_simulate(believed: &str, truth: &str, deviation_json: &str, toolpath_csv: &str, test_kind: &str, exaggerate: f64) -> Result<JsValue, JsError> {
+pub fn calibrate_simulate(
+    believed: &str,
+    truth: &str,
+    deviation_json: &str,
+    toolpath_csv: &str,
+    test_kind: &str,
+    exaggerate: f64,
+) -> Result<JsValue, JsError> {
     use crate::calibrate::{patterns, simulate};
     let b = calibrate_machine(believed)?;
     let t = if truth.trim().is_empty() {
@@ -222,11 +301,21 @@ pub fn calibrate_simulate(believed: &str, truth: &str, deviation_json: &str, too
     let (rep, title) = if toolpath_csv.trim().is_empty() {
         let kind: patterns::TestKind = test_kind.parse().map_err(js)?;
         let tp = patterns::test_print(&b, kind, &patterns::PrintOptions::default()).map_err(js)?;
-        let (axes, tips): (Vec<Vec<f64>>, Vec<glam::DVec3>) = tp.moves.iter().filter_map(|m| m.tip.map(|p| (m.axes.clone(), p))).unzip();
-        (simulate::simulate_axes(&pair, &axes, &tips).map_err(js)?, format!("{} test", kind.name()))
+        let (axes, tips): (Vec<Vec<f64>>, Vec<glam::DVec3>) = tp
+            .moves
+            .iter()
+            .filter_map(|m| m.tip.map(|p| (m.axes.clone(), p)))
+            .unzip();
+        (
+            simulate::simulate_axes(&pair, &axes, &tips).map_err(js)?,
+            format!("{} test", kind.name()),
+        )
     } else {
         let poses = simulate::parse_poses(toolpath_csv).map_err(js)?;
-        (simulate::simulate(&pair, &poses).map_err(js)?, "toolpath".to_string())
+        (
+            simulate::simulate(&pair, &poses).map_err(js)?,
+            "toolpath".to_string(),
+        )
     };
     let svg = simulate::svg(&rep, &title, exaggerate);
     sim_result(&rep, svg)

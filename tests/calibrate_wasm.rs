@@ -12,7 +12,6 @@ use warpslice::machine::preset;
 
 const LISTING_4_1: &str = "ab_values\na_axis {0,-0.1650009,-0.2140012}\na_z_in_y 0.0030937\na_axis_dir {0.9994476,0.0332315,-0.0004059}\nb_axis {-0.1399994,0.0900002,-10}\nb_axis_dir {0.0010010,0.0059996,0.9999815}\n";
 
-
 /// The calibrated machine JSON and the integrated test print for it (hashes).
 fn outputs() -> (u64, u64, u64) {
     let s = parse_measurements(LISTING_4_1).unwrap();

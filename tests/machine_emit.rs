@@ -26,7 +26,6 @@ use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::{unwarp, UnwarpOptions};
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
-
 fn tmpdir(tag: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
@@ -43,21 +42,34 @@ fn part() -> Vec<u8> {
 }
 
 fn conic(angle: f64, center: [f64; 2]) -> WarpSpec {
-    WarpSpec::Conic { angle, direction: Direction::Outward, center }
+    WarpSpec::Conic {
+        angle,
+        direction: Direction::Outward,
+        center,
+    }
 }
 
 /// The warp each preset is tested with.
 fn warp_for(preset: &str) -> WarpSpec {
     match preset {
-        "cartesian" | "fullcontrol-prusa-b" => {
-            WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 0.0, width: 0.0 }
-        }
+        "cartesian" | "fullcontrol-prusa-b" => WarpSpec::Curved {
+            strength: 0.3,
+            direction: Direction::Outward,
+            offset: 0.0,
+            width: 0.0,
+        },
         // the cone's apex is a singular point of the tool-axis field (its azimuth turns by
         // 180° across it): keep it outside the part
         "rtn-slicer4rtn" | "rotbot" | "rotbot-misaligned" => conic(45.0, [-15.0, 0.0]),
-        "ratrig-vcore3-3z" => WarpSpec::Belt { angle: 20.0, toward: [0.0, 1.0] },
+        "ratrig-vcore3-3z" => WarpSpec::Belt {
+            angle: 20.0,
+            toward: [0.0, 1.0],
+        },
         // the mandrel of radius 20 mm under the part (the lathe's axis is moved there too)
-        "lathe-a" => WarpSpec::Cylindrical { radius: 20.0, axis: [0.0, -20.0] },
+        "lathe-a" => WarpSpec::Cylindrical {
+            radius: 20.0,
+            axis: [0.0, -20.0],
+        },
         _ => conic(25.0, [-15.0, 0.0]),
     }
 }
@@ -73,7 +85,12 @@ fn centre_for(preset: &str) -> Option<&'static str> {
     }
 }
 
-fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &str) -> Option<(Vec<u8>, warpslice::job::Job)> {
+fn sliced(
+    spec: &WarpSpec,
+    centre: Option<&str>,
+    dir: &std::path::Path,
+    tag: &str,
+) -> Option<(Vec<u8>, warpslice::job::Job)> {
     if let Err(e) = slicer::available(SlicerKind::PrusaSlicer) {
         if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
             println!("SKIPPED {tag}: {e}");
@@ -81,14 +98,32 @@ fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &st
         }
         panic!("PrusaSlicer is needed for this test: {e}");
     }
-    let w = warp_model(&part(), &WarpOptions::new(WarpParams { spec: spec.clone(), base: None })).expect("warp");
+    let w = warp_model(
+        &part(),
+        &WarpOptions::new(WarpParams {
+            spec: spec.clone(),
+            base: None,
+        }),
+    )
+    .expect("warp");
     let stl = dir.join(format!("{tag}.stl"));
     let gcode = dir.join(format!("{tag}.sliced.gcode"));
     std::fs::write(&stl, &w.stl).expect("write stl");
-    let mut so = SliceOptions { slicer: SlicerKind::PrusaSlicer, e_mode: EMode::Relative, ..SliceOptions::default() };
+    let mut so = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        e_mode: EMode::Relative,
+        ..SliceOptions::default()
+    };
     if let Some(c) = centre {
         // machines whose rotation axes pass through the output origin: print near it
-        so.extra_args = ["--bed-shape", "-100x-100,100x-100,100x100,-100x100", "--center", c].map(String::from).to_vec();
+        so.extra_args = [
+            "--bed-shape",
+            "-100x-100,100x-100,100x100,-100x100",
+            "--center",
+            c,
+        ]
+        .map(String::from)
+        .to_vec();
     }
     slicer::slice(&stl, &gcode, &so).expect("slice");
     Some((std::fs::read(&gcode).expect("read gcode"), w.job))
@@ -98,9 +133,15 @@ fn sliced(spec: &WarpSpec, centre: Option<&str>, dir: &std::path::Path, tag: &st
 const ROTBOT_MISALIGNMENT: (f64, f64) = (0.4, -0.25);
 
 fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
-    let base = if name == "rotbot-misaligned" { "rotbot" } else { name };
+    let base = if name == "rotbot-misaligned" {
+        "rotbot"
+    } else {
+        name
+    };
     let mut spec = preset(base).map_err(|e| e.to_string())?;
-    if let (true, warpslice::machine::spec::Kinematics::Rtn(p)) = (base != name, &mut spec.kinematics) {
+    if let (true, warpslice::machine::spec::Kinematics::Rtn(p)) =
+        (base != name, &mut spec.kinematics)
+    {
         spec.name = name.to_string();
         (p.e_parallel_mm, p.e_perpendicular_mm) = ROTBOT_MISALIGNMENT;
     }
@@ -108,13 +149,21 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
         p.axis_z_mm = -20.0;
     }
     let tag = format!("{name}-{}", warp.name());
-    let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else { return Ok("skipped".into()) };
-    let opts = UnwarpOptions { collect_toolpath: true, machine: Some(spec.clone()), ..UnwarpOptions::default() };
+    let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else {
+        return Ok("skipped".into());
+    };
+    let opts = UnwarpOptions {
+        collect_toolpath: true,
+        machine: Some(spec.clone()),
+        ..UnwarpOptions::default()
+    };
     let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
     let path = dir.join(format!("{tag}.gcode"));
     std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
     let text = String::from_utf8(out.gcode.clone()).map_err(|e| e.to_string())?;
-    if !text.contains(&format!("; warpslice machine = {name} reprapfirmware")) || !text.contains("; warpslice model_to_output = ") {
+    if !text.contains(&format!("; warpslice machine = {name} reprapfirmware"))
+        || !text.contains("; warpslice model_to_output = ")
+    {
         return Err("the header lacks the warpslice lines".into());
     }
     let m = spec.build().map_err(|e| e.to_string())?;
@@ -122,12 +171,23 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     let (lines, _) = parse(&text, &names)?;
     let rep = out.report.machine.clone().ok_or("no machine report")?;
     if name == "cartesian" {
-        return Ok(format!("{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°", text.lines().count(), rep.worst_position_mm, rep.worst_angle_deg));
+        return Ok(format!(
+            "{name:22} sample written, {} lines; worst interpolation {:.5} mm / {:.4}°",
+            text.lines().count(),
+            rep.worst_position_mm,
+            rep.worst_angle_deg
+        ));
     }
-    let meas = check(m.as_ref(), &out.toolpath, &lines, SAMPLES).map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
+    let meas = check(m.as_ref(), &out.toolpath, &lines, SAMPLES)
+        .map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
     // every move left beyond the bound is tagged in the file and counted in the report
-    if meas.discontinuities as u64 != rep.depth_limited || text.matches("; discontinuity").count() as u64 != rep.depth_limited {
-        return Err(format!("{} discontinuities found, the report says {}", meas.discontinuities, rep.depth_limited));
+    if meas.discontinuities as u64 != rep.depth_limited
+        || text.matches("; discontinuity").count() as u64 != rep.depth_limited
+    {
+        return Err(format!(
+            "{} discontinuities found, the report says {}",
+            meas.discontinuities, rep.depth_limited
+        ));
     }
     Ok(format!(
         "{tag:30} {:6} points {:6} lines: tip {:.5} mm, axis {:.4}°; interpolation measured {:.5} mm / {:.4}° ({} moves checked against their end tips), {} discontinuities (emitter report {:.5} mm / {:.4}°, dropped {:.2}°, {} rotate-arounds, {} resets, {} re-poses, {} depth-limited)",
@@ -141,8 +201,17 @@ fn every_preset_end_to_end_with_prusaslicer() {
     let dir = tmpdir("e2e");
     let mut fails = Vec::new();
     let only = std::env::var("WARPSLICE_ONLY_PRESET").ok();
-    let mut cases: Vec<(&str, WarpSpec)> = warpslice::machine::preset_names().into_iter().map(|n| (n, warp_for(n))).collect();
-    cases.push(("pax-5axis", WarpSpec::Spherical { radius: 20.0, center: [0.0, 0.0, -20.0] }));
+    let mut cases: Vec<(&str, WarpSpec)> = warpslice::machine::preset_names()
+        .into_iter()
+        .map(|n| (n, warp_for(n)))
+        .collect();
+    cases.push((
+        "pax-5axis",
+        WarpSpec::Spherical {
+            radius: 20.0,
+            center: [0.0, 0.0, -20.0],
+        },
+    ));
     // the misaligned nozzle end to end (its kinematics alone are in machine_laws)
     cases.push(("rotbot-misaligned", warp_for("rotbot-misaligned")));
     for (name, warp) in &cases {
@@ -170,47 +239,112 @@ fn cli(args: &[&str], stdin: &str) -> (bool, String, String) {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run warpslice");
-    child.stdin.take().expect("stdin").write_all(stdin.as_bytes()).expect("write stdin");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(stdin.as_bytes())
+        .expect("write stdin");
     let out = child.wait_with_output().expect("wait");
-    (out.status.success(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
 fn kinematics_cli_round_trips_and_names_errors() {
-    let (ok, out, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "10,20,5,0,0,1\n10,20,5,0.5,0,0.8660254037844386\n");
+    let (ok, out, err) = cli(
+        &["kinematics", "inverse", "--machine", "pax-5axis"],
+        "10,20,5,0,0,1\n10,20,5,0.5,0,0.8660254037844386\n",
+    );
     assert!(ok, "{err}");
     let (ok, back, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], &out);
     assert!(ok, "{err}");
-    let v: Vec<f64> = back.lines().nth(1).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
-    assert!((v[0] - 10.0).abs() < 1e-9 && (v[3] - 0.5).abs() < 1e-9, "{back}");
+    let v: Vec<f64> = back
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert!(
+        (v[0] - 10.0).abs() < 1e-9 && (v[3] - 0.5).abs() < 1e-9,
+        "{back}"
+    );
     // unknown preset
-    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "no-such-machine"], "");
-    assert!(!ok && err.contains("unknown machine preset 'no-such-machine'") && err.contains("pax-5axis"), "{err}");
+    let (ok, _, err) = cli(
+        &["kinematics", "inverse", "--machine", "no-such-machine"],
+        "",
+    );
+    assert!(
+        !ok && err.contains("unknown machine preset 'no-such-machine'")
+            && err.contains("pax-5axis"),
+        "{err}"
+    );
     // a machine file that does not exist
-    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "/nonexistent/m.json"], "");
+    let (ok, _, err) = cli(
+        &["kinematics", "inverse", "--machine", "/nonexistent/m.json"],
+        "",
+    );
     assert!(!ok && err.contains("cannot read the file"), "{err}");
     // bad CSV, with the line number
-    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "pax-5axis"], "1,2,3,0,0,1\n1,2,x,0,0,1\n");
-    assert!(!ok && err.contains("line 2") && err.contains("'x'"), "{err}");
-    let (ok, _, err) = cli(&["kinematics", "forward", "--machine", "pax-5axis"], "1,2,3\n");
-    assert!(!ok && err.contains("line 1") && err.contains("expected 5"), "{err}");
+    let (ok, _, err) = cli(
+        &["kinematics", "inverse", "--machine", "pax-5axis"],
+        "1,2,3,0,0,1\n1,2,x,0,0,1\n",
+    );
+    assert!(
+        !ok && err.contains("line 2") && err.contains("'x'"),
+        "{err}"
+    );
+    let (ok, _, err) = cli(
+        &["kinematics", "forward", "--machine", "pax-5axis"],
+        "1,2,3\n",
+    );
+    assert!(
+        !ok && err.contains("line 1") && err.contains("expected 5"),
+        "{err}"
+    );
     // unreachable orientation: the triple-Z bed tilts at most 30°
-    let (ok, _, err) = cli(&["kinematics", "inverse", "--machine", "ratrig-vcore3-3z"], "100,100,5,0.7071067811865476,0,0.7071067811865476\n");
-    assert!(!ok && err.contains("cannot be reached") && err.contains("line 1"), "{err}");
+    let (ok, _, err) = cli(
+        &["kinematics", "inverse", "--machine", "ratrig-vcore3-3z"],
+        "100,100,5,0.7071067811865476,0,0.7071067811865476\n",
+    );
+    assert!(
+        !ok && err.contains("cannot be reached") && err.contains("line 1"),
+        "{err}"
+    );
 }
 
 #[test]
 fn unwarp_errors_are_named() {
     let dir = tmpdir("errors");
     // a 45° cone: beyond the triple-Z bed's 30° tilt
-    let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else { return };
-    let ratrig = UnwarpOptions { machine: Some(preset("ratrig-vcore3-3z").unwrap()), ..UnwarpOptions::default() };
+    let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else {
+        return;
+    };
+    let ratrig = UnwarpOptions {
+        machine: Some(preset("ratrig-vcore3-3z").unwrap()),
+        ..UnwarpOptions::default()
+    };
     let e = unwarp(&input, &job, &ratrig).unwrap_err().to_string();
-    assert!(e.starts_with("G-code line ") && e.contains("cannot be reached") && e.contains("max_tilt_deg"), "{e}");
+    assert!(
+        e.starts_with("G-code line ")
+            && e.contains("cannot be reached")
+            && e.contains("max_tilt_deg"),
+        "{e}"
+    );
     // limit exceeded: the polar machine reaches 150 mm from its centre; the part is at (100, 100)
-    let polar = UnwarpOptions { machine: Some(preset("core-r-theta").unwrap()), ..UnwarpOptions::default() };
+    let polar = UnwarpOptions {
+        machine: Some(preset("core-r-theta").unwrap()),
+        ..UnwarpOptions::default()
+    };
     let e = unwarp(&input, &job, &polar).unwrap_err().to_string();
-    assert!(e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"), "{e}");
+    assert!(
+        e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"),
+        "{e}"
+    );
     // Klipper cannot drive a 5-axis head
     let klipper = UnwarpOptions {
         machine: Some(preset("pax-5axis").unwrap()),
@@ -220,11 +354,16 @@ fn unwarp_errors_are_named() {
     let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();
     assert!(e.contains("Klipper has no rotary-axis"), "{e}");
     // options JSON: a preset name, an unknown one
-    let o: UnwarpOptions = serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
+    let o: UnwarpOptions =
+        serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
     assert_eq!(o.machine.as_ref().map(|m| m.name.as_str()), Some("rotbot"));
-    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": "nope"}"#).unwrap_err().to_string();
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": "nope"}"#)
+        .unwrap_err()
+        .to_string();
     assert!(bad.contains("unknown machine preset 'nope'"), "{bad}");
-    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#).unwrap_err().to_string();
+    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#)
+        .unwrap_err()
+        .to_string();
     assert!(bad.contains("unknown field 'tilt'"), "{bad}");
     // through the CLI: the same unreachable orientation
     let g = dir.join("cone45.sliced.gcode");
@@ -232,25 +371,63 @@ fn unwarp_errors_are_named() {
     std::fs::write(&j, job.to_json_pretty()).unwrap();
     let o = dir.join("out.gcode");
     let (ok, _, err) = cli(
-        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "ratrig-vcore3-3z", "-o", o.to_str().unwrap()],
+        &[
+            "unwarp",
+            g.to_str().unwrap(),
+            "--job",
+            j.to_str().unwrap(),
+            "--machine",
+            "ratrig-vcore3-3z",
+            "-o",
+            o.to_str().unwrap(),
+        ],
         "",
     );
-    assert!(!ok && err.contains("G-code line") && err.contains("cannot be reached"), "{err}");
+    assert!(
+        !ok && err.contains("G-code line") && err.contains("cannot be reached"),
+        "{err}"
+    );
     let (ok, _, err) = cli(
-        &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "pax-5axis", "--flavour", "klipper", "-o", o.to_str().unwrap()],
+        &[
+            "unwarp",
+            g.to_str().unwrap(),
+            "--job",
+            j.to_str().unwrap(),
+            "--machine",
+            "pax-5axis",
+            "--flavour",
+            "klipper",
+            "-o",
+            o.to_str().unwrap(),
+        ],
         "",
     );
     assert!(!ok && err.contains("Klipper"), "{err}");
     // inverse-time and all-axes feed through the CLI
     for feed in ["inverse-time", "all-axes"] {
         let (ok, out, err) = cli(
-            &["unwarp", g.to_str().unwrap(), "--job", j.to_str().unwrap(), "--machine", "rotbot", "--feed", feed, "--flavour", "marlin", "-o", o.to_str().unwrap()],
+            &[
+                "unwarp",
+                g.to_str().unwrap(),
+                "--job",
+                j.to_str().unwrap(),
+                "--machine",
+                "rotbot",
+                "--feed",
+                feed,
+                "--flavour",
+                "marlin",
+                "-o",
+                o.to_str().unwrap(),
+            ],
             "",
         );
         assert!(ok, "{err}");
         assert!(out.contains("machine rotbot (marlin)"), "{out}");
         let text = std::fs::read_to_string(&o).unwrap();
-        assert!(text.contains("; warpslice machine = rotbot marlin") && text.contains("AXIS4_NAME 'U'"));
+        assert!(
+            text.contains("; warpslice machine = rotbot marlin") && text.contains("AXIS4_NAME 'U'")
+        );
         if feed == "inverse-time" {
             let g93 = text.find("\nG93").expect("G93");
             let g94 = text.rfind("\nG94").expect("G94");
@@ -283,7 +460,9 @@ fn circle_path() -> Vec<ToolPoint> {
 
 fn emit_all(spec: &MachineSpec, path: &[ToolPoint]) -> (String, warpslice::machine::MachineReport) {
     use warpslice::unwarp::Emitter;
-    let mut em = warpslice::machine::MachineEmitter::new(spec, None, warpslice::machine::FeedMode::Xyz).unwrap();
+    let mut em =
+        warpslice::machine::MachineEmitter::new(spec, None, warpslice::machine::FeedMode::Xyz)
+            .unwrap();
     let mut out = Vec::new();
     em.header(&mut out);
     em.begin_region(&mut out, path[0].p, DVec3::Z).unwrap();
@@ -301,7 +480,10 @@ fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
     let spec = preset("rtn-slicer4rtn").unwrap();
     let (text, rep) = emit_all(&spec, &path);
     assert!(rep.rotate_arounds >= 2, "{rep:?}");
-    assert_eq!(text.matches("; rotate-around").count() as u64, 3 * rep.rotate_arounds);
+    assert_eq!(
+        text.matches("; rotate-around").count() as u64,
+        3 * rep.rotate_arounds
+    );
     let m = spec.build().unwrap();
     let (lines, _) = parse(&text, &m.axis_names()).unwrap();
     assert!(lines.iter().all(|l| (-180.0..=180.0).contains(&l.axes[3])));
@@ -316,7 +498,10 @@ fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
     }
     for l in lines.iter().filter(|l| l.rotate_around) {
         let (p, _) = m.forward(&l.axes).unwrap();
-        assert!(p.z > 1.0 - 1e-6 && p.z < 3.0 + 1e-6, "a rotate-around line off the path: {p:?}");
+        assert!(
+            p.z > 1.0 - 1e-6 && p.z < 3.0 + 1e-6,
+            "a rotate-around line off the path: {p:?}"
+        );
     }
     assert!(rep.e_skipped_mm > 0.0 && rep.e_skipped_mm < 0.05 * rep.rotate_arounds as f64 + 1e-9);
 
@@ -332,7 +517,10 @@ fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
         assert!(d.abs() < 10.0, "{:?} → {:?}", w[0], w[1]);
     }
     assert!(lines.iter().all(|l| l.axes[3].abs() < 540.0));
-    assert!(rep.worst_position_mm <= 0.02 && rep.worst_angle_deg <= 0.1, "{rep:?}");
+    assert!(
+        rep.worst_position_mm <= 0.02 && rep.worst_angle_deg <= 0.1,
+        "{rep:?}"
+    );
 }
 
 /// Regression: near the pole of the 5-axis head a split move's halves chose different (A, B)
@@ -347,8 +535,18 @@ fn split_halves_join_on_the_same_branch_near_the_pole() {
     let n0 = DVec3::new(-0.07, -0.11, 0.99).normalize();
     let n1 = DVec3::new(0.118, 0.118, 0.986).normalize();
     let (p0, p1) = (DVec3::new(99.0, 98.0, 10.0), DVec3::new(102.0, 101.8, 10.0));
-    let a0 = m.inverse(p0, n0, Some(&[0.0, 0.0, 0.0, 1082.0, 0.0])).unwrap();
-    let to = ToolPoint { p: p1, n: n1, e: 0.1, f: 1200.0, layer: 1, feature: warpslice::toolpath::Feature::OuterWall, travel: false };
+    let a0 = m
+        .inverse(p0, n0, Some(&[0.0, 0.0, 0.0, 1082.0, 0.0]))
+        .unwrap();
+    let to = ToolPoint {
+        p: p1,
+        n: n1,
+        e: 0.1,
+        f: 1200.0,
+        layer: 1,
+        feature: warpslice::toolpath::Feature::OuterWall,
+        travel: false,
+    };
     let mut rep = TessellationReport::default();
     let moves = tessellate_move(m.as_ref(), (&a0, p0, n0), &to, &DEFAULT_BOUNDS, &mut rep).unwrap();
     let mut from = a0.clone();
@@ -357,12 +555,26 @@ fn split_halves_join_on_the_same_branch_near_the_pole() {
         let (q1, r1) = m.forward(&mv.axes).unwrap();
         for i in 1..SAMPLES {
             let u = i as f64 / SAMPLES as f64;
-            let axes: Vec<f64> = from.iter().zip(&mv.axes).map(|(x, y)| x + (y - x) * u).collect();
+            let axes: Vec<f64> = from
+                .iter()
+                .zip(&mv.axes)
+                .map(|(x, y)| x + (y - x) * u)
+                .collect();
             let (fp, fn_) = m.forward(&axes).unwrap();
             assert!((fp - q0.lerp(q1, u)).length() < 0.02);
-            assert!(deg(fn_, slerp(r0, r1, u)) < 0.1, "jump {:?} → {:?}", from, mv.axes);
+            assert!(
+                deg(fn_, slerp(r0, r1, u)) < 0.1,
+                "jump {:?} → {:?}",
+                from,
+                mv.axes
+            );
         }
-        assert!((mv.axes[3] - from[3]).abs() < 90.0, "A jumps {:?} → {:?}", from, mv.axes);
+        assert!(
+            (mv.axes[3] - from[3]).abs() < 90.0,
+            "A jumps {:?} → {:?}",
+            from,
+            mv.axes
+        );
         from = mv.axes.clone();
     }
     assert_eq!(rep.depth_limited, 0);
@@ -379,36 +591,68 @@ fn readme_machine_commands_run_as_written() {
         }
         panic!("PrusaSlicer is needed for this test: {e}");
     }
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
-    let start = readme.find("One command per machine").expect("the README's machine commands");
-    let commands: Vec<&str> = readme[start..].lines().skip_while(|l| !l.starts_with("```sh")).skip(1).take_while(|l| !l.starts_with("```")).collect();
-    assert!(commands.len() >= warpslice::machine::preset_names().len(), "{commands:?}");
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
+    let start = readme
+        .find("One command per machine")
+        .expect("the README's machine commands");
+    let commands: Vec<&str> = readme[start..]
+        .lines()
+        .skip_while(|l| !l.starts_with("```sh"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("```"))
+        .collect();
+    assert!(
+        commands.len() >= warpslice::machine::preset_names().len(),
+        "{commands:?}"
+    );
     let dir = tmpdir("readme");
     let run = |args: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice")).args(args).current_dir(&dir).output().expect("run warpslice");
-        (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .expect("run warpslice");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
     };
     assert!(run(&["example", "cube", "-o", "cube.stl"]).0);
     let mut lathe = preset("lathe-a").unwrap();
     if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut lathe.kinematics {
         p.axis_z_mm = -20.0;
     }
-    std::fs::write(dir.join("lathe.json"), serde_json::to_string(&lathe).unwrap()).unwrap();
+    std::fs::write(
+        dir.join("lathe.json"),
+        serde_json::to_string(&lathe).unwrap(),
+    )
+    .unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for c in &commands {
         let args: Vec<&str> = c.split_whitespace().skip(1).collect();
         let (ok, err) = run(&args);
         assert!(ok, "`{c}` failed: {err}");
-        let out = args.windows(2).find(|w| w[0] == "-o").map(|w| w[1]).expect("-o");
+        let out = args
+            .windows(2)
+            .find(|w| w[0] == "-o")
+            .map(|w| w[1])
+            .expect("-o");
         let text = std::fs::read_to_string(dir.join(out)).expect("output written");
         if let Some(m) = args.windows(2).find(|w| w[0] == "--machine").map(|w| w[1]) {
             let name = if m == "lathe.json" { "lathe-a" } else { m };
-            assert!(text.contains(&format!("; warpslice machine = {name} ")), "`{c}`: no machine header");
+            assert!(
+                text.contains(&format!("; warpslice machine = {name} ")),
+                "`{c}`: no machine header"
+            );
             seen.insert(name.to_string());
         } else {
             seen.insert("cartesian".to_string());
         }
     }
-    let all: std::collections::BTreeSet<String> = warpslice::machine::preset_names().into_iter().map(String::from).collect();
+    let all: std::collections::BTreeSet<String> = warpslice::machine::preset_names()
+        .into_iter()
+        .map(String::from)
+        .collect();
     assert_eq!(seen, all, "the README shows a command for every preset");
 }

@@ -19,8 +19,19 @@ fn check(m: &dyn Machine) {
     );
     assert!(r.points > 100 && c.points > 1000);
     let f = laws::check_fixed_pose(m).unwrap_or_else(|e| panic!("{e}"));
-    eprintln!("{}: fixed pose {} points, worst {:.3e} mm {:.3e} rad", m.name(), f.points, f.worst_position_mm, f.worst_angle_rad);
-    assert_eq!(f.points > 0, m.linear_at_fixed_pose(), "{}: the fixed-pose law found no segment to check", m.name());
+    eprintln!(
+        "{}: fixed pose {} points, worst {:.3e} mm {:.3e} rad",
+        m.name(),
+        f.points,
+        f.worst_position_mm,
+        f.worst_angle_rad
+    );
+    assert_eq!(
+        f.points > 0,
+        m.linear_at_fixed_pose(),
+        "{}: the fixed-pose law found no segment to check",
+        m.name()
+    );
 }
 
 fn spec(json: &str) -> Box<dyn Machine> {

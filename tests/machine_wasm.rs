@@ -64,18 +64,37 @@ fn print_expected() {
 #[test]
 fn cylindrical_and_spherical_warps_obey_the_laws() {
     use warpslice::warp::{laws as warp_laws, WarpParams, WarpSpec};
-    let bbox = warpslice::mesh::Aabb { min: glam::DVec3::new(-20.0, -15.0, 0.0), max: glam::DVec3::new(20.0, 15.0, 30.0) };
+    let bbox = warpslice::mesh::Aabb {
+        min: glam::DVec3::new(-20.0, -15.0, 0.0),
+        max: glam::DVec3::new(20.0, 15.0, 30.0),
+    };
     for spec in [
-        WarpSpec::Cylindrical { radius: 15.0, axis: [0.0, -20.0] },
-        WarpSpec::Cylindrical { radius: 3.0, axis: [4.0, -6.0] },
-        WarpSpec::Spherical { radius: 15.0, center: [0.0, 0.0, -20.0] },
-        WarpSpec::Spherical { radius: 2.0, center: [5.0, -3.0, -5.0] },
+        WarpSpec::Cylindrical {
+            radius: 15.0,
+            axis: [0.0, -20.0],
+        },
+        WarpSpec::Cylindrical {
+            radius: 3.0,
+            axis: [4.0, -6.0],
+        },
+        WarpSpec::Spherical {
+            radius: 15.0,
+            center: [0.0, 0.0, -20.0],
+        },
+        WarpSpec::Spherical {
+            radius: 2.0,
+            center: [5.0, -3.0, -5.0],
+        },
     ] {
         let w = WarpParams { spec, base: None }.build(&bbox).unwrap();
         for i in 0..5 {
             for j in 0..5 {
                 for k in 0..5 {
-                    let p = glam::DVec3::new(-20.0 + 10.0 * i as f64, -15.0 + 7.5 * j as f64, 7.5 * k as f64);
+                    let p = glam::DVec3::new(
+                        -20.0 + 10.0 * i as f64,
+                        -15.0 + 7.5 * j as f64,
+                        7.5 * k as f64,
+                    );
                     warp_laws::check_point(w.as_ref(), p, true).unwrap();
                 }
             }

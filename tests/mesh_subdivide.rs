@@ -88,7 +88,11 @@ fn closed_cube_stays_closed_under_a_curved_warp_and_meets_both_bounds() {
     assert!(longest_edge(&m) <= opts.max_edge + SLACK);
     assert!(worst_deviation(&m, &curved) <= opts.tolerance + SLACK);
     // same surface, same orientation
-    assert!((m.signed_volume() - 8000.0).abs() < 1e-6, "{}", m.signed_volume());
+    assert!(
+        (m.signed_volume() - 8000.0).abs() < 1e-6,
+        "{}",
+        m.signed_volume()
+    );
     assert!((area(&m) - area(&cube)).abs() < 1e-6);
 }
 

@@ -75,7 +75,9 @@ fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static s
     let names = preset_names();
     let k = names.len();
     match how {
-        Presets::ThreeRound => (0..3).map(|j| names[(3 * (m * warps + w) + j) % k]).collect(),
+        Presets::ThreeRound => (0..3)
+            .map(|j| names[(3 * (m * warps + w) + j) % k])
+            .collect(),
         Presets::TwoByWarp => (0..2).map(|j| names[(2 * w + m + j) % k]).collect(),
     }
 }
@@ -85,7 +87,12 @@ const COMBOS: usize = 6;
 
 /// Run every case of one matrix test; print the table; fail with every failed case.
 fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
-    let Matrix { models, warps, presets, rotate } = mx;
+    let Matrix {
+        models,
+        warps,
+        presets,
+        rotate,
+    } = mx;
     let (models, warps) = (&models[..], &warps[..]);
     if models.is_empty() {
         println!("SKIPPED {tag}: no models (../shared/corpus/stl/INDEX.txt not found next to the repository)");
@@ -103,7 +110,11 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     let nw = warps.len();
     // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer: 26 min
     // here, over the suite's budget)
-    let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") { None } else { rotate };
+    let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") {
+        None
+    } else {
+        rotate
+    };
     let cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
         .filter(|&(m, w)| rotate.is_none_or(|k| (m * nw + w) % COMBOS == k))
@@ -155,10 +166,19 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
             t.printed, t.refused, t.worst_tip, t.worst_axis, t.points, t.lines
         );
         if t.printed == 0 && !table.is_empty() {
-            failures.push(format!("{name}: printed none of the cases (refused all {})", t.refused));
+            failures.push(format!(
+                "{name}: printed none of the cases (refused all {})",
+                t.refused
+            ));
         }
     }
-    assert!(failures.is_empty(), "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}", failures.len(), cases.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
 }
 
 /// Slicer G-code already made in this test, by the warped STL's triangles (the corpus holds the
@@ -192,9 +212,14 @@ fn run_case(
     let w = warp_model(bytes, &common::warp_options(params));
     if common::must_refuse(params, &model) {
         return match w {
-            Err(e) if e.to_string().contains("largest allowed") => Ok(Err("the base blend's limit is named")),
+            Err(e) if e.to_string().contains("largest allowed") => {
+                Ok(Err("the base blend's limit is named"))
+            }
             Err(e) => Err(format!("refused, but without naming the limit: {e}")),
-            Ok(_) => Err("the base blend folds the layers over on this model but the warp was not refused".into()),
+            Ok(_) => Err(
+                "the base blend folds the layers over on this model but the warp was not refused"
+                    .into(),
+            ),
         };
     }
     let w = w.map_err(|e| format!("warp: {e}"))?;
@@ -207,7 +232,11 @@ fn run_case(
         None => {
             let gcode = stem.with_extension("gcode");
             std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
-            let so = SliceOptions { slicer: kind, e_mode, ..SliceOptions::default() };
+            let so = SliceOptions {
+                slicer: kind,
+                e_mode,
+                ..SliceOptions::default()
+            };
             slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
             let _ = std::fs::remove_file(&stl);
             case.slices.lock().unwrap().insert(key, gcode.clone());
@@ -216,18 +245,34 @@ fn run_case(
     };
     let slice_secs = t0.elapsed().as_secs_f64();
     let input = std::fs::read(&gcode).map_err(|e| e.to_string())?;
-    let out = match unwarp(&input, &w.job, &UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() }) {
+    let out = match unwarp(
+        &input,
+        &w.job,
+        &UnwarpOptions {
+            collect_toolpath: true,
+            ..UnwarpOptions::default()
+        },
+    ) {
         Ok(out) => out,
         // a model thinner than a line width: the slicer printed nothing of it, and unwarp
         // must say so by name
-        Err(e) if common::object_extrusions(&input) == 0 && e.to_string().contains("no object extrusions") => {
+        Err(e)
+            if common::object_extrusions(&input) == 0
+                && e.to_string().contains("no object extrusions") =>
+        {
             return Ok(Err("the slicer printed nothing of the model; named error"));
         }
         Err(e) => return Err(format!("unwarp: {e}")),
     };
     let st = common::check_unwarp(&model, &w.job, &input, &out)?;
     for &name in &case.presets {
-        let r = machine_case(name, &input, &w.job, &out.toolpath, out.report.model_to_output);
+        let r = machine_case(
+            name,
+            &input,
+            &w.job,
+            &out.toolpath,
+            out.report.model_to_output,
+        );
         let mut tally = machines.lock().unwrap();
         let t = tally.entry(name).or_default();
         match r {
@@ -277,12 +322,25 @@ fn machine_setup(name: &str) -> (MachineSpec, Option<[f64; 2]>) {
 /// Unwarp `input` again with the preset `name` and walk its G-code against the core toolpath
 /// (`core_m2o`: the core run's model_to_output). `Ok(None)`: refused with a named limit, and
 /// the core toolpath confirms a pose out of reach.
-fn machine_case(name: &str, input: &[u8], job: &warpslice::job::Job, core: &[ToolPoint], core_m2o: [f64; 3]) -> Result<Option<common::machine::Measured>, String> {
+fn machine_case(
+    name: &str,
+    input: &[u8],
+    job: &warpslice::job::Job,
+    core: &[ToolPoint],
+    core_m2o: [f64; 3],
+) -> Result<Option<common::machine::Measured>, String> {
     let (spec, place) = machine_setup(name);
     let m = spec.build().map_err(|e| e.to_string())?;
     // the core toolpath (slicer placement) moved to the preset's placement
-    let shift = place.map_or(DVec3::ZERO, |[x, y]| DVec3::new(x - core_m2o[0], y - core_m2o[1], 0.0));
-    let opts = UnwarpOptions { collect_toolpath: true, machine: Some(spec), place, ..UnwarpOptions::default() };
+    let shift = place.map_or(DVec3::ZERO, |[x, y]| {
+        DVec3::new(x - core_m2o[0], y - core_m2o[1], 0.0)
+    });
+    let opts = UnwarpOptions {
+        collect_toolpath: true,
+        machine: Some(spec),
+        place,
+        ..UnwarpOptions::default()
+    };
     let out = match unwarp(input, job, &opts) {
         Ok(out) => out,
         Err(e) => {
@@ -291,28 +349,55 @@ fn machine_case(name: &str, input: &[u8], job: &warpslice::job::Job, core: &[Too
                 return Err(format!("refused without a named limit: {text}"));
             }
             // independently: some pose of the core toolpath is out of the inverse's reach
-            let unreachable = core.iter().filter(|t| !t.travel).any(|t| m.inverse(t.p + shift, t.n, None).is_err());
-            return if unreachable { Ok(None) } else { Err(format!("refused ({text}) although every pose of the toolpath is reachable")) };
+            let unreachable = core
+                .iter()
+                .filter(|t| !t.travel)
+                .any(|t| m.inverse(t.p + shift, t.n, None).is_err());
+            return if unreachable {
+                Ok(None)
+            } else {
+                Err(format!(
+                    "refused ({text}) although every pose of the toolpath is reachable"
+                ))
+            };
         }
     };
     let m2o = DVec3::from_array(out.report.model_to_output);
     if (m2o - DVec3::from_array(core_m2o) - shift).length() > 1e-9 {
-        return Err(format!("model_to_output {m2o} is not the core's {core_m2o:?} moved by {shift}"));
+        return Err(format!(
+            "model_to_output {m2o} is not the core's {core_m2o:?} moved by {shift}"
+        ));
     }
     // the machine's extrusions are the core toolpath's, moved by the placement (travels may
     // differ: a placed part starts with a travel from where the start G-code left the head)
     let ext = |t: &[ToolPoint]| t.iter().filter(|t| !t.travel).cloned().collect::<Vec<_>>();
     let (got, want) = (ext(&out.toolpath), ext(core));
     if got.len() != want.len() {
-        return Err(format!("{} extrusion points, the core toolpath has {}", got.len(), want.len()));
+        return Err(format!(
+            "{} extrusion points, the core toolpath has {}",
+            got.len(),
+            want.len()
+        ));
     }
-    let differs = |(a, b): &(&ToolPoint, &ToolPoint)| (a.p - (b.p + shift)).length() > 1e-9 || a.n != b.n || a.e != b.e || a.layer != b.layer;
-    if let Some((i, (a, b))) = got.iter().zip(&want).enumerate().find(|(_, ab)| differs(ab)) {
-        return Err(format!("extrusion point {i} differs from the core's: {a:?} vs {b:?} (+ {shift})"));
+    let differs = |(a, b): &(&ToolPoint, &ToolPoint)| {
+        (a.p - (b.p + shift)).length() > 1e-9 || a.n != b.n || a.e != b.e || a.layer != b.layer
+    };
+    if let Some((i, (a, b))) = got
+        .iter()
+        .zip(&want)
+        .enumerate()
+        .find(|(_, ab)| differs(ab))
+    {
+        return Err(format!(
+            "extrusion point {i} differs from the core's: {a:?} vs {b:?} (+ {shift})"
+        ));
     }
     if name == "cartesian" {
         // the 3-axis output itself passed checks a–e
-        return Ok(Some(common::machine::Measured { points: core.len(), ..Default::default() }));
+        return Ok(Some(common::machine::Measured {
+            points: core.len(),
+            ..Default::default()
+        }));
     }
     let text = String::from_utf8(out.gcode).map_err(|e| e.to_string())?;
     let (lines, _) = common::machine::parse(&text, &m.axis_names())?;
@@ -325,17 +410,45 @@ const MANDREL_RADIUS: f64 = 20.0;
 /// The generated parts' warps: the acceptance five and the machines' pairings.
 fn generated_warps() -> Vec<(&'static str, WarpParams)> {
     let mut w = common::acceptance_warps();
-    w.push(("cylindrical-20", WarpParams { spec: WarpSpec::Cylindrical { radius: MANDREL_RADIUS, axis: [0.0, -MANDREL_RADIUS] }, base: None }));
-    w.push(("spherical-20", WarpParams { spec: WarpSpec::Spherical { radius: 20.0, center: [0.0, 0.0, -20.0] }, base: None }));
+    w.push((
+        "cylindrical-20",
+        WarpParams {
+            spec: WarpSpec::Cylindrical {
+                radius: MANDREL_RADIUS,
+                axis: [0.0, -MANDREL_RADIUS],
+            },
+            base: None,
+        },
+    ));
+    w.push((
+        "spherical-20",
+        WarpParams {
+            spec: WarpSpec::Spherical {
+                radius: 20.0,
+                center: [0.0, 0.0, -20.0],
+            },
+            base: None,
+        },
+    ));
     w
 }
 
 fn generated<'a>() -> Matrix<'a> {
-    Matrix { models: common::generated_models(), warps: generated_warps(), presets: Presets::ThreeRound, rotate: None }
+    Matrix {
+        models: common::generated_models(),
+        warps: generated_warps(),
+        presets: Presets::ThreeRound,
+        rotate: None,
+    }
 }
 
 fn corpus<'a>(slot: usize) -> Matrix<'a> {
-    Matrix { models: common::corpus_accept(), warps: common::acceptance_warps(), presets: Presets::TwoByWarp, rotate: Some(slot) }
+    Matrix {
+        models: common::corpus_accept(),
+        warps: common::acceptance_warps(),
+        presets: Presets::TwoByWarp,
+        rotate: Some(slot),
+    }
 }
 
 macro_rules! matrix_tests {

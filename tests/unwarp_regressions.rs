@@ -14,7 +14,14 @@ use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 fn conic_cube() -> warpslice::pipeline::WarpOutput {
     let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
-    let p = WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None };
+    let p = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    };
     warp_model(&stl, &WarpOptions::new(p)).unwrap()
 }
 
@@ -22,8 +29,15 @@ fn conic_cube() -> warpslice::pipeline::WarpOutput {
 fn extruded(gcode: &[u8]) -> f64 {
     let mut e = 0.0;
     let mut r = Reader::new(ReadOptions::default());
-    let mut sink = |l: warpslice::gcode::Line<'_>, _: &warpslice::gcode::State| -> Result<(), warpslice::gcode::GcodeError> {
-        e += l.moves.iter().filter(|m| m.is_extrusion()).map(|m| m.e).sum::<f64>();
+    let mut sink = |l: warpslice::gcode::Line<'_>,
+                    _: &warpslice::gcode::State|
+     -> Result<(), warpslice::gcode::GcodeError> {
+        e += l
+            .moves
+            .iter()
+            .filter(|m| m.is_extrusion())
+            .map(|m| m.e)
+            .sum::<f64>();
         Ok(())
     };
     r.push(gcode, &mut sink).unwrap();
@@ -37,10 +51,18 @@ fn extruded(gcode: &[u8]) -> f64 {
 #[test]
 fn absolute_e_continues_from_the_slicers_e_at_the_region_start() {
     let w = conic_cube();
-    let g = synthetic::gcode(&w.job, false, 2.0).replacen(";TYPE:Skirt/Brim", "G1 E-2 F2400\n;TYPE:Skirt/Brim", 1);
+    let g = synthetic::gcode(&w.job, false, 2.0).replacen(
+        ";TYPE:Skirt/Brim",
+        "G1 E-2 F2400\n;TYPE:Skirt/Brim",
+        1,
+    );
     let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
     let read_back = extruded(&u.gcode);
-    assert!((read_back - u.report.e_out).abs() < 1e-3, "written E {read_back} vs report {}", u.report.e_out);
+    assert!(
+        (read_back - u.report.e_out).abs() < 1e-3,
+        "written E {read_back} vs report {}",
+        u.report.e_out
+    );
 }
 
 /// Relative files must not get a `G92 E` at the end of the region (it means nothing there and
@@ -62,7 +84,9 @@ fn gcode_of_the_unwarped_model_is_refused() {
     // pretend the slicer was given the original 20 mm cube: its bbox is 8 mm lower
     job.warped_bbox.max.z -= 8.0;
     let g = synthetic::gcode(&job, true, 2.0);
-    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap_err().to_string();
+    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("does not match the warped model"), "{e}");
 }
 
@@ -70,7 +94,9 @@ fn gcode_of_the_unwarped_model_is_refused() {
 #[test]
 fn binary_gcode_is_refused() {
     let w = conic_cube();
-    let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpOptions::default()).unwrap_err().to_string();
+    let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("binary G-code"), "{e}");
 }
 
@@ -81,29 +107,74 @@ fn binary_gcode_is_refused() {
 #[test]
 fn place_moves_part_and_skirt_but_not_the_start_gcode() {
     let w = conic_cube();
-    let g = synthetic::gcode(&w.job, true, 2.0).replacen("G28\n", "G28\nG1 X5 Y5 Z0.3 F3000 ; purge start\n", 1);
-    let opts = UnwarpOptions { collect_toolpath: true, ..UnwarpOptions::default() };
+    let g = synthetic::gcode(&w.job, true, 2.0).replacen(
+        "G28\n",
+        "G28\nG1 X5 Y5 Z0.3 F3000 ; purge start\n",
+        1,
+    );
+    let opts = UnwarpOptions {
+        collect_toolpath: true,
+        ..UnwarpOptions::default()
+    };
     let at = unwarp(g.as_bytes(), &w.job, &opts).unwrap();
-    let placed = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { place: Some([-30.0, 12.5]), ..opts.clone() }).unwrap();
+    let placed = unwarp(
+        g.as_bytes(),
+        &w.job,
+        &UnwarpOptions {
+            place: Some([-30.0, 12.5]),
+            ..opts.clone()
+        },
+    )
+    .unwrap();
     let m2o = placed.report.model_to_output;
     assert_eq!([m2o[0], m2o[1]], [-30.0, 12.5]);
-    let shift = glam::DVec3::new(-30.0 - at.report.model_to_output[0], 12.5 - at.report.model_to_output[1], 0.0);
-    assert!(shift.length() > 50.0, "the synthetic slicer centres at (100, 100)");
+    let shift = glam::DVec3::new(
+        -30.0 - at.report.model_to_output[0],
+        12.5 - at.report.model_to_output[1],
+        0.0,
+    );
+    assert!(
+        shift.length() > 50.0,
+        "the synthetic slicer centres at (100, 100)"
+    );
     // the extrusions, one for one (the placed part starts with one more travel: from where
     // the start G-code left the head)
-    let ext = |t: &[warpslice::toolpath::ToolPoint]| t.iter().filter(|t| !t.travel).cloned().collect::<Vec<_>>();
+    let ext = |t: &[warpslice::toolpath::ToolPoint]| {
+        t.iter().filter(|t| !t.travel).cloned().collect::<Vec<_>>()
+    };
     let (a_ext, p_ext) = (ext(&at.toolpath), ext(&placed.toolpath));
     assert_eq!(a_ext.len(), p_ext.len());
     assert_eq!(placed.toolpath.len(), at.toolpath.len() + 1);
     for (a, b) in a_ext.iter().zip(&p_ext) {
-        assert!((b.p - (a.p + shift)).length() < 1e-9, "{:?} vs {:?}", a.p, b.p);
+        assert!(
+            (b.p - (a.p + shift)).length() < 1e-9,
+            "{:?} vs {:?}",
+            a.p,
+            b.p
+        );
         assert_eq!((a.n, a.e, a.feature), (b.n, b.e, b.feature));
     }
-    assert!(placed.toolpath.iter().any(|t| t.feature == warpslice::toolpath::Feature::Skirt));
+    assert!(placed
+        .toolpath
+        .iter()
+        .any(|t| t.feature == warpslice::toolpath::Feature::Skirt));
     let text = String::from_utf8(placed.gcode).unwrap();
     assert!(text.contains("G1 X5 Y5 Z0.3 F3000 ; purge start"));
-    assert!(text.contains("; warpslice model_to_output = -30 12.5 0"), "{}", &text[..600]);
-    let bad = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { place: Some([f64::NAN, 0.0]), ..opts }).unwrap_err().to_string();
+    assert!(
+        text.contains("; warpslice model_to_output = -30 12.5 0"),
+        "{}",
+        &text[..600]
+    );
+    let bad = unwarp(
+        g.as_bytes(),
+        &w.job,
+        &UnwarpOptions {
+            place: Some([f64::NAN, 0.0]),
+            ..opts
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(bad.contains("is not a position"), "{bad}");
 }
 
@@ -113,19 +184,49 @@ fn place_moves_part_and_skirt_but_not_the_start_gcode() {
 #[test]
 fn cylindrical_job_off_the_mandrel_axis_is_refused() {
     let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
-    let p = WarpParams { spec: WarpSpec::Cylindrical { radius: 20.0, axis: [0.0, -20.0] }, base: None };
+    let p = WarpParams {
+        spec: WarpSpec::Cylindrical {
+            radius: 20.0,
+            axis: [0.0, -20.0],
+        },
+        base: None,
+    };
     let w = warp_model(&stl, &WarpOptions::new(p)).unwrap();
     let g = synthetic::gcode(&w.job, true, 2.0);
     let mut lathe = warpslice::machine::preset("lathe-a").unwrap();
-    let opts = UnwarpOptions { machine: Some(lathe.clone()), place: Some([0.0, 0.0]), ..UnwarpOptions::default() };
+    let opts = UnwarpOptions {
+        machine: Some(lathe.clone()),
+        place: Some([0.0, 0.0]),
+        ..UnwarpOptions::default()
+    };
     let e = unwarp(g.as_bytes(), &w.job, &opts).unwrap_err().to_string();
-    assert!(e.contains("y = 0, z = -20") && e.contains("\"axis_z_mm\": -20") && e.contains("lathe-a"), "{e}");
+    assert!(
+        e.contains("y = 0, z = -20") && e.contains("\"axis_z_mm\": -20") && e.contains("lathe-a"),
+        "{e}"
+    );
     if let warpslice::machine::spec::Kinematics::LatheA(l) = &mut lathe.kinematics {
         l.axis_z_mm = -20.0;
     }
     // the slicer's placement (100, 100) is off the mandrel too
-    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { machine: Some(lathe.clone()), ..UnwarpOptions::default() }).unwrap_err().to_string();
+    let e = unwarp(
+        g.as_bytes(),
+        &w.job,
+        &UnwarpOptions {
+            machine: Some(lathe.clone()),
+            ..UnwarpOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("turns about y = 0, z = -20"), "{e}");
-    let ok = unwarp(g.as_bytes(), &w.job, &UnwarpOptions { machine: Some(lathe), place: Some([0.0, 0.0]), ..UnwarpOptions::default() });
+    let ok = unwarp(
+        g.as_bytes(),
+        &w.job,
+        &UnwarpOptions {
+            machine: Some(lathe),
+            place: Some([0.0, 0.0]),
+            ..UnwarpOptions::default()
+        },
+    );
     assert!(ok.is_ok(), "{:?}", ok.err().map(|e| e.to_string()));
 }

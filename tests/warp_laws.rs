@@ -8,25 +8,66 @@ use warpslice::mesh::Aabb;
 use warpslice::warp::{laws, Direction, WarpParams, WarpSpec};
 
 fn bbox() -> Aabb {
-    Aabb { min: DVec3::new(-20.0, -15.0, 0.0), max: DVec3::new(20.0, 15.0, 30.0) }
+    Aabb {
+        min: DVec3::new(-20.0, -15.0, 0.0),
+        max: DVec3::new(20.0, 15.0, 30.0),
+    }
 }
 
 /// Every warp of the core issue, with and without a base blend.
 fn all_warps() -> Vec<WarpParams> {
     let specs = vec![
-        WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 0.0, width: 0.0 },
-        WarpSpec::Curved { strength: 0.2, direction: Direction::Inward, offset: 4.0, width: 0.0 },
-        WarpSpec::Tilted { strength: 0.2, direction: Direction::Outward, offset: 0.0 },
-        WarpSpec::Tilted { strength: 0.5, direction: Direction::Inward, offset: -3.0 },
-        WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] },
-        WarpSpec::Conic { angle: 30.0, direction: Direction::Inward, center: [2.0, -1.0] },
-        WarpSpec::Belt { angle: 15.0, toward: [0.0, 1.0] },
-        WarpSpec::Belt { angle: 40.0, toward: [1.0, 1.0] },
+        WarpSpec::Curved {
+            strength: 0.3,
+            direction: Direction::Outward,
+            offset: 0.0,
+            width: 0.0,
+        },
+        WarpSpec::Curved {
+            strength: 0.2,
+            direction: Direction::Inward,
+            offset: 4.0,
+            width: 0.0,
+        },
+        WarpSpec::Tilted {
+            strength: 0.2,
+            direction: Direction::Outward,
+            offset: 0.0,
+        },
+        WarpSpec::Tilted {
+            strength: 0.5,
+            direction: Direction::Inward,
+            offset: -3.0,
+        },
+        WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Inward,
+            center: [2.0, -1.0],
+        },
+        WarpSpec::Belt {
+            angle: 15.0,
+            toward: [0.0, 1.0],
+        },
+        WarpSpec::Belt {
+            angle: 40.0,
+            toward: [1.0, 1.0],
+        },
     ];
     let mut out = Vec::new();
     for s in specs {
-        out.push(WarpParams { spec: s.clone(), base: None });
-        out.push(WarpParams { spec: s, base: Some([0.6, 40.0]) });
+        out.push(WarpParams {
+            spec: s.clone(),
+            base: None,
+        });
+        out.push(WarpParams {
+            spec: s,
+            base: Some([0.6, 40.0]),
+        });
     }
     // not shears (no base blend); axis and centre kept away from the sampled box (their domain
     // excludes the axis / centre and the seam below it)
@@ -39,10 +80,22 @@ fn all_warps() -> Vec<WarpParams> {
 /// The cylindrical and spherical warps (seed 002).
 fn non_shear_warps() -> Vec<WarpSpec> {
     vec![
-        WarpSpec::Cylindrical { radius: 15.0, axis: [0.0, -20.0] },
-        WarpSpec::Cylindrical { radius: 3.0, axis: [4.0, -6.0] },
-        WarpSpec::Spherical { radius: 15.0, center: [0.0, 0.0, -20.0] },
-        WarpSpec::Spherical { radius: 2.0, center: [5.0, -3.0, -5.0] },
+        WarpSpec::Cylindrical {
+            radius: 15.0,
+            axis: [0.0, -20.0],
+        },
+        WarpSpec::Cylindrical {
+            radius: 3.0,
+            axis: [4.0, -6.0],
+        },
+        WarpSpec::Spherical {
+            radius: 15.0,
+            center: [0.0, 0.0, -20.0],
+        },
+        WarpSpec::Spherical {
+            radius: 2.0,
+            center: [5.0, -3.0, -5.0],
+        },
     ]
 }
 
@@ -50,7 +103,9 @@ fn non_shear_warps() -> Vec<WarpSpec> {
 fn kink_distance(spec: &WarpSpec, p: DVec3) -> f64 {
     match *spec {
         WarpSpec::Tilted { offset, .. } => (p.x + offset).abs(),
-        WarpSpec::Conic { center, .. } => ((p.x - center[0]).powi(2) + (p.y - center[1]).powi(2)).sqrt(),
+        WarpSpec::Conic { center, .. } => {
+            ((p.x - center[0]).powi(2) + (p.y - center[1]).powi(2)).sqrt()
+        }
         _ => f64::INFINITY,
     }
 }
@@ -74,30 +129,71 @@ proptest! {
 
 #[test]
 fn crease_and_apex_get_the_vertical_axis() {
-    let mut t = WarpParams { spec: WarpSpec::Tilted { strength: 0.2, direction: Direction::Outward, offset: 2.0 }, base: None };
+    let mut t = WarpParams {
+        spec: WarpSpec::Tilted {
+            strength: 0.2,
+            direction: Direction::Outward,
+            offset: 2.0,
+        },
+        base: None,
+    };
     let w = t.build(&bbox()).unwrap();
     assert_eq!(w.tool_axis(DVec3::new(-2.0, 3.0, 1.0)), DVec3::Z);
-    let mut c = WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [1.0, 1.0] }, base: None };
+    let mut c = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [1.0, 1.0],
+        },
+        base: None,
+    };
     let w = c.build(&bbox()).unwrap();
     assert_eq!(w.tool_axis(DVec3::new(1.0, 1.0, 5.0)), DVec3::Z);
 }
 
 #[test]
 fn outward_tilts_the_tool_outward() {
-    let mut c = WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None };
+    let mut c = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    };
     let w = c.build(&bbox()).unwrap();
     let n = w.tool_axis(DVec3::new(10.0, 0.0, 5.0));
-    assert!(n.x > 0.0 && (n.x - 0.5).abs() < 1e-12 && (n.z - 0.75f64.sqrt()).abs() < 1e-12, "{n}");
-    let mut b = WarpParams { spec: WarpSpec::Belt { angle: 15.0, toward: [0.0, 1.0] }, base: None };
+    assert!(
+        n.x > 0.0 && (n.x - 0.5).abs() < 1e-12 && (n.z - 0.75f64.sqrt()).abs() < 1e-12,
+        "{n}"
+    );
+    let mut b = WarpParams {
+        spec: WarpSpec::Belt {
+            angle: 15.0,
+            toward: [0.0, 1.0],
+        },
+        base: None,
+    };
     let w = b.build(&bbox()).unwrap();
     let n = w.tool_axis(DVec3::new(3.0, 4.0, 5.0));
-    assert!((n.y - 15f64.to_radians().sin()).abs() < 1e-12 && n.x == 0.0, "{n}");
+    assert!(
+        (n.y - 15f64.to_radians().sin()).abs() < 1e-12 && n.x == 0.0,
+        "{n}"
+    );
 }
 
 #[test]
 fn curved_matches_seed_000_eq_1() {
     // z' = z + s·c·(x+a)²/(w/2+|a|), w = 40 (bbox width), s = 0.3, a = 4, outward
-    let mut p = WarpParams { spec: WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 4.0, width: 0.0 }, base: None };
+    let mut p = WarpParams {
+        spec: WarpSpec::Curved {
+            strength: 0.3,
+            direction: Direction::Outward,
+            offset: 4.0,
+            width: 0.0,
+        },
+        base: None,
+    };
     let w = p.build(&bbox()).unwrap();
     let q = w.forward(DVec3::new(6.0, 1.0, 2.0));
     assert!((q.z - (2.0 + 0.3 * 100.0 / 24.0)).abs() < 1e-12, "{q}");
@@ -108,10 +204,19 @@ fn curved_matches_seed_000_eq_1() {
 /// (1 + w′(z)·g > 0 needs |y|·tan 15° < 9.4/1.5).
 #[test]
 fn base_blend_monotonic_limit_belt_15() {
-    let spec = WarpSpec::Belt { angle: 15.0, toward: [0.0, 1.0] };
+    let spec = WarpSpec::Belt {
+        angle: 15.0,
+        toward: [0.0, 1.0],
+    };
     for (half, ok) in [(23.0, true), (23.3, true), (23.6, false), (30.0, false)] {
-        let b = Aabb { min: DVec3::new(-5.0, -half, 0.0), max: DVec3::new(5.0, half, 20.0) };
-        let mut p = WarpParams { spec: spec.clone(), base: Some([0.6, 10.0]) };
+        let b = Aabb {
+            min: DVec3::new(-5.0, -half, 0.0),
+            max: DVec3::new(5.0, half, 20.0),
+        };
+        let mut p = WarpParams {
+            spec: spec.clone(),
+            base: Some([0.6, 10.0]),
+        };
         assert_eq!(p.build(&b).is_ok(), ok, "half-width {half}");
     }
 }
@@ -119,28 +224,76 @@ fn base_blend_monotonic_limit_belt_15() {
 /// Belt 45° with --base 0.6,3 on a 20 mm cube must be refused, naming the limit.
 #[test]
 fn base_blend_refuses_belt_45_on_cube_naming_limit() {
-    let b = Aabb { min: DVec3::new(-10.0, -10.0, 0.0), max: DVec3::new(10.0, 10.0, 20.0) };
-    let mut p = WarpParams { spec: WarpSpec::Belt { angle: 45.0, toward: [0.0, 1.0] }, base: Some([0.6, 3.0]) };
+    let b = Aabb {
+        min: DVec3::new(-10.0, -10.0, 0.0),
+        max: DVec3::new(10.0, 10.0, 20.0),
+    };
+    let mut p = WarpParams {
+        spec: WarpSpec::Belt {
+            angle: 45.0,
+            toward: [0.0, 1.0],
+        },
+        base: Some([0.6, 3.0]),
+    };
     let err = p.build(&b).unwrap_err();
     let msg = err.to_string();
     // tan α_max = 0.99·2.4/1.5/10 → α_max ≈ 8.996°
     let expected = (0.99f64 * 2.4 / 1.5 / 10.0).atan().to_degrees();
     assert!(msg.contains("largest allowed angle"), "{msg}");
-    assert!(msg.contains(&format!("{expected:.3}")), "{msg} should name {expected:.3}");
+    assert!(
+        msg.contains(&format!("{expected:.3}")),
+        "{msg} should name {expected:.3}"
+    );
     // and the named limit is accepted
-    let mut q = WarpParams { spec: WarpSpec::Belt { angle: expected, toward: [0.0, 1.0] }, base: Some([0.6, 3.0]) };
+    let mut q = WarpParams {
+        spec: WarpSpec::Belt {
+            angle: expected,
+            toward: [0.0, 1.0],
+        },
+        base: Some([0.6, 3.0]),
+    };
     assert!(q.build(&b).is_ok());
 }
 
 #[test]
 fn bad_parameters_are_named() {
-    let mut p = WarpParams { spec: WarpSpec::Conic { angle: 90.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None };
+    let mut p = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 90.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    };
     assert!(p.build(&bbox()).unwrap_err().to_string().contains("angle"));
-    let mut p = WarpParams { spec: WarpSpec::Belt { angle: 10.0, toward: [0.0, 0.0] }, base: None };
+    let mut p = WarpParams {
+        spec: WarpSpec::Belt {
+            angle: 10.0,
+            toward: [0.0, 0.0],
+        },
+        base: None,
+    };
     assert!(p.build(&bbox()).unwrap_err().to_string().contains("toward"));
-    let mut p = WarpParams { spec: WarpSpec::Tilted { strength: f64::NAN, direction: Direction::Outward, offset: 0.0 }, base: None };
-    assert!(p.build(&bbox()).unwrap_err().to_string().contains("strength"));
-    let mut p = WarpParams { spec: WarpSpec::Belt { angle: 10.0, toward: [0.0, 1.0] }, base: Some([5.0, 2.0]) };
+    let mut p = WarpParams {
+        spec: WarpSpec::Tilted {
+            strength: f64::NAN,
+            direction: Direction::Outward,
+            offset: 0.0,
+        },
+        base: None,
+    };
+    assert!(p
+        .build(&bbox())
+        .unwrap_err()
+        .to_string()
+        .contains("strength"));
+    let mut p = WarpParams {
+        spec: WarpSpec::Belt {
+            angle: 10.0,
+            toward: [0.0, 1.0],
+        },
+        base: Some([5.0, 2.0]),
+    };
     assert!(p.build(&bbox()).unwrap_err().to_string().contains("base"));
 }
 
@@ -148,7 +301,13 @@ fn bad_parameters_are_named() {
 fn cylindrical_and_spherical_layers_are_coaxial_cylinders_and_concentric_spheres() {
     let bb = bbox();
     // cylindrical: T_z = ρ − R, radial tool axis, det J = R/ρ, E scaled by ρ/R
-    let mut c = WarpParams { spec: WarpSpec::Cylindrical { radius: 15.0, axis: [0.0, -20.0] }, base: None };
+    let mut c = WarpParams {
+        spec: WarpSpec::Cylindrical {
+            radius: 15.0,
+            axis: [0.0, -20.0],
+        },
+        base: None,
+    };
     let w = c.build(&bb).unwrap();
     let p = DVec3::new(3.0, 4.0, 1.0);
     let rho = (4.0f64.powi(2) + 21.0f64.powi(2)).sqrt();
@@ -161,7 +320,13 @@ fn cylindrical_and_spherical_layers_are_coaxial_cylinders_and_concentric_spheres
         assert!((((q.y).powi(2) + (q.z + 20.0).powi(2)).sqrt() - 15.6).abs() < 1e-12);
     }
     // spherical: T_z = |p − c| − R, radial tool axis
-    let mut s = WarpParams { spec: WarpSpec::Spherical { radius: 15.0, center: [0.0, 0.0, -20.0] }, base: None };
+    let mut s = WarpParams {
+        spec: WarpSpec::Spherical {
+            radius: 15.0,
+            center: [0.0, 0.0, -20.0],
+        },
+        base: None,
+    };
     let w = s.build(&bb).unwrap();
     let p = DVec3::new(3.0, -4.0, 2.0);
     let v = p - DVec3::new(0.0, 0.0, -20.0);
@@ -178,11 +343,35 @@ fn cylindrical_and_spherical_layers_are_coaxial_cylinders_and_concentric_spheres
 #[test]
 fn base_is_refused_for_the_non_shear_warps_and_bad_radii_are_named() {
     for spec in non_shear_warps() {
-        let e = WarpParams { spec, base: Some([0.6, 3.0]) }.build(&bbox()).unwrap_err().to_string();
+        let e = WarpParams {
+            spec,
+            base: Some([0.6, 3.0]),
+        }
+        .build(&bbox())
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("does not take --base"), "{e}");
     }
-    let e = WarpParams { spec: WarpSpec::Spherical { radius: 0.0, center: [0.0; 3] }, base: None }.build(&bbox()).unwrap_err().to_string();
+    let e = WarpParams {
+        spec: WarpSpec::Spherical {
+            radius: 0.0,
+            center: [0.0; 3],
+        },
+        base: None,
+    }
+    .build(&bbox())
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("radius") && e.contains("> 0"), "{e}");
-    let e = WarpParams { spec: WarpSpec::Cylindrical { radius: 5.0, axis: [f64::NAN, 0.0] }, base: None }.build(&bbox()).unwrap_err().to_string();
+    let e = WarpParams {
+        spec: WarpSpec::Cylindrical {
+            radius: 5.0,
+            axis: [f64::NAN, 0.0],
+        },
+        base: None,
+    }
+    .build(&bbox())
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("axis"), "{e}");
 }

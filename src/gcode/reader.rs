@@ -709,7 +709,13 @@ mod tests {
         reader.push(b"G1 X1\n;abc", &mut sink).unwrap();
         let big = vec![b'a'; 4 * MAX_LINE_BYTES];
         let r = reader.push(&big, &mut sink);
-        assert_eq!(r, Err(GcodeError::LineTooLong { line: 2, bytes: MAX_LINE_BYTES }));
+        assert_eq!(
+            r,
+            Err(GcodeError::LineTooLong {
+                line: 2,
+                bytes: MAX_LINE_BYTES
+            })
+        );
         assert!(reader.pending.capacity() < 2 * MAX_LINE_BYTES);
     }
 }

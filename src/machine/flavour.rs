@@ -170,12 +170,26 @@ mod tests {
     /// `--feed all-axes`, wrong for `xyz`, whose F is the tip speed alone.
     #[test]
     fn reprapfirmware_header_creates_rotary_axes_for_the_feed_mode() {
-        let limits = [AxisLimit::linear("X"), AxisLimit::linear("U"), AxisLimit::rotary("A", -90.0, 90.0)];
-        let xyz = Flavour::RepRapFirmware.header(&limits, FeedMode::Xyz).join("\n");
-        assert!(xyz.contains("M584 … A R1 S1") && xyz.contains("M584 … U R0"), "{xyz}");
-        let all = Flavour::RepRapFirmware.header(&limits, FeedMode::AllAxes).join("\n");
+        let limits = [
+            AxisLimit::linear("X"),
+            AxisLimit::linear("U"),
+            AxisLimit::rotary("A", -90.0, 90.0),
+        ];
+        let xyz = Flavour::RepRapFirmware
+            .header(&limits, FeedMode::Xyz)
+            .join("\n");
+        assert!(
+            xyz.contains("M584 … A R1 S1") && xyz.contains("M584 … U R0"),
+            "{xyz}"
+        );
+        let all = Flavour::RepRapFirmware
+            .header(&limits, FeedMode::AllAxes)
+            .join("\n");
         assert!(all.contains("M584 … A R1 S0"), "{all}");
         let marlin = Flavour::Marlin.header(&limits, FeedMode::Xyz).join("\n");
-        assert!(marlin.contains("#define AXIS4_NAME 'U'") && marlin.contains("AXIS5_NAME 'A'"), "{marlin}");
+        assert!(
+            marlin.contains("#define AXIS4_NAME 'U'") && marlin.contains("AXIS5_NAME 'A'"),
+            "{marlin}"
+        );
     }
 }

@@ -273,16 +273,26 @@ pub fn check_fixed_pose(m: &dyn Machine) -> Result<LawReport, String> {
     }
     for n in axes(&ws) {
         for &(p0, p1) in &pairs {
-            let Ok(a0) = m.inverse(p0, n, None) else { continue };
-            let Ok(a1) = m.inverse(p1, n, Some(&a0)) else { continue };
-            if rotary.iter().zip(a0.iter().zip(&a1)).any(|(r, (x, y))| *r && x != y) {
+            let Ok(a0) = m.inverse(p0, n, None) else {
+                continue;
+            };
+            let Ok(a1) = m.inverse(p1, n, Some(&a0)) else {
+                continue;
+            };
+            if rotary
+                .iter()
+                .zip(a0.iter().zip(&a1))
+                .any(|(r, (x, y))| *r && x != y)
+            {
                 continue;
             }
             for k in 1..100 {
                 let s = k as f64 / 100.0;
                 let lerped: Vec<f64> = a0.iter().zip(&a1).map(|(x, y)| x + (y - x) * s).collect();
                 let fw = m.forward(&lerped).map_err(|e| e.to_string())?;
-                let exact_axes = m.inverse(p0.lerp(p1, s), n, Some(&a0)).map_err(|e| e.to_string())?;
+                let exact_axes = m
+                    .inverse(p0.lerp(p1, s), n, Some(&a0))
+                    .map_err(|e| e.to_string())?;
                 let exact = m.forward(&exact_axes).map_err(|e| e.to_string())?;
                 let dp = (fw.0 - exact.0).length();
                 let da = num::angle_between(fw.1, exact.1);

@@ -163,7 +163,11 @@ pub struct Slerp {
 impl Slerp {
     pub fn new(a: DVec3, b: DVec3) -> Slerp {
         // equal vectors (the common case: one layer normal along a move) need no trigonometry
-        let w = if a == b { 0.0 } else { num::angle_between(a, b) };
+        let w = if a == b {
+            0.0
+        } else {
+            num::angle_between(a, b)
+        };
         Slerp { a, b, w }
     }
 
@@ -341,7 +345,11 @@ impl Ctx<'_> {
     /// whose normal does not change; no sampling needed).
     fn exact_at_fixed_pose(&self, pc: &Piece, a1: &[f64]) -> bool {
         self.fixed_pose_rotary.as_ref().is_some_and(|rotary| {
-            pc.n0 == pc.n1 && rotary.iter().zip(pc.a0.iter().zip(a1)).all(|(r, (x, y))| !*r || x == y)
+            pc.n0 == pc.n1
+                && rotary
+                    .iter()
+                    .zip(pc.a0.iter().zip(a1))
+                    .all(|(r, (x, y))| !*r || x == y)
         })
     }
 

@@ -15,7 +15,9 @@ pub mod subdivide;
 
 pub use report::MeshReport;
 pub use stl::{read_stl, write_stl, StlFormat};
-pub use subdivide::{subdivide, subdivide_warped, SubdivideLimit, SubdivideOptions, SubdivideStats};
+pub use subdivide::{
+    subdivide, subdivide_warped, SubdivideLimit, SubdivideOptions, SubdivideStats,
+};
 
 /// An indexed triangle mesh (counter-clockwise triangles seen from outside).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -39,7 +41,10 @@ impl Default for Aabb {
 
 impl Aabb {
     /// The empty box (min = +∞, max = −∞); `include` grows it.
-    pub const EMPTY: Aabb = Aabb { min: DVec3::splat(f64::INFINITY), max: DVec3::splat(f64::NEG_INFINITY) };
+    pub const EMPTY: Aabb = Aabb {
+        min: DVec3::splat(f64::INFINITY),
+        max: DVec3::splat(f64::NEG_INFINITY),
+    };
 
     pub fn include(&mut self, p: DVec3) {
         self.min = self.min.min(p);
@@ -101,7 +106,10 @@ pub enum MeshError {
     /// The file has no bytes.
     Empty,
     /// Binary STL shorter than its header + face count + faces say.
-    Truncated { expected_bytes: u64, actual_bytes: u64 },
+    Truncated {
+        expected_bytes: u64,
+        actual_bytes: u64,
+    },
     /// Binary STL whose face count disagrees with the file size.
     FaceCountMismatch { header_count: u64, bytes_for: u64 },
     /// A coordinate is NaN or infinite (triangle index, 0-based).

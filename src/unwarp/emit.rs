@@ -18,7 +18,12 @@ pub trait Emitter: Send {
     /// Header lines after warpslice's own (`; warpslice machine = …`).
     fn header(&mut self, _out: &mut Vec<u8>) {}
     /// The printed region starts; the head is at `p` with tool axis `n` (output frame).
-    fn begin_region(&mut self, _out: &mut Vec<u8>, _p: DVec3, _n: DVec3) -> Result<(), MachineError> {
+    fn begin_region(
+        &mut self,
+        _out: &mut Vec<u8>,
+        _p: DVec3,
+        _n: DVec3,
+    ) -> Result<(), MachineError> {
         Ok(())
     }
     /// The printed region ends (after the driver's lift): leave the machine ready for the
@@ -35,7 +40,12 @@ pub trait Emitter: Send {
     /// (`tp.travel`, `tp.e == 0`) or, when `tp.travel` and `tp.e != 0`, a retraction or
     /// unretraction in place. `relative_e`: the file's E mode (M83) in force. A machine that
     /// cannot reach the point returns the error; the driver stops with it.
-    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) -> Result<(), MachineError>;
+    fn point(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+    ) -> Result<(), MachineError>;
     /// `G92 E v` passed through: the firmware's E is now v.
     fn reset_e(&mut self, v: f64);
     /// The firmware's E after the last point (absolute mode).
@@ -80,7 +90,12 @@ fn xyz(out: &mut Vec<u8>, tp: &ToolPoint) {
 }
 
 impl Emitter for Cartesian {
-    fn point(&mut self, out: &mut Vec<u8>, tp: &ToolPoint, relative_e: bool) -> Result<(), MachineError> {
+    fn point(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+    ) -> Result<(), MachineError> {
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");

@@ -23,7 +23,10 @@ pub struct Flow {
 
 impl Default for Flow {
     fn default() -> Self {
-        Flow { factor: 1.0, ramp: None }
+        Flow {
+            factor: 1.0,
+            ramp: None,
+        }
     }
 }
 
@@ -82,7 +85,10 @@ mod tests {
 
     #[test]
     fn ramp_of_seed_000() {
-        let f = Flow { factor: 1.0, ramp: Some([0.8, 1.2]) };
+        let f = Flow {
+            factor: 1.0,
+            ramp: Some([0.8, 1.2]),
+        };
         assert!((f.at(0.0) - 0.8).abs() < 1e-12);
         assert!((f.at(0.6) - 0.9).abs() < 1e-12);
         assert!((f.at(5.0) - 1.0).abs() < 1e-12);

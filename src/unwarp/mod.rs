@@ -35,7 +35,8 @@ use crate::machine::{FeedMode, Flavour, MachineEmitter, MachineError, MachineRep
 use crate::pipeline::Error;
 use crate::register::{Registration, Scanner};
 use crate::tolerance::{
-    DEFAULT_MAX_SEGMENT, DEFAULT_RETRACT_LENGTH, DEFAULT_TOLERANCE, DEFAULT_TRAVEL_CLEARANCE, LENGTH_EPSILON,
+    DEFAULT_MAX_SEGMENT, DEFAULT_RETRACT_LENGTH, DEFAULT_TOLERANCE, DEFAULT_TRAVEL_CLEARANCE,
+    LENGTH_EPSILON,
 };
 use crate::toolpath::{Feature, ToolPoint};
 use crate::warp::Warp;
@@ -89,15 +90,23 @@ pub struct UnwarpOptions {
 }
 
 /// `machine` in the options JSON: `null`, a preset name or a machine object.
-fn machine_from_json<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<MachineSpec>, D::Error> {
+fn machine_from_json<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<MachineSpec>, D::Error> {
     use serde::de::Error as _;
     match Option::<serde_json::Value>::deserialize(d)? {
         None | Some(serde_json::Value::Null) => Ok(None),
-        Some(serde_json::Value::String(name)) => crate::machine::preset(&name).map(Some).map_err(D::Error::custom),
+        Some(serde_json::Value::String(name)) => crate::machine::preset(&name)
+            .map(Some)
+            .map_err(D::Error::custom),
         Some(v @ serde_json::Value::Object(_)) => {
-            MachineSpec::from_json(&v.to_string(), "unwarp options 'machine'").map(Some).map_err(D::Error::custom)
+            MachineSpec::from_json(&v.to_string(), "unwarp options 'machine'")
+                .map(Some)
+                .map_err(D::Error::custom)
         }
-        Some(other) => Err(D::Error::custom(format!("machine must be a preset name or a machine object, not {other}"))),
+        Some(other) => Err(D::Error::custom(format!(
+            "machine must be a preset name or a machine object, not {other}"
+        ))),
     }
 }
 
@@ -172,22 +181,39 @@ pub struct UnwarpReport {
 #[non_exhaustive]
 pub enum UnwarpError {
     /// G91 relative positioning inside the printed region.
-    RelativePositioning { line: u64 },
+    RelativePositioning {
+        line: u64,
+    },
     /// G92 with X, Y or Z inside the printed region.
-    AxisReset { line: u64 },
+    AxisReset {
+        line: u64,
+    },
     /// G20 inches inside the printed region.
-    Inches { line: u64 },
+    Inches {
+        line: u64,
+    },
     Gcode(GcodeError),
     /// The streaming calls came in the wrong order.
-    Order { expected: &'static str },
+    Order {
+        expected: &'static str,
+    },
     /// The machine cannot follow the toolpath (or cannot be set up): the G-code line being
     /// unwarped when it happened (`None`: before the first line).
-    Machine { line: Option<u64>, error: MachineError },
+    Machine {
+        line: Option<u64>,
+        error: MachineError,
+    },
     /// `place` is not two finite numbers.
-    BadPlace { place: [f64; 2] },
+    BadPlace {
+        place: [f64; 2],
+    },
     /// A cylindrical job's layer axis is not the lathe's mandrel axis (output frame, y and z
     /// in mm): printing would wind the layers round the wrong line.
-    MandrelMismatch { machine: String, warp: [f64; 2], mandrel: [f64; 2] },
+    MandrelMismatch {
+        machine: String,
+        warp: [f64; 2],
+        mandrel: [f64; 2],
+    },
 }
 
 impl From<GcodeError> for UnwarpError {
@@ -296,22 +322,40 @@ pub struct Unwarper {
 
 impl Unwarper {
     pub fn new(job: &Job, opts: &UnwarpOptions) -> Result<Unwarper, Error> {
-        for (name, v) in [("tolerance", opts.tolerance), ("max-segment", opts.max_segment), ("flow", opts.flow.factor)] {
+        for (name, v) in [
+            ("tolerance", opts.tolerance),
+            ("max-segment", opts.max_segment),
+            ("flow", opts.flow.factor),
+        ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(Error::Option { name, value: v.to_string(), allowed: "a positive number" });
+                return Err(Error::Option {
+                    name,
+                    value: v.to_string(),
+                    allowed: "a positive number",
+                });
             }
         }
         if !opts.z_offset.is_finite() {
-            return Err(Error::Option { name: "z-offset", value: opts.z_offset.to_string(), allowed: "a finite number (mm)" });
+            return Err(Error::Option {
+                name: "z-offset",
+                value: opts.z_offset.to_string(),
+                allowed: "a finite number (mm)",
+            });
         }
         if let Some([f0, zr]) = opts.flow.ramp {
             if !(f0.is_finite() && f0 > 0.0 && zr.is_finite() && zr > 0.0) {
-                return Err(Error::Option { name: "ramp", value: format!("{f0},{zr}"), allowed: "f0,z_ramp with f0 > 0 and z_ramp > 0 mm" });
+                return Err(Error::Option {
+                    name: "ramp",
+                    value: format!("{f0},{zr}"),
+                    allowed: "f0,z_ramp with f0 > 0 and z_ramp > 0 mm",
+                });
             }
         }
         // build once to validate the job's warp
         job.warp.clone().build(&job.model_bbox)?;
-        let emitter = opts.emitter().map_err(|error| UnwarpError::Machine { line: None, error })?;
+        let emitter = opts
+            .emitter()
+            .map_err(|error| UnwarpError::Machine { line: None, error })?;
         Ok(Unwarper {
             emitter: Some(emitter),
             job: job.clone(),
@@ -327,13 +371,19 @@ impl Unwarper {
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), Error> {
         match self.scanner.as_mut() {
             Some(s) => Ok(s.push(chunk)?),
-            None => Err(UnwarpError::Order { expected: "scan before end_scan" }.into()),
+            None => Err(UnwarpError::Order {
+                expected: "scan before end_scan",
+            }
+            .into()),
         }
     }
 
     /// End of pass 1: registration. Writes the output header.
     pub fn end_scan(&mut self) -> Result<Registration, Error> {
-        let scanner = self.scanner.take().ok_or(UnwarpError::Order { expected: "scan" })?;
+        let scanner = self
+            .scanner
+            .take()
+            .ok_or(UnwarpError::Order { expected: "scan" })?;
         let reg = scanner.finish(&self.job, self.opts.offset)?;
         let mut params = self.job.warp.clone();
         let warp = params.build(&self.job.model_bbox)?;
@@ -343,7 +393,11 @@ impl Unwarper {
             Some(place) => return Err(UnwarpError::BadPlace { place }.into()),
             None => DVec3::ZERO,
         };
-        mandrel_check(&self.job, self.opts.machine.as_ref(), [dx + shift.x, dy + shift.y, self.opts.z_offset])?;
+        mandrel_check(
+            &self.job,
+            self.opts.machine.as_ref(),
+            [dx + shift.x, dy + shift.y, self.opts.z_offset],
+        )?;
         let b = reg.gcode_bbox;
         let mut core = Core {
             job: self.job.clone(),
@@ -354,7 +408,9 @@ impl Unwarper {
             dy,
             shift,
             out: Vec::with_capacity(1 << 16),
-            emit: self.emitter.take().ok_or(UnwarpError::Order { expected: "end_scan only once:" })?,
+            emit: self.emitter.take().ok_or(UnwarpError::Order {
+                expected: "end_scan only once:",
+            })?,
             emit_error: None,
             slicer_e: 0.0,
             cur: None,
@@ -369,7 +425,11 @@ impl Unwarper {
                 translation: reg.translation,
                 residual: reg.residual,
                 model_to_output: [dx + shift.x, dy + shift.y, self.opts.z_offset],
-                skirt: if self.opts.drop_skirt { "dropped".into() } else { "flat".into() },
+                skirt: if self.opts.drop_skirt {
+                    "dropped".into()
+                } else {
+                    "flat".into()
+                },
                 ..UnwarpReport::default()
             },
             toolpath: Vec::new(),
@@ -383,8 +443,12 @@ impl Unwarper {
 
     /// Pass 2: feed a chunk (the same bytes again, from the start).
     pub fn push(&mut self, chunk: &[u8]) -> Result<(), Error> {
-        let core = self.core.as_mut().ok_or(UnwarpError::Order { expected: "end_scan" })?;
-        let r = self.reader.push::<UnwarpError>(chunk, &mut |l, s| core.line(&l, s));
+        let core = self.core.as_mut().ok_or(UnwarpError::Order {
+            expected: "end_scan",
+        })?;
+        let r = self
+            .reader
+            .push::<UnwarpError>(chunk, &mut |l, s| core.line(&l, s));
         r.map_err(Error::from)
     }
 
@@ -402,20 +466,30 @@ impl Unwarper {
 
     /// Drain the toolpath collected so far (`collect_toolpath`).
     pub fn take_toolpath(&mut self) -> Vec<ToolPoint> {
-        self.core.as_mut().map(|c| std::mem::take(&mut c.toolpath)).unwrap_or_default()
+        self.core
+            .as_mut()
+            .map(|c| std::mem::take(&mut c.toolpath))
+            .unwrap_or_default()
     }
 
     /// End of pass 2; drain the output after this.
     pub fn finish(&mut self) -> Result<UnwarpReport, Error> {
         if self.finished {
-            return Err(UnwarpError::Order { expected: "finish only once:" }.into());
+            return Err(UnwarpError::Order {
+                expected: "finish only once:",
+            }
+            .into());
         }
-        let core = self.core.as_mut().ok_or(UnwarpError::Order { expected: "end_scan" })?;
-        self.reader.finish::<UnwarpError>(&mut |l, s| core.line(&l, s))?;
+        let core = self.core.as_mut().ok_or(UnwarpError::Order {
+            expected: "end_scan",
+        })?;
+        self.reader
+            .finish::<UnwarpError>(&mut |l, s| core.line(&l, s))?;
         if core.inside && !core.done_region {
             core.end_region();
         }
-        core.report.largest_tilt_deg = crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
+        core.report.largest_tilt_deg =
+            crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
         if let Some(e) = core.emit_error.take() {
             return Err(e.into());
         }
@@ -442,7 +516,12 @@ pub fn unwarp(gcode: &[u8], job: &Job, opts: &UnwarpOptions) -> Result<UnwarpOut
     let registration = u.end_scan()?;
     u.push(gcode)?;
     let report = u.finish()?;
-    Ok(UnwarpOutput { gcode: u.take_output(), report, registration, toolpath: u.take_toolpath() })
+    Ok(UnwarpOutput {
+        gcode: u.take_output(),
+        report,
+        registration,
+        toolpath: u.take_toolpath(),
+    })
 }
 
 impl Core {
@@ -454,11 +533,28 @@ impl Core {
     fn header(&mut self) {
         let m = self.report.model_to_output;
         let lines = [
-            format!("; generated by warpslice {} (non-planar unwarp of a planar slicer's G-code)", env!("CARGO_PKG_VERSION")),
+            format!(
+                "; generated by warpslice {} (non-planar unwarp of a planar slicer's G-code)",
+                env!("CARGO_PKG_VERSION")
+            ),
             format!("; warpslice job = {}", self.job.to_json_line()),
-            format!("; warpslice registration: translation {} {} 0, residual {:.4} mm{}", fmt(m[0]), fmt(m[1]), self.reg.residual,
-                if self.reg.overridden { " (given with --offset)" } else { "" }),
-            format!("; warpslice model_to_output = {} {} {}", fmt(m[0]), fmt(m[1]), fmt(m[2])),
+            format!(
+                "; warpslice registration: translation {} {} 0, residual {:.4} mm{}",
+                fmt(m[0]),
+                fmt(m[1]),
+                self.reg.residual,
+                if self.reg.overridden {
+                    " (given with --offset)"
+                } else {
+                    ""
+                }
+            ),
+            format!(
+                "; warpslice model_to_output = {} {} {}",
+                fmt(m[0]),
+                fmt(m[1]),
+                fmt(m[2])
+            ),
         ];
         for l in lines {
             self.out.extend_from_slice(l.as_bytes());
@@ -479,7 +575,10 @@ impl Core {
     fn keep_error(&mut self, r: Result<(), MachineError>) {
         if let Err(error) = r {
             if self.emit_error.is_none() {
-                self.emit_error = Some(UnwarpError::Machine { line: Some(self.report.lines_in), error });
+                self.emit_error = Some(UnwarpError::Machine {
+                    line: Some(self.report.lines_in),
+                    error,
+                });
             }
         }
     }
@@ -525,9 +624,13 @@ impl Core {
             return Ok(());
         }
         match line.command {
-            Command::Positioning { relative: true } => return Err(UnwarpError::RelativePositioning { line: n }),
+            Command::Positioning { relative: true } => {
+                return Err(UnwarpError::RelativePositioning { line: n })
+            }
             Command::Units { inch: true } => return Err(UnwarpError::Inches { line: n }),
-            Command::SetPosition { xyz: true, .. } => return Err(UnwarpError::AxisReset { line: n }),
+            Command::SetPosition { xyz: true, .. } => {
+                return Err(UnwarpError::AxisReset { line: n })
+            }
             Command::SetPosition { e: Some(v), .. } => {
                 self.emit.reset_e(v);
                 self.passthrough(line.raw);
@@ -568,7 +671,11 @@ impl Core {
     fn kind(&self, line: u64, m: &Move) -> Kind {
         let flat = !m.feature.is_object() || (!self.reg.typed && self.reg.in_skirt_run(line));
         if flat {
-            return if self.opts.drop_skirt { Kind::Dropped } else { Kind::Flat };
+            return if self.opts.drop_skirt {
+                Kind::Dropped
+            } else {
+                Kind::Flat
+            };
         }
         if self.job.anchor.is_some() && m.layer == self.reg.first_layer {
             return Kind::Dropped;
@@ -583,7 +690,11 @@ impl Core {
     }
 
     fn model_to_output(&self, p: DVec3) -> DVec3 {
-        DVec3::new(p.x + self.dx + self.shift.x, p.y + self.dy + self.shift.y, p.z + self.opts.z_offset)
+        DVec3::new(
+            p.x + self.dx + self.shift.x,
+            p.y + self.dy + self.shift.y,
+            p.z + self.opts.z_offset,
+        )
     }
 
     fn map_point(&self, kind: Kind, g: DVec3) -> (DVec3, DVec3) {
@@ -593,7 +704,14 @@ impl Core {
                 let n = self.warp.tool_axis(p);
                 (self.model_to_output(DVec3::new(p.x, p.y, p.z.max(0.0))), n)
             }
-            _ => (DVec3::new(g.x + self.shift.x, g.y + self.shift.y, g.z + self.opts.z_offset), DVec3::Z),
+            _ => (
+                DVec3::new(
+                    g.x + self.shift.x,
+                    g.y + self.shift.y,
+                    g.z + self.opts.z_offset,
+                ),
+                DVec3::Z,
+            ),
         }
     }
 
@@ -621,7 +739,11 @@ impl Core {
                 self.retracted -= m.e;
                 self.write_e_only(m.e, m.f, relative);
             }
-            let p = self.pending.get_or_insert(Pending { f: m.f, unretract: 0.0, unretract_f: m.f });
+            let p = self.pending.get_or_insert(Pending {
+                f: m.f,
+                unretract: 0.0,
+                unretract_f: m.f,
+            });
             p.f = m.f;
             return Ok(());
         }
@@ -629,13 +751,20 @@ impl Core {
         self.report.e_in += m.e;
         let kind = self.kind(line, m);
         if kind == Kind::Dropped {
-            if self.job.anchor.is_some() && m.feature.is_object() && (self.reg.typed || !self.reg.in_skirt_run(line)) {
+            if self.job.anchor.is_some()
+                && m.feature.is_object()
+                && (self.reg.typed || !self.reg.in_skirt_run(line))
+            {
                 self.report.e_anchor += m.e;
             } else {
                 self.report.e_skirt += m.e;
             }
             // the head does not go there: what follows starts with a travel
-            self.pending.get_or_insert(Pending { f: m.f, unretract: 0.0, unretract_f: m.f });
+            self.pending.get_or_insert(Pending {
+                f: m.f,
+                unretract: 0.0,
+                unretract_f: m.f,
+            });
             return Ok(());
         }
         let (start, n0) = self.map_point(kind, m.from);
@@ -646,7 +775,11 @@ impl Core {
                 let (end, n1) = self.map_point(kind, m.to);
                 let e = m.e * self.opts.flow.at(end.z);
                 // a skirt found by geometry (no ;TYPE:) is named as such in the toolpath
-                let feature = if m.feature.is_object() { Feature::Skirt } else { m.feature };
+                let feature = if m.feature.is_object() {
+                    Feature::Skirt
+                } else {
+                    m.feature
+                };
                 self.write_extrusion(end, n1, e, m, feature, relative, false);
             }
             Kind::Object => self.object_piece(m, relative),
@@ -663,7 +796,14 @@ impl Core {
         pieces.clear();
         {
             let map = |t: f64| self.to_model(from.lerp(to, t));
-            segment::split(&map, p0, self.opts.tolerance, self.opts.max_segment, &mut stack, &mut pieces);
+            segment::split(
+                &map,
+                p0,
+                self.opts.tolerance,
+                self.opts.max_segment,
+                &mut stack,
+                &mut pieces,
+            );
         }
         if pieces.len() > 1 {
             self.report.moves_split += 1;
@@ -690,11 +830,31 @@ impl Core {
 
     fn write_e_only(&mut self, e: f64, f: f64, relative: bool) {
         let (p, n) = self.cur.unwrap_or((DVec3::ZERO, DVec3::Z));
-        self.emit_point(ToolPoint { p, n, e, f, layer: 0, feature: Feature::Unknown, travel: true }, relative);
+        self.emit_point(
+            ToolPoint {
+                p,
+                n,
+                e,
+                f,
+                layer: 0,
+                feature: Feature::Unknown,
+                travel: true,
+            },
+            relative,
+        );
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn write_extrusion(&mut self, p: DVec3, n: DVec3, e: f64, m: &Move, feature: Feature, relative: bool, object: bool) {
+    fn write_extrusion(
+        &mut self,
+        p: DVec3,
+        n: DVec3,
+        e: f64,
+        m: &Move,
+        feature: Feature,
+        relative: bool,
+        object: bool,
+    ) {
         self.report.e_out += e;
         self.report.segments_out += 1;
         if object && n.z < self.min_nz {
@@ -704,11 +864,33 @@ impl Core {
         if let Some((a, _)) = self.cur {
             self.grid.mark_segment(a, p);
         }
-        self.emit_point(ToolPoint { p, n, e, f: m.f, layer: m.layer, feature, travel: false }, relative);
+        self.emit_point(
+            ToolPoint {
+                p,
+                n,
+                e,
+                f: m.f,
+                layer: m.layer,
+                feature,
+                travel: false,
+            },
+            relative,
+        );
     }
 
     fn write_travel(&mut self, p: DVec3, n: DVec3, f: f64) {
-        self.emit_point(ToolPoint { p, n, e: 0.0, f, layer: 0, feature: Feature::Unknown, travel: true }, true);
+        self.emit_point(
+            ToolPoint {
+                p,
+                n,
+                e: 0.0,
+                f,
+                layer: 0,
+                feature: Feature::Unknown,
+                travel: true,
+            },
+            true,
+        );
     }
 
     /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend.
@@ -767,8 +949,12 @@ impl Core {
             let r = self.counted(|c| c.emit.end_region(&mut c.out));
             self.keep_error(r);
         }
-        if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > extrusion::E_QUANTUM {
-            let line = format!("G92 E{} ; warpslice: back to the slicer's E", fmt_e(self.slicer_e));
+        if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > extrusion::E_QUANTUM
+        {
+            let line = format!(
+                "G92 E{} ; warpslice: back to the slicer's E",
+                fmt_e(self.slicer_e)
+            );
             self.passthrough(line.as_bytes());
             self.emit.reset_e(self.slicer_e);
         }
@@ -780,15 +966,27 @@ pub const MANDREL_AXIS_TOLERANCE: f64 = 0.01;
 
 /// A cylindrical job on a `lathe-a` machine: the warp's axis (model frame, moved to the output
 /// by `model_to_output`) must be the mandrel's, or the layers are wound round the wrong line.
-fn mandrel_check(job: &Job, machine: Option<&MachineSpec>, m2o: [f64; 3]) -> Result<(), UnwarpError> {
+fn mandrel_check(
+    job: &Job,
+    machine: Option<&MachineSpec>,
+    m2o: [f64; 3],
+) -> Result<(), UnwarpError> {
     use crate::machine::spec::Kinematics;
     use crate::warp::WarpSpec;
-    let (Some(spec), WarpSpec::Cylindrical { axis, .. }) = (machine, &job.warp.spec) else { return Ok(()) };
-    let Kinematics::LatheA(lathe) = &spec.kinematics else { return Ok(()) };
+    let (Some(spec), WarpSpec::Cylindrical { axis, .. }) = (machine, &job.warp.spec) else {
+        return Ok(());
+    };
+    let Kinematics::LatheA(lathe) = &spec.kinematics else {
+        return Ok(());
+    };
     let warp = [axis[0] + m2o[1], axis[1] + m2o[2]];
     let mandrel = [lathe.axis_y_mm, lathe.axis_z_mm];
     if (warp[0] - mandrel[0]).hypot(warp[1] - mandrel[1]) > MANDREL_AXIS_TOLERANCE {
-        return Err(UnwarpError::MandrelMismatch { machine: spec.name.clone(), warp, mandrel });
+        return Err(UnwarpError::MandrelMismatch {
+            machine: spec.name.clone(),
+            warp,
+            mandrel,
+        });
     }
     Ok(())
 }

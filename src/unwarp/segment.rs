@@ -122,7 +122,10 @@ mod tests {
         for &(t1, b) in &out {
             for k in 1..200 {
                 let t = t0 + (t1 - t0) * k as f64 / 200.0;
-                assert!(dist_to_segment(map(t), a, b) <= 0.01 + 1e-9, "piece {t0}..{t1}");
+                assert!(
+                    dist_to_segment(map(t), a, b) <= 0.01 + 1e-9,
+                    "piece {t0}..{t1}"
+                );
             }
             t0 = t1;
             a = b;

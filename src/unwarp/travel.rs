@@ -37,7 +37,12 @@ impl HeightGrid {
         let size = (max - min) + DVec2::splat(2.0 * MARGIN);
         let nx = ((size.x / CELL).ceil() as usize).clamp(1, 4096);
         let ny = ((size.y / CELL).ceil() as usize).clamp(1, 4096);
-        HeightGrid { origin, nx, ny, h: vec![f64::NEG_INFINITY; nx * ny] }
+        HeightGrid {
+            origin,
+            nx,
+            ny,
+            h: vec![f64::NEG_INFINITY; nx * ny],
+        }
     }
 
     fn cell(&self, p: DVec2) -> Option<usize> {
@@ -84,7 +89,8 @@ impl HeightGrid {
                     if let Some(c) = self.cell(q) {
                         let h = self.h[c];
                         top = top.max(h);
-                        let near = (q - a.truncate()).length() < NEAR_END_RADIUS || (q - b.truncate()).length() < NEAR_END_RADIUS;
+                        let near = (q - a.truncate()).length() < NEAR_END_RADIUS
+                            || (q - b.truncate()).length() < NEAR_END_RADIUS;
                         if !near {
                             above = above.max(h - p.z);
                         }

@@ -19,7 +19,9 @@ pub struct Belt {
 impl Belt {
     pub fn new(angle_deg: f64, toward: [f64; 2]) -> Belt {
         let d = DVec2::new(toward[0], toward[1]).normalize_or_zero();
-        Belt { k: d * crate::num::tan(crate::num::rad(angle_deg)) }
+        Belt {
+            k: d * crate::num::tan(crate::num::rad(angle_deg)),
+        }
     }
 }
 

@@ -24,7 +24,11 @@ pub struct Conic {
 
 impl Conic {
     pub fn new(angle_deg: f64, direction: Direction, center: [f64; 2]) -> Conic {
-        Conic { k: direction.sign() * crate::num::tan(crate::num::rad(angle_deg)), cx: center[0], cy: center[1] }
+        Conic {
+            k: direction.sign() * crate::num::tan(crate::num::rad(angle_deg)),
+            cx: center[0],
+            cy: center[1],
+        }
     }
 }
 

@@ -19,7 +19,10 @@ pub struct Curved {
 
 impl Curved {
     pub fn new(strength: f64, direction: Direction, offset: f64, width: f64) -> Curved {
-        Curved { k: strength * direction.sign() / (width / 2.0 + offset.abs()), a: offset }
+        Curved {
+            k: strength * direction.sign() / (width / 2.0 + offset.abs()),
+            a: offset,
+        }
     }
 }
 

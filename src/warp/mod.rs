@@ -105,11 +105,25 @@ impl std::str::FromStr for Direction {
 #[non_exhaustive]
 pub enum WarpSpec {
     /// Seed 000 Eq. 1. `width` is the model's width in x (filled in from the mesh when 0).
-    Curved { strength: f64, direction: Direction, offset: f64, #[serde(default)] width: f64 },
+    Curved {
+        strength: f64,
+        direction: Direction,
+        offset: f64,
+        #[serde(default)]
+        width: f64,
+    },
     /// Seed 000 Eq. 2.
-    Tilted { strength: f64, direction: Direction, offset: f64 },
+    Tilted {
+        strength: f64,
+        direction: Direction,
+        offset: f64,
+    },
     /// Seed 002: conic layers about the vertical axis through `center`.
-    Conic { angle: f64, direction: Direction, center: [f64; 2] },
+    Conic {
+        angle: f64,
+        direction: Direction,
+        center: [f64; 2],
+    },
     /// Seed 002 tilted slices: planes falling toward the unit vector `toward`.
     Belt { angle: f64, toward: [f64; 2] },
     /// Seed 002 mandrel: coaxial cylinders about the axis ∥ X through (y, z) = `axis`, the first
@@ -147,18 +161,31 @@ impl WarpSpec {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(WarpError::BadParameter { name: "radius", value: v.to_string(), allowed: "a radius > 0 mm".into() })
+                Err(WarpError::BadParameter {
+                    name: "radius",
+                    value: v.to_string(),
+                    allowed: "a radius > 0 mm".into(),
+                })
             }
         }
         fn finite(name: &'static str, v: f64) -> Result<(), WarpError> {
             if v.is_finite() {
                 Ok(())
             } else {
-                Err(WarpError::BadParameter { name, value: v.to_string(), allowed: "a finite number".into() })
+                Err(WarpError::BadParameter {
+                    name,
+                    value: v.to_string(),
+                    allowed: "a finite number".into(),
+                })
             }
         }
         match *self {
-            WarpSpec::Curved { strength, offset, width, .. } => {
+            WarpSpec::Curved {
+                strength,
+                offset,
+                width,
+                ..
+            } => {
                 finite("strength", strength)?;
                 finite("offset", offset)?;
                 finite("width", width)?;
@@ -173,11 +200,14 @@ impl WarpSpec {
                     return Err(WarpError::BadParameter {
                         name: "width",
                         value: width.to_string(),
-                        allowed: "> 0 (a model with no extent in x cannot take the curved warp)".into(),
+                        allowed: "> 0 (a model with no extent in x cannot take the curved warp)"
+                            .into(),
                     });
                 }
             }
-            WarpSpec::Tilted { strength, offset, .. } => {
+            WarpSpec::Tilted {
+                strength, offset, ..
+            } => {
                 finite("strength", strength)?;
                 finite("offset", offset)?;
                 if strength < 0.0 {
@@ -233,22 +263,32 @@ impl WarpSpec {
 
     /// Whether this warp is a shear in z (has a height function g(x, y) and takes `--base`).
     pub fn is_shear(&self) -> bool {
-        !matches!(self, WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. })
+        !matches!(
+            self,
+            WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. }
+        )
     }
 
     /// The height function g(x, y) of a shear warp (`None` for the cylindrical and spherical
     /// warps, which are not shears).
     pub fn height(&self) -> Option<Box<dyn Height>> {
         Some(match *self {
-            WarpSpec::Curved { strength, direction, offset, width } => {
-                Box::new(curved::Curved::new(strength, direction, offset, width))
-            }
-            WarpSpec::Tilted { strength, direction, offset } => {
-                Box::new(tilted::Tilted::new(strength, direction, offset))
-            }
-            WarpSpec::Conic { angle, direction, center } => {
-                Box::new(conic::Conic::new(angle, direction, center))
-            }
+            WarpSpec::Curved {
+                strength,
+                direction,
+                offset,
+                width,
+            } => Box::new(curved::Curved::new(strength, direction, offset, width)),
+            WarpSpec::Tilted {
+                strength,
+                direction,
+                offset,
+            } => Box::new(tilted::Tilted::new(strength, direction, offset)),
+            WarpSpec::Conic {
+                angle,
+                direction,
+                center,
+            } => Box::new(conic::Conic::new(angle, direction, center)),
             WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
             WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. } => return None,
         })
@@ -257,15 +297,30 @@ impl WarpSpec {
     /// The largest value of this warp's strength parameter (strength, or angle in degrees) for
     /// which a height function scaled to reach `max_negative_g` at the current value would reach
     /// `limit_g` instead. Used to name the limit in refusals.
-    pub fn strength_for_limit(&self, current_max_negative_g: f64, limit_g: f64) -> (&'static str, f64) {
-        let ratio = if current_max_negative_g > 0.0 { limit_g / current_max_negative_g } else { f64::INFINITY };
+    pub fn strength_for_limit(
+        &self,
+        current_max_negative_g: f64,
+        limit_g: f64,
+    ) -> (&'static str, f64) {
+        let ratio = if current_max_negative_g > 0.0 {
+            limit_g / current_max_negative_g
+        } else {
+            f64::INFINITY
+        };
         match *self {
-            WarpSpec::Curved { strength, .. } | WarpSpec::Tilted { strength, .. } => ("strength", strength * ratio),
-            WarpSpec::Conic { angle, .. } | WarpSpec::Belt { angle, .. } => {
-                ("angle", crate::num::deg(crate::num::atan(crate::num::tan(crate::num::rad(angle)) * ratio)))
+            WarpSpec::Curved { strength, .. } | WarpSpec::Tilted { strength, .. } => {
+                ("strength", strength * ratio)
             }
+            WarpSpec::Conic { angle, .. } | WarpSpec::Belt { angle, .. } => (
+                "angle",
+                crate::num::deg(crate::num::atan(
+                    crate::num::tan(crate::num::rad(angle)) * ratio,
+                )),
+            ),
             // not shears: no base blend, no limit
-            WarpSpec::Cylindrical { radius, .. } | WarpSpec::Spherical { radius, .. } => ("radius", radius),
+            WarpSpec::Cylindrical { radius, .. } | WarpSpec::Spherical { radius, .. } => {
+                ("radius", radius)
+            }
         }
     }
 }
@@ -275,9 +330,19 @@ impl WarpSpec {
 #[non_exhaustive]
 pub enum WarpError {
     /// A parameter outside its range.
-    BadParameter { name: &'static str, value: String, allowed: String },
+    BadParameter {
+        name: &'static str,
+        value: String,
+        allowed: String,
+    },
     /// ∂z'/∂z ≤ 0 somewhere in the model's bounding box: layers would fold over.
-    NotMonotonic { warp: &'static str, parameter: &'static str, largest_allowed: f64, base: [f64; 2], worst_point: [f64; 2] },
+    NotMonotonic {
+        warp: &'static str,
+        parameter: &'static str,
+        largest_allowed: f64,
+        base: [f64; 2],
+        worst_point: [f64; 2],
+    },
     /// The inverse did not converge (a point outside the warp's domain).
     InverseFailed { point: [f64; 3] },
     /// `--base` given for a warp that is not a shear in z.
@@ -327,12 +392,22 @@ impl WarpParams {
         self.spec.validate()?;
         if !self.spec.is_shear() {
             if self.base.is_some() {
-                return Err(WarpError::BaseNotSupported { warp: self.spec.name() });
+                return Err(WarpError::BaseNotSupported {
+                    warp: self.spec.name(),
+                });
             }
             return Ok(match self.spec {
-                WarpSpec::Cylindrical { radius, axis } => Box::new(cylindrical::Cylindrical::new(radius, axis)),
-                WarpSpec::Spherical { radius, center } => Box::new(spherical::Spherical::new(radius, center)),
-                _ => return Err(WarpError::BaseNotSupported { warp: self.spec.name() }),
+                WarpSpec::Cylindrical { radius, axis } => {
+                    Box::new(cylindrical::Cylindrical::new(radius, axis))
+                }
+                WarpSpec::Spherical { radius, center } => {
+                    Box::new(spherical::Spherical::new(radius, center))
+                }
+                _ => {
+                    return Err(WarpError::BaseNotSupported {
+                        warp: self.spec.name(),
+                    })
+                }
             });
         }
         let blend = match self.base {
@@ -349,7 +424,9 @@ impl WarpParams {
             }
         };
         let Some(height) = self.spec.height() else {
-            return Err(WarpError::BaseNotSupported { warp: self.spec.name() });
+            return Err(WarpError::BaseNotSupported {
+                warp: self.spec.name(),
+            });
         };
         let shear = Shear::new(height, blend);
         if let Some(b) = blend {

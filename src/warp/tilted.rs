@@ -25,7 +25,10 @@ pub struct Tilted {
 
 impl Tilted {
     pub fn new(strength: f64, direction: Direction, offset: f64) -> Tilted {
-        Tilted { k: strength * direction.sign(), a: offset }
+        Tilted {
+            k: strength * direction.sign(),
+            a: offset,
+        }
     }
 }
 

@@ -51,13 +51,21 @@ fn closest_on_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
 impl Inside {
     /// `reach`: the largest outside distance that needs to be measured exactly.
     pub fn new(m: &Mesh, reach: f64) -> Inside {
-        let tris: Vec<[DVec3; 3]> = m.triangles.iter().map(|t| t.map(|i| m.vertices[i as usize])).collect();
+        let tris: Vec<[DVec3; 3]> = m
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| m.vertices[i as usize]))
+            .collect();
         let bb = m.bbox();
         let size = bb.size().max_element().max(1e-3);
         let cell = (size / 64.0).max(reach).max(0.5);
         let origin = bb.min - DVec3::splat(reach + cell);
         let ext = bb.size() + DVec3::splat(2.0 * (reach + cell));
-        let dims = [(ext.x / cell).ceil() as usize + 1, (ext.y / cell).ceil() as usize + 1, (ext.z / cell).ceil() as usize + 1];
+        let dims = [
+            (ext.x / cell).ceil() as usize + 1,
+            (ext.y / cell).ceil() as usize + 1,
+            (ext.z / cell).ceil() as usize + 1,
+        ];
         let mut cells = vec![Vec::new(); dims[0] * dims[1] * dims[2]];
         let mut cols = vec![Vec::new(); dims[0] * dims[1]];
         for (k, t) in tris.iter().enumerate() {
@@ -74,18 +82,33 @@ impl Inside {
                 }
             }
         }
-        Inside { tris, origin, cell, dims, cells, cols, reach }
+        Inside {
+            tris,
+            origin,
+            cell,
+            dims,
+            cells,
+            cols,
+            reach,
+        }
     }
 
     fn index(&self, p: DVec3) -> Option<[usize; 3]> {
         let c = ((p - self.origin) / self.cell).floor();
-        (c.x >= 0.0 && c.y >= 0.0 && c.z >= 0.0 && (c.x as usize) < self.dims[0] && (c.y as usize) < self.dims[1] && (c.z as usize) < self.dims[2])
+        (c.x >= 0.0
+            && c.y >= 0.0
+            && c.z >= 0.0
+            && (c.x as usize) < self.dims[0]
+            && (c.y as usize) < self.dims[1]
+            && (c.z as usize) < self.dims[2])
             .then_some([c.x as usize, c.y as usize, c.z as usize])
     }
 
     /// Parity of crossings of the ray from p toward +z (x and y nudged off edges).
     fn inside(&self, p: DVec3) -> bool {
-        let Some([x, y, _]) = self.index(p) else { return false };
+        let Some([x, y, _]) = self.index(p) else {
+            return false;
+        };
         let q = DVec2::new(p.x + 1.234e-7, p.y + 2.345e-7);
         let mut n = 0;
         for &k in &self.cols[y * self.dims[0] + x] {
@@ -114,7 +137,9 @@ impl Inside {
         if self.inside(p) {
             return 0.0;
         }
-        let Some([x, y, z]) = self.index(p) else { return f64::INFINITY };
+        let Some([x, y, z]) = self.index(p) else {
+            return f64::INFINITY;
+        };
         let r = (self.reach / self.cell).ceil() as usize + 1;
         let mut best = f64::INFINITY;
         for zz in z.saturating_sub(r)..=(z + r).min(self.dims[2] - 1) {

@@ -42,7 +42,11 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
     let mut offset = 0.0;
     for l in text.lines() {
         if let Some(rest) = l.strip_prefix("; warpslice z axes offset = ") {
-            offset = rest.split_whitespace().next().and_then(|v| v.parse().ok()).ok_or("bad offset line")?;
+            offset = rest
+                .split_whitespace()
+                .next()
+                .and_then(|v| v.parse().ok())
+                .ok_or("bad offset line")?;
         }
     }
     let mut cur: Vec<Option<f64>> = vec![None; names.len()];
@@ -62,7 +66,9 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
         for w in words {
             let (letter, value) = w.split_at(1);
             if let Some(k) = names.iter().position(|n| n.eq_ignore_ascii_case(letter)) {
-                let v: f64 = value.parse().map_err(|_| format!("line {}: bad number in '{w}'", i + 1))?;
+                let v: f64 = value
+                    .parse()
+                    .map_err(|_| format!("line {}: bad number in '{w}'", i + 1))?;
                 cur[k] = Some(v);
                 seen[k] = true;
             } else if !matches!(letter, "E" | "F" | "X" | "Y" | "Z") {
@@ -93,7 +99,10 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
                     *a -= offset;
                 }
             }
-            out.push(AxisLine { number: i + 1, axes, rotate_around: comment.contains("rotate-around"),
+            out.push(AxisLine {
+                number: i + 1,
+                axes,
+                rotate_around: comment.contains("rotate-around"),
                 after: None,
                 reorient: comment.contains("; reorient"),
                 discontinuity: comment.contains("; discontinuity"),
@@ -107,7 +116,11 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
 pub fn to_segment(q: DVec3, a: DVec3, b: DVec3) -> (f64, f64) {
     let d = b - a;
     let l2 = d.length_squared();
-    let s = if l2 > 0.0 { ((q - a).dot(d) / l2).clamp(0.0, 1.0) } else { 1.0 };
+    let s = if l2 > 0.0 {
+        ((q - a).dot(d) / l2).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     ((a + d * s - q).length(), s)
 }
 
@@ -130,9 +143,20 @@ pub struct Measured {
 }
 
 /// The checks of the module documentation.
-pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], samples: usize) -> Result<Measured, String> {
-    let mut r = Measured { lines: lines.len(), ..Measured::default() };
-    let pts: Vec<&ToolPoint> = toolpath.iter().filter(|t| !(t.travel && t.e != 0.0)).collect();
+pub fn check(
+    m: &dyn Machine,
+    toolpath: &[ToolPoint],
+    lines: &[AxisLine],
+    samples: usize,
+) -> Result<Measured, String> {
+    let mut r = Measured {
+        lines: lines.len(),
+        ..Measured::default()
+    };
+    let pts: Vec<&ToolPoint> = toolpath
+        .iter()
+        .filter(|t| !(t.travel && t.e != 0.0))
+        .collect();
     // which segment (index of its end point) and parameter each line belongs to
     let mut owner: Vec<Option<(usize, f64)>> = vec![None; lines.len()];
     let mut li = 0usize;
@@ -140,7 +164,10 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
         let start = if k == 0 { tp.p } else { pts[k - 1].p };
         loop {
             let Some(line) = lines.get(li) else {
-                return Err(format!("toolpath point {k} at {:?} is never reached by the output", tp.p));
+                return Err(format!(
+                    "toolpath point {k} at {:?} is never reached by the output",
+                    tp.p
+                ));
             };
             let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
             li += 1;
@@ -159,7 +186,14 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
             if k > 0 && dseg > INTERP_MM {
                 return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
             }
-            owner[li - 1] = Some((k, if (tp.p - start).length() > 1e-9 { s } else { 1.0 }));
+            owner[li - 1] = Some((
+                k,
+                if (tp.p - start).length() > 1e-9 {
+                    s
+                } else {
+                    1.0
+                },
+            ));
             if is_end {
                 r.worst_tip = r.worst_tip.max(dtip);
                 if !free {
@@ -193,9 +227,19 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
             let (_, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
             for i in 1..samples {
                 let u = i as f64 / samples as f64;
-                let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+                let axes: Vec<f64> = a
+                    .axes
+                    .iter()
+                    .zip(&b.axes)
+                    .map(|(x, y)| x + (y - x) * u)
+                    .collect();
                 let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
-                let exact = m.forward(&m.inverse(pa, slerp(na, nb, u), Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+                let exact = m
+                    .forward(
+                        &m.inverse(pa, slerp(na, nb, u), Some(&a.axes))
+                            .map_err(|e| e.to_string())?,
+                    )
+                    .map_err(|e| e.to_string())?;
                 r.worst_interp_mm = r.worst_interp_mm.max((fp - pa).length());
                 r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact.1));
             }
@@ -214,7 +258,10 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
             };
             let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
             let realised = |s: f64| {
-                m.inverse(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes)).and_then(|x| m.forward(&x)).map(|f| f.1).unwrap_or(DVec3::ZERO)
+                m.inverse(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes))
+                    .and_then(|x| m.forward(&x))
+                    .map(|f| f.1)
+                    .unwrap_or(DVec3::ZERO)
             };
             let on = (t0.p.lerp(t1.p, s0) - pa).length() < 0.005
                 && (t0.p.lerp(t1.p, s1) - pb).length() < 0.005
@@ -227,7 +274,12 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
         }
         for i in 1..samples {
             let u = i as f64 / samples as f64;
-            let axes: Vec<f64> = a.axes.iter().zip(&b.axes).map(|(x, y)| x + (y - x) * u).collect();
+            let axes: Vec<f64> = a
+                .axes
+                .iter()
+                .zip(&b.axes)
+                .map(|(x, y)| x + (y - x) * u)
+                .collect();
             let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
             let (ip, inn) = match seg {
                 Some((t0, t1, s0, s1)) => {
@@ -236,20 +288,31 @@ pub fn check(m: &dyn Machine, toolpath: &[ToolPoint], lines: &[AxisLine], sample
                 }
                 None => (pa.lerp(pb, u), slerp(na, nb, u)),
             };
-            let exact = m.forward(&m.inverse(ip, inn, Some(&a.axes)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+            let exact = m
+                .forward(
+                    &m.inverse(ip, inn, Some(&a.axes))
+                        .map_err(|e| e.to_string())?,
+                )
+                .map_err(|e| e.to_string())?;
             let dp = (fp - exact.0).length();
             let da = deg(fn_, exact.1);
             if da > r.worst_interp_deg {
                 r.worst_line = b.number;
-                r.worst_detail = format!("u {u} seg {:?} na {na:?} nb {nb:?} fw {fn_:?} exact {:?} inn {inn:?}", seg.map(|(t0, t1, s0, s1)| (t0.n, t1.n, s0, s1)), exact.1);
+                r.worst_detail = format!(
+                    "u {u} seg {:?} na {na:?} nb {nb:?} fw {fn_:?} exact {:?} inn {inn:?}",
+                    seg.map(|(t0, t1, s0, s1)| (t0.n, t1.n, s0, s1)),
+                    exact.1
+                );
             }
             r.worst_interp_mm = r.worst_interp_mm.max(dp);
             r.worst_interp_deg = r.worst_interp_deg.max(da);
         }
     }
     if r.worst_interp_mm > INTERP_MM || r.worst_interp_deg > INTERP_DEG {
-        return Err(format!("interpolation error {:.5} mm / {:.4}° beyond the bound (worst at output line {}: {})", r.worst_interp_mm, r.worst_interp_deg, r.worst_line, r.worst_detail));
+        return Err(format!(
+            "interpolation error {:.5} mm / {:.4}° beyond the bound (worst at output line {}: {})",
+            r.worst_interp_mm, r.worst_interp_deg, r.worst_line, r.worst_detail
+        ));
     }
     Ok(r)
 }
-

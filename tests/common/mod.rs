@@ -24,13 +24,20 @@ pub fn corpus_dir() -> Option<PathBuf> {
 
 /// The models INDEX.txt marks `accept`: (file name, bytes).
 pub fn corpus_accept() -> Vec<(String, Vec<u8>)> {
-    let Some(d) = corpus_dir() else { return Vec::new() };
+    let Some(d) = corpus_dir() else {
+        return Vec::new();
+    };
     let index = std::fs::read_to_string(d.join("INDEX.txt")).unwrap_or_default();
     index
         .lines()
         .filter(|l| !l.starts_with('#') && l.trim_end().ends_with("accept"))
         .filter_map(|l| l.split('\t').next())
-        .map(|name| (name.to_string(), std::fs::read(d.join(name)).expect("corpus file")))
+        .map(|name| {
+            (
+                name.to_string(),
+                std::fs::read(d.join(name)).expect("corpus file"),
+            )
+        })
         .collect()
 }
 
@@ -38,11 +45,61 @@ pub fn corpus_accept() -> Vec<(String, Vec<u8>)> {
 /// 30° outward, conic 30° inward, belt 15° with --base 0.6,10.
 pub fn acceptance_warps() -> Vec<(&'static str, WarpParams)> {
     vec![
-        ("curved-out-0.3", WarpParams { spec: WarpSpec::Curved { strength: 0.3, direction: Direction::Outward, offset: 0.0, width: 0.0 }, base: None }),
-        ("tilted-out-0.2", WarpParams { spec: WarpSpec::Tilted { strength: 0.2, direction: Direction::Outward, offset: 0.0 }, base: None }),
-        ("conic-out-30", WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Outward, center: [0.0, 0.0] }, base: None }),
-        ("conic-in-30", WarpParams { spec: WarpSpec::Conic { angle: 30.0, direction: Direction::Inward, center: [0.0, 0.0] }, base: None }),
-        ("belt-15-base", WarpParams { spec: WarpSpec::Belt { angle: 15.0, toward: [0.0, 1.0] }, base: Some([0.6, 10.0]) }),
+        (
+            "curved-out-0.3",
+            WarpParams {
+                spec: WarpSpec::Curved {
+                    strength: 0.3,
+                    direction: Direction::Outward,
+                    offset: 0.0,
+                    width: 0.0,
+                },
+                base: None,
+            },
+        ),
+        (
+            "tilted-out-0.2",
+            WarpParams {
+                spec: WarpSpec::Tilted {
+                    strength: 0.2,
+                    direction: Direction::Outward,
+                    offset: 0.0,
+                },
+                base: None,
+            },
+        ),
+        (
+            "conic-out-30",
+            WarpParams {
+                spec: WarpSpec::Conic {
+                    angle: 30.0,
+                    direction: Direction::Outward,
+                    center: [0.0, 0.0],
+                },
+                base: None,
+            },
+        ),
+        (
+            "conic-in-30",
+            WarpParams {
+                spec: WarpSpec::Conic {
+                    angle: 30.0,
+                    direction: Direction::Inward,
+                    center: [0.0, 0.0],
+                },
+                base: None,
+            },
+        ),
+        (
+            "belt-15-base",
+            WarpParams {
+                spec: WarpSpec::Belt {
+                    angle: 15.0,
+                    toward: [0.0, 1.0],
+                },
+                base: Some([0.6, 10.0]),
+            },
+        ),
     ]
 }
 
@@ -50,7 +107,12 @@ pub fn acceptance_warps() -> Vec<(&'static str, WarpParams)> {
 pub fn generated_models() -> Vec<(String, Vec<u8>)> {
     warpslice::shapes::EXAMPLES
         .iter()
-        .map(|n| (format!("gen-{n}"), warpslice::mesh::write_stl(&warpslice::shapes::example(n).unwrap(), n)))
+        .map(|n| {
+            (
+                format!("gen-{n}"),
+                warpslice::mesh::write_stl(&warpslice::shapes::example(n).unwrap(), n),
+            )
+        })
         .collect()
 }
 
@@ -92,26 +154,34 @@ pub struct Parsed {
 }
 
 pub fn parse(gcode: &[u8]) -> Result<Parsed, GcodeError> {
-    let mut p = Parsed { extrusion_e: 0.0, min_z: f64::INFINITY, layer_zs: Vec::new(), non_moves: Vec::new() };
+    let mut p = Parsed {
+        extrusion_e: 0.0,
+        min_z: f64::INFINITY,
+        layer_zs: Vec::new(),
+        non_moves: Vec::new(),
+    };
     let mut r = Reader::new(ReadOptions::default());
-    let mut sink = |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
-        match l.command {
-            Command::Move { .. } => {
-                for m in l.moves {
-                    if m.from != m.to {
-                        p.min_z = p.min_z.min(m.to.z);
-                    }
-                    if m.is_extrusion() {
-                        p.extrusion_e += m.e;
-                        p.layer_zs.push(m.to.z);
+    let mut sink =
+        |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
+            match l.command {
+                Command::Move { .. } => {
+                    for m in l.moves {
+                        if m.from != m.to {
+                            p.min_z = p.min_z.min(m.to.z);
+                        }
+                        if m.is_extrusion() {
+                            p.extrusion_e += m.e;
+                            p.layer_zs.push(m.to.z);
+                        }
                     }
                 }
+                Command::Comment if l.raw.iter().all(|b| b.is_ascii_whitespace()) => {}
+                _ => p
+                    .non_moves
+                    .push(String::from_utf8_lossy(l.raw).into_owned()),
             }
-            Command::Comment if l.raw.iter().all(|b| b.is_ascii_whitespace()) => {}
-            _ => p.non_moves.push(String::from_utf8_lossy(l.raw).into_owned()),
-        }
-        Ok(())
-    };
+            Ok(())
+        };
     r.push(gcode, &mut sink)?;
     r.finish(&mut sink)?;
     p.layer_zs.sort_by(f64::total_cmp);
@@ -131,13 +201,25 @@ fn nearest(sorted: &[f64], v: f64) -> f64 {
 }
 
 /// Checks a–e of the core issue on one warp → slice → unwarp result.
-pub fn check_unwarp(model: &Mesh, job: &Job, input: &[u8], out: &UnwarpOutput) -> Result<CaseStats, String> {
+pub fn check_unwarp(
+    model: &Mesh,
+    job: &Job,
+    input: &[u8],
+    out: &UnwarpOutput,
+) -> Result<CaseStats, String> {
     let mut params = job.warp.clone();
     let warp = params.build(&job.model_bbox).map_err(|e| e.to_string())?;
     let m2o = DVec3::from_array(out.report.model_to_output);
     let pin = parse(input).map_err(|e| format!("input does not parse: {e}"))?;
     let pout = parse(&out.gcode).map_err(|e| format!("e. the output does not parse: {e}"))?;
-    let mut st = CaseStats { e_in: pin.extrusion_e, e_out: pout.extrusion_e, e_anchor: out.report.e_anchor, min_z: pout.min_z, clamped: out.report.clamped_points, ..CaseStats::default() };
+    let mut st = CaseStats {
+        e_in: pin.extrusion_e,
+        e_out: pout.extrusion_e,
+        e_anchor: out.report.e_anchor,
+        min_z: pout.min_z,
+        clamped: out.report.clamped_points,
+        ..CaseStats::default()
+    };
 
     // the original mesh in the model frame
     let mut m = model.clone();
@@ -145,7 +227,11 @@ pub fn check_unwarp(model: &Mesh, job: &Job, input: &[u8], out: &UnwarpOutput) -
     let inside = inside::Inside::new(&m, OUTSIDE_TOLERANCE);
 
     let flat = |f: Feature| !f.is_object();
-    for tp in out.toolpath.iter().filter(|t: &&ToolPoint| !t.travel && t.e > 0.0 && !flat(t.feature)) {
+    for tp in out
+        .toolpath
+        .iter()
+        .filter(|t: &&ToolPoint| !t.travel && t.e > 0.0 && !flat(t.feature))
+    {
         st.points += 1;
         let p = tp.p - m2o;
         // a. on a layer surface (points clamped to the bed excepted: they are counted)
@@ -161,7 +247,9 @@ pub fn check_unwarp(model: &Mesh, job: &Job, input: &[u8], out: &UnwarpOutput) -
         let out_d = inside.outside_distance(p);
         st.worst_outside = st.worst_outside.max(out_d);
         if out_d > OUTSIDE_TOLERANCE {
-            return Err(format!("b. point {p} (model frame) lies {out_d:.3} mm outside the model"));
+            return Err(format!(
+                "b. point {p} (model frame) lies {out_d:.3} mm outside the model"
+            ));
         }
     }
     if st.points == 0 {
@@ -183,10 +271,18 @@ pub fn check_unwarp(model: &Mesh, job: &Job, input: &[u8], out: &UnwarpOutput) -
         return Err(format!("d. a point at z = {} below the bed", st.min_z));
     }
     // e. non-move lines keep their order (warpslice's own lines aside)
-    let added = |l: &str| l.starts_with("; warpslice") || l.starts_with("; generated by warpslice") || l.contains("; warpslice:");
+    let added = |l: &str| {
+        l.starts_with("; warpslice")
+            || l.starts_with("; generated by warpslice")
+            || l.contains("; warpslice:")
+    };
     let ours: Vec<&String> = pout.non_moves.iter().filter(|l| !added(l)).collect();
     if ours.len() != pin.non_moves.len() || ours.iter().zip(&pin.non_moves).any(|(a, b)| *a != b) {
-        let k = ours.iter().zip(&pin.non_moves).position(|(a, b)| *a != b).unwrap_or(ours.len().min(pin.non_moves.len()));
+        let k = ours
+            .iter()
+            .zip(&pin.non_moves)
+            .position(|(a, b)| *a != b)
+            .unwrap_or(ours.len().min(pin.non_moves.len()));
         return Err(format!(
             "e. non-move lines differ at #{k}: out {:?} vs in {:?} ({} vs {} lines)",
             ours.get(k),
@@ -201,23 +297,29 @@ pub fn check_unwarp(model: &Mesh, job: &Job, input: &[u8], out: &UnwarpOutput) -
 /// The E an unwarp should write: every extrusion of the input, less the anchor layer's, each
 /// object move divided by det J at its midpoint. Computed from the input alone (and the
 /// registration's translation and skirt/anchor classification).
-pub fn expected_e(job: &Job, warp: &dyn Warp, input: &[u8], reg: &warpslice::register::Registration) -> f64 {
+pub fn expected_e(
+    job: &Job,
+    warp: &dyn Warp,
+    input: &[u8],
+    reg: &warpslice::register::Registration,
+) -> f64 {
     let mut total = 0.0;
     let mut r = Reader::new(ReadOptions::default());
     let shift = DVec3::new(reg.translation[0], reg.translation[1], job.stl_z_offset);
-    let mut sink = |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
-        for m in l.moves.iter().filter(|m| m.is_extrusion()) {
-            let skirt = !m.feature.is_object() || (!reg.typed && reg.in_skirt_run(l.number));
-            let in_region = l.number >= reg.region[0] && l.number <= reg.region[1];
-            if skirt || !in_region {
-                total += m.e;
-            } else if !(job.anchor.is_some() && m.layer == reg.first_layer) {
-                let mid = warp.inverse((m.from + m.to) * 0.5 - shift);
-                total += m.e / warp.jacobian_det(mid);
+    let mut sink =
+        |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
+            for m in l.moves.iter().filter(|m| m.is_extrusion()) {
+                let skirt = !m.feature.is_object() || (!reg.typed && reg.in_skirt_run(l.number));
+                let in_region = l.number >= reg.region[0] && l.number <= reg.region[1];
+                if skirt || !in_region {
+                    total += m.e;
+                } else if !(job.anchor.is_some() && m.layer == reg.first_layer) {
+                    let mid = warp.inverse((m.from + m.to) * 0.5 - shift);
+                    total += m.e / warp.jacobian_det(mid);
+                }
             }
-        }
-        Ok(())
-    };
+            Ok(())
+        };
     let _ = r.push(input, &mut sink);
     let _ = r.finish(&mut sink);
     total
@@ -228,39 +330,54 @@ pub fn expected_e(job: &Job, warp: &dyn Warp, input: &[u8], reg: &warpslice::reg
 pub fn object_extrusions(input: &[u8]) -> usize {
     let (mut typed, mut n_typed, mut n_upper) = (false, 0, 0);
     let mut r = Reader::new(ReadOptions::default());
-    let mut sink = |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
-        if let Command::FeatureType(_) = l.command {
-            typed = true;
-        }
-        for m in l.moves.iter().filter(|m| m.is_extrusion()) {
-            if typed && m.feature.is_object() {
-                n_typed += 1;
+    let mut sink =
+        |l: warpslice::gcode::Line<'_>, _s: &warpslice::gcode::State| -> Result<(), GcodeError> {
+            if let Command::FeatureType(_) = l.command {
+                typed = true;
             }
-            if m.layer > 0 {
-                n_upper += 1;
+            for m in l.moves.iter().filter(|m| m.is_extrusion()) {
+                if typed && m.feature.is_object() {
+                    n_typed += 1;
+                }
+                if m.layer > 0 {
+                    n_upper += 1;
+                }
             }
-        }
-        Ok(())
-    };
+            Ok(())
+        };
     let _ = r.push(input, &mut sink);
     let _ = r.finish(&mut sink);
-    if typed { n_typed } else { n_upper }
+    if typed {
+        n_typed
+    } else {
+        n_upper
+    }
 }
 
 /// Whether the acceptance requires this warp to be refused for this model (the base blend's
 /// monotonicity: 1 + w′(z)·g > 0 needs −g < (z1 − z0)/1.5 over the model's bbox), computed
 /// independently of the warp module.
 pub fn must_refuse(params: &WarpParams, model: &Mesh) -> bool {
-    let Some([z0, z1]) = params.base else { return false };
+    let Some([z0, z1]) = params.base else {
+        return false;
+    };
     let mut b = model.bbox();
     let t = warpslice::pipeline::input_to_model(&b);
     b.min += t;
     b.max += t;
-    let corners = [(b.min.x, b.min.y), (b.min.x, b.max.y), (b.max.x, b.min.y), (b.max.x, b.max.y)];
+    let corners = [
+        (b.min.x, b.min.y),
+        (b.min.x, b.max.y),
+        (b.max.x, b.min.y),
+        (b.max.x, b.max.y),
+    ];
     let worst_neg_g = match params.spec {
         WarpSpec::Belt { angle, toward } => {
             let l = (toward[0] * toward[0] + toward[1] * toward[1]).sqrt();
-            corners.iter().map(|&(x, y)| -(toward[0] * x + toward[1] * y) / l * angle.to_radians().tan()).fold(f64::MIN, f64::max)
+            corners
+                .iter()
+                .map(|&(x, y)| -(toward[0] * x + toward[1] * y) / l * angle.to_radians().tan())
+                .fold(f64::MIN, f64::max)
         }
         _ => return false,
     };
