@@ -76,6 +76,12 @@ impl std::fmt::Display for JobError {
 
 impl std::error::Error for JobError {}
 
+crate::error_codes!(JobError, ERROR_CODES, "job" {
+    Parse => "job.parse", "the job file is not valid JSON of a job";
+    Format => "job.format", "the job file's format is not the one this version reads";
+    Hash => "job.hash", "the job file was edited or damaged";
+} wraps {});
+
 impl Job {
     /// Compute and store the hash.
     pub fn seal(&mut self) {

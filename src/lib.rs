@@ -26,11 +26,15 @@
 //! The tool axis `n` is the unit vector from the tip into the nozzle (up when printing planar).
 //! "outward" means z' = z + g with g ≥ 0 growing away from the warp's centre.
 
+pub mod error;
 pub mod num;
+pub mod schema;
 pub mod tolerance;
 
 pub mod anchor;
 pub mod calibrate;
+pub mod describe;
+pub mod emit;
 pub mod gcode;
 pub mod job;
 pub mod machine;
@@ -38,12 +42,12 @@ pub mod mesh;
 pub mod pipeline;
 pub mod register;
 pub mod shapes;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod slicer;
+pub mod surfaces;
 pub mod toolpath;
 pub mod unwarp;
 pub mod warp;
-
-#[cfg(not(target_arch = "wasm32"))]
-pub mod slicer;
 
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -30,8 +30,8 @@ mod cli {
     use clap::{Args, Parser, Subcommand, ValueEnum};
     use indicatif::{ProgressBar, ProgressStyle};
     use warpslice::job::Job;
-    use warpslice::pipeline::{self, AnchorMode, WarpOptions, WarpOutput};
-    use warpslice::unwarp::{Flow, UnwarpOptions, UnwarpReport, Unwarper};
+    use warpslice::pipeline::{self, AnchorMode, UnwarpSettings, WarpOptions, WarpOutput};
+    use warpslice::unwarp::{Flow, UnwarpOptions, UnwarpReport};
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
     /// Non-planar slicing with any planar slicer: warp an STL, slice it, unwarp the G-code.
@@ -314,9 +314,9 @@ mod cli {
             &self,
             tolerance: f64,
             offset: Option<[f64; 2]>,
-        ) -> Result<UnwarpOptions, String> {
-            use warpslice::machine::{FeedMode, Flavour};
-            Ok(UnwarpOptions {
+        ) -> Result<UnwarpSettings, String> {
+            use warpslice::machine::{FeedMode, Flavour, MachineOptions};
+            let unwarp = UnwarpOptions {
                 tolerance,
                 max_segment: self.max_segment,
                 flow: Flow {
@@ -327,6 +327,9 @@ mod cli {
                 drop_skirt: self.drop_skirt,
                 place: self.place,
                 offset,
+                ..UnwarpOptions::default()
+            };
+            let output = MachineOptions {
                 machine: self.machine.as_deref().map(machine_spec).transpose()?,
                 feed: match self.feed {
                     FeedArg::Xyz => FeedMode::Xyz,
@@ -338,8 +341,8 @@ mod cli {
                     FlavourArg::Marlin => Flavour::Marlin,
                     FlavourArg::Klipper => Flavour::Klipper,
                 }),
-                ..UnwarpOptions::default()
-            })
+            };
+            Ok(UnwarpSettings { unwarp, output })
         }
     }
 
@@ -417,10 +420,9 @@ mod cli {
     fn do_unwarp(
         gcode: &Path,
         job: &Job,
-        opts: &UnwarpOptions,
+        settings: &UnwarpSettings,
         output: &Path,
     ) -> Result<UnwarpReport, String> {
-        const CHUNK: usize = 1 << 20;
         let len = fs::metadata(gcode)
             .map_err(|e| format!("{}: {e}", gcode.display()))?
             .len();
@@ -433,40 +435,23 @@ mod cli {
             pb.set_message("unwarping");
             pb
         });
-        let ctx = |e: warpslice::pipeline::Error| format!("{}: {e}", gcode.display());
-        let mut u = Unwarper::new(job, opts).map_err(ctx)?;
-        let mut buf = vec![0u8; CHUNK];
-        let open = || fs::File::open(gcode).map_err(|e| format!("{}: {e}", gcode.display()));
-        let mut f = open()?;
-        loop {
-            let n = f.read(&mut buf).map_err(|e| e.to_string())?;
-            if n == 0 {
-                break;
-            }
-            u.scan(&buf[..n]).map_err(ctx)?;
-            if let Some(pb) = &pb {
-                pb.inc(n as u64);
-            }
-        }
-        u.end_scan().map_err(ctx)?;
         let mut out = std::io::BufWriter::new(
             fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?,
         );
-        let mut f = open()?;
-        loop {
-            let n = f.read(&mut buf).map_err(|e| e.to_string())?;
-            if n == 0 {
-                break;
-            }
-            u.push(&buf[..n]).map_err(ctx)?;
-            out.write_all(&u.take_output()).map_err(|e| e.to_string())?;
-            if let Some(pb) = &pb {
-                pb.inc(n as u64);
-            }
-        }
-        let report = u.finish().map_err(ctx)?;
-        out.write_all(&u.take_output()).map_err(|e| e.to_string())?;
-        out.flush().map_err(|e| e.to_string())?;
+        let name = gcode.display().to_string();
+        let report = pipeline::unwarp_stream(
+            job,
+            settings,
+            &name,
+            || fs::File::open(gcode),
+            &mut out,
+            |n| {
+                if let Some(pb) = &pb {
+                    pb.inc(n);
+                }
+            },
+        )
+        .map_err(|e| format!("{name}: {e}"))?;
         if let Some(pb) = pb {
             pb.finish_and_clear();
         }

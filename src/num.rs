@@ -55,3 +55,13 @@ pub fn deg(rad: f64) -> f64 {
 pub fn angle_between(a: glam::DVec3, b: glam::DVec3) -> f64 {
     atan2(a.cross(b).length(), a.dot(b))
 }
+
+/// Full precision (shortest round-trip text), `-0` written as `0`: numbers in messages and
+/// file headers that a user copies back into a file.
+pub fn fmt_shortest(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v}")
+    }
+}

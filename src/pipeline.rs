@@ -1,14 +1,22 @@
 //! The two user-facing steps, as plain functions over bytes: [`warp_model`] (STL → warped STL
-//! and job) and [`crate::unwarp::unwarp`] (G-code and job → non-planar G-code). The CLI, the wasm
-//! module and the web worker are thin faces over these.
+//! and job) and [`unwarp`] (G-code and job → non-planar G-code, 3-axis or a machine's axes).
+//! The CLI, the wasm module and the web worker are thin faces over these.
+//!
+//! This is where the machine is chosen: [`UnwarpSettings`] holds the unwarp's options and the
+//! machine's, [`unwarper`] builds the emitter the machine options ask for and hands it to the
+//! unwarp, which knows nothing of machines.
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::anchor;
+use crate::error::Coded;
 use crate::job::{fnv1a64, Job, JobError, JOB_FORMAT};
+use crate::machine::{MachineOptions, MachineSpec};
 use crate::mesh::{self, Aabb, Mesh, MeshError, MeshReport, SubdivideOptions, SubdivideStats};
+use crate::schema::{Param, ParamDefault, ParamType};
 use crate::tolerance::{DEFAULT_LAYER_HEIGHT, DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
+use crate::unwarp::{UnwarpOptions, UnwarpOutput, Unwarper};
 use crate::warp::{WarpError, WarpParams};
 
 /// Whether to put the removable anchor slab under the warped part (see [`crate::anchor`]).
@@ -62,6 +70,38 @@ impl WarpOptions {
     }
 }
 
+/// The parameters of the warp step besides the warp's own ([`crate::warp::WARPS`]): the
+/// `--base` blend (key in the warp object) and the options' top-level keys.
+pub const WARP_OPTION_PARAMS: &[Param] = &[
+    Param::number("base", "--base", "Flat base z0,z1")
+        .of(ParamType::Pair)
+        .unit("mm")
+        .optional()
+        .help("keep the layers flat below z0 and blend the warp in up to z1 (shear warps only)"),
+    Param::number("max_edge", "--max-edge", "Max edge")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.1)
+        .default(ParamDefault::Number(DEFAULT_MAX_EDGE))
+        .help("split mesh edges longer than this before warping"),
+    Param::number("tolerance", "--tolerance", "Tolerance")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.001)
+        .default(ParamDefault::Number(DEFAULT_TOLERANCE))
+        .help("split where the warped midpoint of an edge (or a move) deviates more than this"),
+    Param::number("layer_height", "--layer-height", "Layer height")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.05)
+        .default(ParamDefault::Number(DEFAULT_LAYER_HEIGHT))
+        .help("the layer height you will slice with (the anchor's thickness and first layer)"),
+    Param::number("anchor", "--anchor", "Anchor")
+        .choices(&["auto", "on", "off"])
+        .default(ParamDefault::Text("auto"))
+        .help("a removable one-layer slab under a warped bottom that is not flat"),
+];
+
 /// What the warp step did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WarpReport {
@@ -96,6 +136,14 @@ pub enum Error {
     Gcode(crate::gcode::GcodeError),
     Register(crate::register::RegisterError),
     Unwarp(crate::unwarp::UnwarpError),
+    /// The machine cannot be set up (`--machine`, `--flavour`).
+    Machine(crate::machine::MachineError),
+    /// A file or stream could not be read or written (`what`: the file, `message`: the
+    /// operating system's words).
+    Io {
+        what: String,
+        message: String,
+    },
     /// A bad option value (name, value, what is allowed).
     Option {
         name: &'static str,
@@ -113,6 +161,8 @@ impl std::fmt::Display for Error {
             Error::Gcode(e) => e.fmt(f),
             Error::Register(e) => e.fmt(f),
             Error::Unwarp(e) => e.fmt(f),
+            Error::Machine(e) => e.fmt(f),
+            Error::Io { what, message } => write!(f, "{what}: {message}"),
             Error::Option {
                 name,
                 value,
@@ -122,7 +172,100 @@ impl std::fmt::Display for Error {
     }
 }
 
-impl std::error::Error for Error {}
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Mesh(e) => Some(e),
+            Error::Warp(e) => Some(e),
+            Error::Job(e) => Some(e),
+            Error::Gcode(e) => Some(e),
+            Error::Register(e) => Some(e),
+            Error::Unwarp(e) => Some(e),
+            Error::Machine(e) => Some(e),
+            Error::Option { .. } | Error::Io { .. } => None,
+        }
+    }
+}
+
+impl Coded for Error {
+    fn code(&self) -> &'static str {
+        match self {
+            Error::Mesh(e) => e.code(),
+            Error::Warp(e) => e.code(),
+            Error::Job(e) => e.code(),
+            Error::Gcode(e) => e.code(),
+            Error::Register(e) => e.code(),
+            Error::Unwarp(e) => e.code(),
+            Error::Machine(e) => e.code(),
+            Error::Option { .. } => "options.invalid",
+            Error::Io { .. } => "io.failed",
+        }
+    }
+}
+
+/// The codes of the pipeline's own errors (see [`crate::error`]); wrapped errors report theirs.
+pub const ERROR_CODES: &[crate::error::ErrorCode] = &[
+    crate::error::ErrorCode {
+        code: "options.invalid",
+        area: "options",
+        summary: "an option value (or the options JSON) that is not allowed",
+    },
+    crate::error::ErrorCode {
+        code: "io.failed",
+        area: "io",
+        summary: "a file or stream could not be read or written",
+    },
+];
+
+/// The unwarp step's settings as the CLI and the web page give them: the unwarp's own options
+/// and the machine's (`--machine`, `--feed`, `--flavour`), side by side in one JSON object.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct UnwarpSettings {
+    /// The unwarp's options.
+    #[serde(flatten)]
+    pub unwarp: UnwarpOptions,
+    /// The machine's options.
+    #[serde(flatten)]
+    pub output: MachineOptions,
+}
+
+impl UnwarpSettings {
+    /// 3-axis output with these unwarp options.
+    pub fn three_axis(unwarp: UnwarpOptions) -> UnwarpSettings {
+        UnwarpSettings {
+            unwarp,
+            output: MachineOptions::default(),
+        }
+    }
+    /// Output for `machine` with these unwarp options (feed `xyz`, the machine's flavour).
+    pub fn with_machine(unwarp: UnwarpOptions, machine: MachineSpec) -> UnwarpSettings {
+        UnwarpSettings {
+            unwarp,
+            output: MachineOptions {
+                machine: Some(machine),
+                ..MachineOptions::default()
+            },
+        }
+    }
+}
+
+/// The streaming unwarp for `settings`: the emitter the machine options ask for, handed to
+/// [`Unwarper`].
+pub fn unwarper(job: &Job, settings: &UnwarpSettings) -> Result<Unwarper, Error> {
+    let emitter = settings.output.emitter()?;
+    Ok(Unwarper::new(job, &settings.unwarp, emitter)?)
+}
+
+/// One-shot unwarp of a whole G-code in memory (see [`crate::unwarp`]).
+pub fn unwarp(gcode: &[u8], job: &Job, settings: &UnwarpSettings) -> Result<UnwarpOutput, Error> {
+    let emitter = settings.output.emitter()?;
+    Ok(crate::unwarp::unwarp(
+        gcode,
+        job,
+        &settings.unwarp,
+        emitter,
+    )?)
+}
 
 macro_rules! from_error {
     ($($t:ty => $v:ident),*) => {$(
@@ -132,7 +275,8 @@ macro_rules! from_error {
     )*};
 }
 from_error!(MeshError => Mesh, WarpError => Warp, JobError => Job, crate::gcode::GcodeError => Gcode,
-    crate::register::RegisterError => Register, crate::unwarp::UnwarpError => Unwarp);
+    crate::register::RegisterError => Register, crate::unwarp::UnwarpError => Unwarp,
+    crate::machine::MachineError => Machine);
 
 fn check_positive(name: &'static str, v: f64) -> Result<(), Error> {
     if v.is_finite() && v > 0.0 {
@@ -230,4 +374,56 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
         job,
         report,
     })
+}
+
+/// Read size of [`unwarp_stream`], bytes.
+pub const STREAM_CHUNK: usize = 1 << 20;
+
+/// The two-pass streaming unwarp over a source that can be read twice (a file): `open` gives
+/// a fresh reader from the start, `out` takes the output as it is produced, `progress` is told
+/// the bytes read (both passes count, so the total is twice the input's size). Memory stays
+/// bounded by the chunk, the height grid and the longest line, whatever the file's size.
+/// `name` names the source in I/O errors.
+pub fn unwarp_stream<R: std::io::Read>(
+    job: &Job,
+    settings: &UnwarpSettings,
+    name: &str,
+    mut open: impl FnMut() -> std::io::Result<R>,
+    out: &mut dyn std::io::Write,
+    mut progress: impl FnMut(u64),
+) -> Result<crate::unwarp::UnwarpReport, Error> {
+    let io = |e: std::io::Error| Error::Io {
+        what: name.to_string(),
+        message: e.to_string(),
+    };
+    let out_err = |e: std::io::Error| Error::Io {
+        what: "output".to_string(),
+        message: e.to_string(),
+    };
+    let mut u = unwarper(job, settings)?;
+    let mut buf = vec![0u8; STREAM_CHUNK];
+    let mut f = open().map_err(io)?;
+    loop {
+        let n = f.read(&mut buf).map_err(io)?;
+        if n == 0 {
+            break;
+        }
+        u.scan(&buf[..n])?;
+        progress(n as u64);
+    }
+    u.end_scan()?;
+    let mut f = open().map_err(io)?;
+    loop {
+        let n = f.read(&mut buf).map_err(io)?;
+        if n == 0 {
+            break;
+        }
+        u.push(&buf[..n])?;
+        out.write_all(&u.take_output()).map_err(out_err)?;
+        progress(n as u64);
+    }
+    let report = u.finish()?;
+    out.write_all(&u.take_output()).map_err(out_err)?;
+    out.flush().map_err(out_err)?;
+    Ok(report)
 }

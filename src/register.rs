@@ -87,7 +87,20 @@ impl std::fmt::Display for RegisterError {
     }
 }
 
-impl std::error::Error for RegisterError {}
+impl std::error::Error for RegisterError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            RegisterError::Gcode(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+crate::error_codes!(RegisterError, ERROR_CODES, "register" {
+    NoExtrusions => "register.no-object-extrusions", "the G-code prints nothing of the model";
+    Mismatch => "register.mismatch", "the G-code's object does not match the warped mesh";
+    AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
+} wraps { Gcode });
 
 /// A run of consecutive extruding moves on the first layer (Slic3r skirt detection).
 #[derive(Clone, Debug)]

@@ -28,7 +28,7 @@ mod error;
 mod locate;
 mod run;
 
-pub use error::SlicerError;
+pub use error::{SlicerError, ERROR_CODES};
 pub use locate::{cura_resources, CURA_RES_FALLBACKS};
 
 use std::fmt;

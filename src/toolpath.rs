@@ -71,6 +71,28 @@ impl Feature {
         )
     }
 
+    /// Every feature, in discriminant order (`ALL[f as usize] == f`: the feature number in the
+    /// web preview's toolpath buffer).
+    pub const ALL: [Feature; 17] = [
+        Feature::Unknown,
+        Feature::OuterWall,
+        Feature::InnerWall,
+        Feature::OverhangWall,
+        Feature::Infill,
+        Feature::SolidInfill,
+        Feature::TopSolidInfill,
+        Feature::BottomSolidInfill,
+        Feature::Bridge,
+        Feature::GapFill,
+        Feature::Ironing,
+        Feature::Support,
+        Feature::SupportInterface,
+        Feature::Skirt,
+        Feature::Brim,
+        Feature::WipeTower,
+        Feature::Custom,
+    ];
+
     /// A short stable name (used in reports and the web preview).
     pub fn name(self) -> &'static str {
         match self {
@@ -113,4 +135,20 @@ pub struct ToolPoint {
     pub feature: Feature,
     /// A non-extruding move (travel, lift, descent).
     pub travel: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_features_are_listed_in_discriminant_order_with_unique_names() {
+        let mut names = std::collections::HashSet::new();
+        for (i, f) in Feature::ALL.iter().enumerate() {
+            assert_eq!(*f as usize, i, "{f:?}");
+            assert!(names.insert(f.name()), "{} twice", f.name());
+        }
+        // the last variant is the last of ALL: a variant added after it would be missing
+        assert_eq!(Feature::Custom as usize + 1, Feature::ALL.len());
+    }
 }

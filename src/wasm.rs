@@ -1,4 +1,4 @@
-//! wasm-bindgen glue: converts types and returns `Result<_, JsError>`; nothing else.
+//! wasm-bindgen glue: converts types and returns `Result<_, JsValue>`; nothing else.
 //! Error texts are the core's `Display`, the same as the CLI prints.
 //!
 //! Options and reports cross as JSON strings / plain JS objects with the core's serde shapes
@@ -6,27 +6,43 @@
 
 use wasm_bindgen::prelude::*;
 
+use crate::error::Coded;
 use crate::job::Job;
-use crate::pipeline::{self, WarpOptions};
-use crate::unwarp::{self, UnwarpOptions, Unwarper};
+use crate::pipeline::{self, UnwarpSettings, WarpOptions};
+use crate::unwarp::Unwarper;
 
-fn js<E: std::fmt::Display>(e: E) -> JsError {
-    JsError::new(&e.to_string())
+/// A JS `Error` with the core's message and its stable code (`error.code`, see
+/// [`crate::error`]): the page keys its advice by the code, never by the message.
+fn fail(code: &str, message: &str) -> JsValue {
+    let e = js_sys::Error::new(message);
+    // setting a property on a fresh Error object cannot fail
+    let _ = js_sys::Reflect::set(&e, &JsValue::from_str("code"), &JsValue::from_str(code));
+    e.into()
 }
 
-fn to_js<T: serde::Serialize>(v: &T) -> Result<JsValue, JsError> {
+/// The JS error of a core error.
+fn js<E: Coded>(e: E) -> JsValue {
+    fail(e.code(), &e.to_string())
+}
+
+/// The JS error of a bad option or options JSON.
+fn bad_options(message: &str) -> JsValue {
+    fail("options.invalid", message)
+}
+
+fn to_js<T: serde::Serialize>(v: &T) -> Result<JsValue, JsValue> {
     let s = serde_wasm_bindgen::Serializer::json_compatible();
-    v.serialize(&s).map_err(js)
+    v.serialize(&s).map_err(|e| bad_options(&e.to_string()))
 }
 
-fn set(obj: &js_sys::Object, key: &str, v: &JsValue) -> Result<(), JsError> {
+fn set(obj: &js_sys::Object, key: &str, v: &JsValue) -> Result<(), JsValue> {
     js_sys::Reflect::set(obj, &JsValue::from_str(key), v)
         .map(|_| ())
-        .map_err(|_| JsError::new("cannot build the result object"))
+        .map_err(|_| bad_options("cannot build the result object"))
 }
 
-fn parse<T: serde::de::DeserializeOwned>(what: &str, json: &str) -> Result<T, JsError> {
-    serde_json::from_str(json).map_err(|e| JsError::new(&format!("{what}: {e}")))
+fn parse<T: serde::de::DeserializeOwned>(what: &str, json: &str) -> Result<T, JsValue> {
+    serde_json::from_str(json).map_err(|e| bad_options(&format!("{what}: {e}")))
 }
 
 /// The crate version.
@@ -37,7 +53,7 @@ pub fn version() -> String {
 
 /// `warp(stl, optionsJson)` → `{ stl: Uint8Array, job: string, report: object }`.
 #[wasm_bindgen]
-pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsError> {
+pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsValue> {
     let opts: WarpOptions = parse("warp options", options_json)?;
     let out = pipeline::warp_model(stl, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
@@ -53,10 +69,10 @@ pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsError> {
 
 /// `unwarp(gcode, jobJson, optionsJson)` → `{ gcode: Uint8Array, report: object }`.
 #[wasm_bindgen]
-pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValue, JsError> {
+pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValue, JsValue> {
     let job = Job::from_json(job_json).map_err(js)?;
-    let opts: UnwarpOptions = parse("unwarp options", options_json)?;
-    let out = unwarp::unwarp(gcode, &job, &opts).map_err(js)?;
+    let settings: UnwarpSettings = parse("unwarp options", options_json)?;
+    let out = pipeline::unwarp(gcode, &job, &settings).map_err(js)?;
     let obj = js_sys::Object::new();
     set(
         &obj,
@@ -69,9 +85,13 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
 
 /// An STL of a generated example part (`cube`, `cylinder`, `sphere`, `overhang`).
 #[wasm_bindgen]
-pub fn example_stl(name: &str) -> Result<Vec<u8>, JsError> {
-    let m = crate::shapes::example(name)
-        .ok_or_else(|| JsError::new(&format!("unknown example '{name}'")))?;
+pub fn example_stl(name: &str) -> Result<Vec<u8>, JsValue> {
+    let m = crate::shapes::example(name).ok_or_else(|| {
+        bad_options(&format!(
+            "unknown example '{name}': one of {}",
+            crate::shapes::EXAMPLES.join(", ")
+        ))
+    })?;
     Ok(crate::mesh::write_stl(
         &m,
         &format!("warpslice example {name}"),
@@ -88,25 +108,25 @@ pub struct UnwarpStream {
 #[wasm_bindgen]
 impl UnwarpStream {
     #[wasm_bindgen(constructor)]
-    pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsError> {
+    pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsValue> {
         let job = Job::from_json(job_json).map_err(js)?;
-        let opts: UnwarpOptions = parse("unwarp options", options_json)?;
+        let settings: UnwarpSettings = parse("unwarp options", options_json)?;
         Ok(UnwarpStream {
-            inner: Unwarper::new(&job, &opts).map_err(js)?,
+            inner: pipeline::unwarper(&job, &settings).map_err(js)?,
         })
     }
     /// Pass 1: a chunk of the G-code.
-    pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsError> {
+    pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsValue> {
         self.inner.scan(chunk).map_err(js)
     }
     /// End of pass 1: the registration (translation, residual, region…).
     #[wasm_bindgen(js_name = endScan)]
-    pub fn end_scan(&mut self) -> Result<JsValue, JsError> {
+    pub fn end_scan(&mut self) -> Result<JsValue, JsValue> {
         let r = self.inner.end_scan().map_err(js)?;
         to_js(&r)
     }
     /// Pass 2: the same chunk again.
-    pub fn push(&mut self, chunk: &[u8]) -> Result<(), JsError> {
+    pub fn push(&mut self, chunk: &[u8]) -> Result<(), JsValue> {
         self.inner.push(chunk).map_err(js)
     }
     /// The output written so far (drains it).
@@ -137,7 +157,7 @@ impl UnwarpStream {
         v
     }
     /// End of pass 2: the report. Drain `takeOutput` once more after it.
-    pub fn finish(&mut self) -> Result<JsValue, JsError> {
+    pub fn finish(&mut self) -> Result<JsValue, JsValue> {
         let r = self.inner.finish().map_err(js)?;
         to_js(&r)
     }
@@ -146,21 +166,19 @@ impl UnwarpStream {
 // ── Calibration of A/B tables (seed 004), `crate::calibrate` ────────────────────────────────
 
 /// A machine argument: a JSON object text, a preset name, or empty for `open5x-ab`.
-fn calibrate_machine(arg: &str) -> Result<crate::machine::MachineSpec, JsError> {
-    let a = arg.trim();
-    if a.is_empty() {
-        crate::machine::preset("open5x-ab").map_err(js)
-    } else if a.starts_with('{') {
-        crate::machine::MachineSpec::from_json(a, "machine JSON").map_err(js)
+fn calibrate_machine(arg: &str) -> Result<crate::machine::MachineSpec, JsValue> {
+    let a = if arg.trim().is_empty() {
+        "open5x-ab"
     } else {
-        crate::machine::preset(a).map_err(js)
-    }
+        arg
+    };
+    crate::machine::MachineSpec::from_name_or_json(a).map_err(js)
 }
 
 fn parse_or_default<T: serde::de::DeserializeOwned + Default>(
     what: &str,
     json: &str,
-) -> Result<T, JsError> {
+) -> Result<T, JsValue> {
     if json.trim().is_empty() {
         Ok(T::default())
     } else {
@@ -176,7 +194,7 @@ pub fn calibrate_origin(
     measurements: &str,
     options_json: &str,
     machine: &str,
-) -> Result<JsValue, JsError> {
+) -> Result<JsValue, JsValue> {
     let series = crate::calibrate::parse_measurements(measurements).map_err(js)?;
     let opts: crate::calibrate::OriginOptions = parse_or_default("origin options", options_json)?;
     let (report, spec) =
@@ -193,7 +211,7 @@ pub fn calibrate_origin(
 /// `{"kind": "a-pos", "z0": -5, "y90": 4.2, "y_minus90": -3.8, "c_y": 0.453}` (kinds: a-pos-error,
 /// a-pos, a-dir, b-pos, b-dir, z-bias, a-scaling, wobble).
 #[wasm_bindgen]
-pub fn calibrate_probe(input_json: &str) -> Result<JsValue, JsError> {
+pub fn calibrate_probe(input_json: &str) -> Result<JsValue, JsValue> {
     let input: crate::calibrate::probes::ProbeInput = parse("probe input", input_json)?;
     let out = crate::calibrate::probes::evaluate(&input).map_err(js)?;
     let obj = js_sys::Object::new();
@@ -209,7 +227,7 @@ pub fn calibrate_test_print(
     machine: &str,
     kind: &str,
     options_json: &str,
-) -> Result<JsValue, JsError> {
+) -> Result<JsValue, JsValue> {
     use crate::calibrate::patterns;
     let kind: patterns::TestKind = kind.parse().map_err(js)?;
     let opts: patterns::PrintOptions = parse_or_default("print options", options_json)?;
@@ -232,7 +250,7 @@ pub fn calibrate_test_print(
 fn sim_result(
     rep: &crate::calibrate::simulate::SimReport,
     svg: String,
-) -> Result<JsValue, JsError> {
+) -> Result<JsValue, JsValue> {
     let obj = js_sys::Object::new();
     let errors: Vec<f64> = rep.points.iter().map(|l| l.error_mm).collect();
     set(
@@ -262,7 +280,7 @@ pub fn calibrate_b_position_svg(
     dy: f64,
     options_json: &str,
     exaggerate: f64,
-) -> Result<JsValue, JsError> {
+) -> Result<JsValue, JsValue> {
     let opts: crate::calibrate::patterns::PrintOptions =
         parse_or_default("print options", options_json)?;
     let (rep, svg) = crate::calibrate::patterns::b_position_svg(
@@ -288,7 +306,7 @@ pub fn calibrate_simulate(
     toolpath_csv: &str,
     test_kind: &str,
     exaggerate: f64,
-) -> Result<JsValue, JsError> {
+) -> Result<JsValue, JsValue> {
     use crate::calibrate::{patterns, simulate};
     let b = calibrate_machine(believed)?;
     let t = if truth.trim().is_empty() {
@@ -324,14 +342,15 @@ pub fn calibrate_simulate(
 /// Fig. 3.1 in numbers: a point `radius` mm from an A axis believed along X but truly turned
 /// `aRotZDeg` about Z, turned 90°: how far it lands from where it should, mm (20, 2 → 0.698).
 #[wasm_bindgen]
-pub fn calibrate_fig_3_1(radius: f64, a_rot_z_deg: f64) -> Result<f64, JsError> {
+pub fn calibrate_fig_3_1(radius: f64, a_rot_z_deg: f64) -> Result<f64, JsValue> {
     crate::calibrate::simulate::fig_3_1(radius, a_rot_z_deg).map_err(js)
 }
 
 /// The mesh report of an STL (format, triangles, bbox, defects), without warping it.
 #[wasm_bindgen]
-pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsError> {
-    let (_, report) = crate::mesh::read_stl(stl).map_err(|e| JsError::new(&format!("STL: {e}")))?;
+pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsValue> {
+    let (_, report) =
+        crate::mesh::read_stl(stl).map_err(|e| fail(e.code(), &format!("STL: {e}")))?;
     to_js(&report)
 }
 
@@ -339,7 +358,7 @@ pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsError> {
 /// min, max }], workspace_max_tilt_deg }]`; `spec` is the preset's JSON object, unbounded limits
 /// are `null`. Pass a `name` (or a `spec`, edited) as `"machine"` in the unwarp options.
 #[wasm_bindgen]
-pub fn machine_presets() -> Result<String, JsError> {
+pub fn machine_presets() -> Result<String, JsValue> {
     let finite = |v: f64| {
         if v.is_finite() {
             serde_json::json!(v)
@@ -356,7 +375,7 @@ pub fn machine_presets() -> Result<String, JsError> {
             .iter()
             .map(|l| serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": finite(l.min), "max": finite(l.max) }))
             .collect();
-        let spec_value = serde_json::to_value(&spec).map_err(js)?;
+        let spec_value = serde_json::to_value(&spec).map_err(|e| bad_options(&e.to_string()))?;
         list.push(serde_json::json!({
             "name": name,
             "kind": spec_value.get("kind").cloned().unwrap_or(serde_json::Value::Null),
@@ -366,78 +385,42 @@ pub fn machine_presets() -> Result<String, JsError> {
             "workspace_max_tilt_deg": finite(machine.workspace().max_tilt_deg),
         }));
     }
-    serde_json::to_string(&list).map_err(js)
+    serde_json::to_string(&list).map_err(|e| bad_options(&e.to_string()))
 }
 
-/// Layer surfaces of a job for display: every `every`-th slicing plane z' = k·h, sampled on a
-/// `grid`×`grid` lattice over the model's XY bounding box and mapped back to the model frame by
-/// T⁻¹. Returns 5 numbers per sample: x y z (model frame, mm), tilt of the tool axis from +Z
-/// (degrees), layer index k; samples whose z falls outside the model's z range are skipped.
+/// Layer surfaces of a job for display (see [`crate::surfaces`]): 5 numbers per sample, x y z
+/// (model frame, mm), tilt from +Z (degrees), layer index.
 #[wasm_bindgen]
-pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>, JsError> {
+pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>, JsValue> {
     let job = Job::from_json(job_json).map_err(js)?;
-    let mut params = job.warp.clone();
-    let warp = params.build(&job.model_bbox).map_err(js)?;
-    let (b, h) = (job.model_bbox, job.layer_height);
-    let every = every.max(1) as f64;
-    let grid = grid.clamp(2, 256);
-    let zt_min = job.warped_bbox.min.z - job.stl_z_offset;
-    let zt_max = job.warped_bbox.max.z - job.stl_z_offset;
-    let mut out = Vec::new();
-    if !h.is_finite() || h <= 0.0 {
-        return Ok(out);
-    }
-    let k0 = (zt_min / h).floor() as i64;
-    let k1 = (zt_max / h).ceil() as i64;
-    let mut k = k0;
-    while k <= k1 {
-        let zq = k as f64 * h;
-        for i in 0..grid {
-            for j in 0..grid {
-                let x = b.min.x + (b.max.x - b.min.x) * i as f64 / (grid - 1) as f64;
-                let y = b.min.y + (b.max.y - b.min.y) * j as f64 / (grid - 1) as f64;
-                let p = warp.inverse(glam::DVec3::new(x, y, zq));
-                if p.z < b.min.z || p.z > b.max.z || !p.is_finite() {
-                    continue;
-                }
-                let tilt =
-                    crate::num::deg(crate::num::angle_between(warp.tool_axis(p), glam::DVec3::Z));
-                out.extend_from_slice(&[p.x, p.y, p.z, tilt, k as f64]);
-            }
-        }
-        k += every as i64;
-    }
-    Ok(out)
+    crate::surfaces::layer_surfaces(&job, every, grid).map_err(js)
 }
 
-/// Machine axes of preview points, for the preview's machine-coordinate view:
-/// `points` holds 6 numbers per point, the tip `p` (output frame, mm) and the unit tool axis
-/// `n` (tip → nozzle); returns the machine's axes per point in its axis order (linear axes mm,
-/// rotary axes degrees), from `Machine::inverse` with the previous point's axes picking the
-/// branch (continuous rotary axes). An unreachable point is an error naming its index.
+/// Machine axes of preview points (see [`crate::machine::view::axes_of`]): 6 numbers per
+/// point in (p, n), the machine's axes per point out. `machine`: a preset name or machine JSON.
 #[wasm_bindgen]
-pub fn machine_axes(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsError> {
-    if points.len() % 6 != 0 {
-        return Err(JsError::new(&format!(
-            "machine_axes: {} numbers is not a whole number of points (6 per point: px py pz nx ny nz)",
-            points.len()
-        )));
-    }
-    let m = crate::machine::preset(machine)
-        .map_err(js)?
-        .build()
+pub fn machine_axes(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsValue> {
+    let m = crate::machine::MachineSpec::from_name_or_json(machine)
+        .and_then(|s| s.build())
         .map_err(js)?;
-    let k = m.limits().len();
-    let mut out = Vec::with_capacity(points.len() / 6 * k);
-    let mut previous: Option<Vec<f64>> = None;
-    for (i, q) in points.chunks_exact(6).enumerate() {
-        let p = glam::DVec3::new(q[0], q[1], q[2]);
-        let n = glam::DVec3::new(q[3], q[4], q[5]);
-        let axes = m
-            .inverse(p, n, previous.as_deref())
-            .map_err(|e| JsError::new(&format!("machine_axes: preview point {i}: {e}")))?;
-        out.extend_from_slice(&axes);
-        previous = Some(axes);
-    }
-    Ok(out)
+    crate::machine::view::axes_of(m.as_ref(), points).map_err(js)
+}
+
+/// The preview in machine coordinates (see [`crate::machine::view::head_frames`]): 6 numbers
+/// per point in (p, n); 12 out per point: the head position in the machine frame, then the
+/// columns of the part → machine rotation. `machine`: a preset name or machine JSON.
+#[wasm_bindgen]
+pub fn machine_view(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsValue> {
+    let m = crate::machine::MachineSpec::from_name_or_json(machine)
+        .and_then(|s| s.build())
+        .map_err(js)?;
+    crate::machine::view::head_frames(m.as_ref(), points).map_err(js)
+}
+
+/// Everything the core says of itself, as JSON (see [`crate::describe`]): warps and their
+/// parameters, the options of both steps, the machines and their capabilities, feature names,
+/// error codes. The page builds its forms and advice from it.
+#[wasm_bindgen]
+pub fn describe() -> Result<String, JsValue> {
+    crate::describe::describe_json().map_err(js)
 }

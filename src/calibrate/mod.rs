@@ -91,7 +91,22 @@ impl fmt::Display for CalibError {
     }
 }
 
-impl std::error::Error for CalibError {}
+impl std::error::Error for CalibError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            CalibError::Machine(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+crate::error_codes!(CalibError, ERROR_CODES, "calibrate" {
+    BadLine => "calibrate.bad-line", "a measurement file line that cannot be read";
+    IncompleteSeries => "calibrate.incomplete-series", "a measurement series lacks a component";
+    NoSeries => "calibrate.no-series", "the measurement file holds no series";
+    ParallelAxes => "calibrate.parallel-axes", "the A and B axes are parallel: no origin";
+    BadInput => "calibrate.bad-input", "a numeric input is unusable";
+} wraps { Machine });
 
 impl From<MachineError> for CalibError {
     fn from(e: MachineError) -> Self {

@@ -131,3 +131,11 @@ impl std::fmt::Display for GcodeError {
 }
 
 impl std::error::Error for GcodeError {}
+
+crate::error_codes!(GcodeError, ERROR_CODES, "gcode" {
+    Binary => "gcode.binary", "binary G-code (.bgcode) instead of plain text";
+    BadNumber => "gcode.bad-number", "a G-code word whose number does not parse";
+    Checksum => "gcode.checksum", "a line whose checksum does not match";
+    BadArc => "gcode.bad-arc", "an arc (G2/G3) that cannot be expanded";
+    LineTooLong => "gcode.line-too-long", "a line longer than the reader accepts";
+} wraps {});

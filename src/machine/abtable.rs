@@ -39,7 +39,9 @@
 use glam::DVec3;
 
 use super::angles::{rotate, unwrap_near, wrap180};
-use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace, UNLIMITED};
+use super::{
+    require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, UNLIMITED,
+};
 use crate::num;
 
 /// Parameters of [`AbTable`] (JSON `"kind": "ab-table"`).
@@ -251,6 +253,19 @@ impl AbTable {
 impl Machine for AbTable {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "A/B rotary table (the part turns)".into(),
+            max_tilt_deg: Some(self.params.a_limit_deg),
+            fixed_tilt_deg: None,
+            moving_bed: true,
+            warps: super::all_warps(),
+            notes: vec![format!(
+                "A/B rotary table, A within ±{}°; place the part on the table's axes (--place 0,0)",
+                self.params.a_limit_deg
+            )],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

@@ -23,7 +23,9 @@
 
 use glam::DVec3;
 
-use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON};
+use super::{
+    require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
+};
 use crate::num;
 
 /// Parameters of [`BHead`] (JSON `"kind": "b-head"`).
@@ -101,6 +103,29 @@ impl BHead {
 impl Machine for BHead {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    fn capabilities(&self) -> Capabilities {
+        {
+            let mut notes = vec![format!(
+                "head tilts about Y only (B ±{}°), pivot {} mm above the tip",
+                self.params.b_limit_deg, self.params.pivot_to_tip_mm
+            )];
+            if self.params.clip {
+                notes.push(format!(
+                    "below z = {} mm the tilt is clipped to {}° (bed clearance)",
+                    self.params.clip_z_mm, self.params.clip_b0_deg
+                ));
+            }
+            Capabilities {
+                summary: "head tilting about Y (B axis)".into(),
+                max_tilt_deg: Some(self.params.b_limit_deg),
+                fixed_tilt_deg: None,
+                moving_bed: false,
+                // tilts in XZ only: the warps whose tool axis stays in XZ (belt toward ±X)
+                warps: vec!["curved", "tilted", "belt"],
+                notes,
+            }
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

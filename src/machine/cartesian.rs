@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::{AxisSet, InverseResult, Machine, MachineError, Workspace};
+use super::{AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
 /// Parameters of [`Cartesian`] (JSON `"kind": "cartesian"`).
@@ -37,6 +37,16 @@ impl Cartesian {
 impl Machine for Cartesian {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "3 axes: the nozzle stays vertical".into(),
+            max_tilt_deg: self.params.max_tilt_deg,
+            fixed_tilt_deg: None,
+            moving_bed: false,
+            warps: super::all_warps(),
+            notes: vec!["3 axes: the nozzle stays vertical; steep layers need a nozzle whose cone clears them".into()],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

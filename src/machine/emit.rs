@@ -38,17 +38,16 @@
 //! stops with `UnwarpError::Machine` naming the G-code line. Never a silently wrong file.
 
 use glam::DVec3;
-use serde::{Deserialize, Serialize};
 
 use super::angles::wrap180;
 use super::feed::{output_feed, FeedMode};
 use super::flavour::Flavour;
-use super::spec::Kinematics;
 use super::tessellate::{tessellate_move, Bounds, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
+use crate::emit::{EWriter, EmitError, Emitter, MachineReport, DEFAULT_TRAVEL_FEED};
 use crate::gcode::write::{push_e, push_fixed, push_mm};
+use crate::job::Job;
 use crate::toolpath::{Feature, ToolPoint};
-use crate::unwarp::{EWriter, Emitter};
 
 /// Lift of the tip for a single-revolution rotate-around, mm.
 pub const ROTATE_AROUND_LIFT_MM: f64 = 1.0;
@@ -61,38 +60,6 @@ pub const REORIENT_TAG: &str = "; reorient";
 /// Trailing comment of a move where the splitting hit its depth limit: the interpolation bound
 /// is not proven there (the report counts these and gives the error measured).
 pub const DISCONTINUITY_TAG: &str = "; discontinuity";
-
-/// What the machine emitter measured over the file.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct MachineReport {
-    /// Preset / machine name.
-    pub machine: String,
-    /// Firmware flavour.
-    pub flavour: String,
-    /// Feed mode.
-    pub feed: FeedMode,
-    /// Toolpath moves in, G1 moves out.
-    pub moves_in: u64,
-    pub moves_out: u64,
-    /// Worst tip deviation of the firmware's interpolation from the intended path, mm.
-    pub worst_position_mm: f64,
-    /// Worst tool-axis deviation of the interpolation, degrees.
-    pub worst_angle_deg: f64,
-    /// Largest angle between a requested tool axis and the realised one, degrees.
-    pub worst_dropped_deg: f64,
-    /// Moves where splitting hit the depth limit (a discontinuity; error still measured).
-    pub depth_limited: u64,
-    /// Single-revolution rotate-arounds.
-    pub rotate_arounds: u64,
-    /// Pose discontinuities crossed in place (rotary axes stepped with the tip held).
-    pub reposes: u64,
-    /// Filament of the moves replaced by a rotate-around, mm.
-    pub e_skipped_mm: f64,
-    /// `G92` modulo-360° resets of unlimited rotary axes.
-    pub rotary_resets: u64,
-    /// Offset added to the written Z axes (triple-Z bed), mm.
-    pub z_axes_offset_mm: f64,
-}
 
 /// The previous pose: raw axes, tip, tool axis.
 #[derive(Clone, Debug)]
@@ -132,21 +99,6 @@ impl std::fmt::Debug for MachineEmitter {
     }
 }
 
-/// The triple-Z offset D of the module documentation, mm (0 for other machines).
-fn z_axes_offset(spec: &MachineSpec) -> f64 {
-    if let Kinematics::ThreeZ(p) = &spec.kinematics {
-        let mut spread = 0.0f64;
-        for a in &p.balls_xy {
-            for b in &p.balls_xy {
-                spread = spread.max(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
-            }
-        }
-        let d = (spread + p.ball_z_mm.abs()) * crate::num::sin(crate::num::rad(p.max_tilt_deg));
-        return d.max(0.0).ceil();
-    }
-    0.0
-}
-
 impl MachineEmitter {
     /// Build for `spec` (flavour: `flavour`, else the spec's, else RepRapFirmware).
     pub fn new(
@@ -158,18 +110,8 @@ impl MachineEmitter {
         let limits = machine.limits().to_vec();
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
         flavour.check(machine.name(), &limits)?;
-        let d = z_axes_offset(spec);
-        let offsets = limits
-            .iter()
-            .enumerate()
-            .map(|(i, _)| {
-                if d > 0.0 && (2..5).contains(&i) {
-                    d
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        let offsets = machine.written_offsets();
+        let d = offsets.iter().copied().fold(0.0, f64::max);
         let unlimited = limits
             .iter()
             .map(|l| l.rotary && !(l.min.is_finite() && l.max.is_finite()))
@@ -430,7 +372,13 @@ impl Emitter for MachineEmitter {
         ];
         let d = self.report.z_axes_offset_mm;
         if d > 0.0 {
-            let names: Vec<&str> = self.limits[2..5].iter().map(|l| l.name.as_str()).collect();
+            let names: Vec<&str> = self
+                .limits
+                .iter()
+                .zip(&self.offsets)
+                .filter(|(_, &o)| o > 0.0)
+                .map(|(l, _)| l.name.as_str())
+                .collect();
             lines.push(format!(
                 "; warpslice z axes offset = {d} mm: RepRapFirmware clamps negative axis values, so {} are written as raw + {d} mm (G92 at the start of the printed region, removed at its end)",
                 names.join(" ")
@@ -443,7 +391,13 @@ impl Emitter for MachineEmitter {
         }
     }
 
-    fn begin_region(&mut self, out: &mut Vec<u8>, p: DVec3, n: DVec3) -> Result<(), MachineError> {
+    fn check_job(&mut self, job: &Job, model_to_output: DVec3) -> Result<(), EmitError> {
+        self.machine
+            .check_job(job, model_to_output)
+            .map_err(EmitError::new)
+    }
+
+    fn begin_region(&mut self, out: &mut Vec<u8>, p: DVec3, n: DVec3) -> Result<(), EmitError> {
         if self.feed == FeedMode::InverseTime {
             out.extend_from_slice(b"G93 ; warpslice: inverse-time feed (F = 1/minutes)\n");
         }
@@ -473,7 +427,7 @@ impl Emitter for MachineEmitter {
         out: &mut Vec<u8>,
         tp: &ToolPoint,
         relative_e: bool,
-    ) -> Result<(), MachineError> {
+    ) -> Result<(), EmitError> {
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");
@@ -493,10 +447,10 @@ impl Emitter for MachineEmitter {
             }
             self.last_layer = Some(tp.layer);
         }
-        self.move_to(out, tp, relative_e)
+        self.move_to(out, tp, relative_e).map_err(EmitError::new)
     }
 
-    fn end_region(&mut self, out: &mut Vec<u8>) -> Result<(), MachineError> {
+    fn end_region(&mut self, out: &mut Vec<u8>) -> Result<(), EmitError> {
         if let Some(prev) = self.prev.clone() {
             if prev.n.angle_between(DVec3::Z) > 0.0 {
                 out.extend_from_slice(b"; warpslice: tool axis back to vertical\n");
@@ -504,12 +458,12 @@ impl Emitter for MachineEmitter {
                     p: prev.p,
                     n: DVec3::Z,
                     e: 0.0,
-                    f: crate::unwarp::DEFAULT_TRAVEL_FEED,
+                    f: DEFAULT_TRAVEL_FEED,
                     layer: 0,
                     feature: Feature::Unknown,
                     travel: true,
                 };
-                self.move_to(out, &tp, true)?;
+                self.move_to(out, &tp, true).map_err(EmitError::new)?;
             }
             if self.offsets.iter().any(|&o| o > 0.0) {
                 if let Some(prev) = &self.prev {

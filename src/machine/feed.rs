@@ -12,32 +12,7 @@
 //! A move with no tip length (a pure rotation, L ≈ 0) keeps `T = D / f`: F = f in all-axes
 //! mode and `f / D` in inverse-time mode. A move with nothing to do (D = 0 too) keeps F = f.
 
-use serde::{Deserialize, Serialize};
-
-/// How the output F is computed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum FeedMode {
-    /// F = tip feed (firmware counts linear axes only).
-    #[default]
-    Xyz,
-    /// F scaled so the move takes tip_length / f with rotary degrees counted in the length.
-    AllAxes,
-    /// G93 inverse time: F = 1 / minutes.
-    InverseTime,
-}
-
-impl FeedMode {
-    /// Parse `xyz`, `all-axes`, `inverse-time`.
-    pub fn parse(s: &str) -> Option<FeedMode> {
-        match s {
-            "xyz" => Some(FeedMode::Xyz),
-            "all-axes" => Some(FeedMode::AllAxes),
-            "inverse-time" => Some(FeedMode::InverseTime),
-            _ => None,
-        }
-    }
-}
+pub use crate::emit::FeedMode;
 
 /// The machine-space length the firmware measures between two axis vectors.
 pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {

@@ -26,9 +26,15 @@ use glam::DVec3;
 
 use super::angles::{rot_x, unwrap_near, wrap180};
 use super::{
-    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
+    require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
+    UNLIMITED,
 };
+use crate::job::Job;
 use crate::num;
+use crate::warp::WarpSpec;
+
+/// Largest distance between a cylindrical job's layer axis and the mandrel axis, mm.
+pub const MANDREL_AXIS_TOLERANCE: f64 = 0.01;
 
 /// Parameters of [`Lathe`] (JSON `"kind": "lathe-a"`).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -84,6 +90,48 @@ impl Lathe {
 impl Machine for Lathe {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    /// A cylindrical job must wind its layers round the mandrel: the warp's axis (model frame,
+    /// moved to the output by `model_to_output`) must be this machine's axis within
+    /// [`MANDREL_AXIS_TOLERANCE`].
+    fn check_job(&self, job: &Job, model_to_output: DVec3) -> Result<(), MachineError> {
+        let WarpSpec::Cylindrical { axis, .. } = &job.warp.spec else {
+            return Ok(());
+        };
+        let warp = [axis[0] + model_to_output.y, axis[1] + model_to_output.z];
+        let mandrel = [self.c.y, self.c.z];
+        if (warp[0] - mandrel[0]).hypot(warp[1] - mandrel[1]) > MANDREL_AXIS_TOLERANCE {
+            return Err(MachineError::MandrelMismatch {
+                machine: self.name().to_string(),
+                warp,
+                mandrel,
+            });
+        }
+        Ok(())
+    }
+
+    /// X Y Z of the head (X 0 Z without a Y axis); the mandrel turns the part.
+    fn head_position(&self, axes: &[f64]) -> DVec3 {
+        let a = |i: usize| axes.get(i).copied().unwrap_or(0.0);
+        if self.with_y {
+            DVec3::new(a(0), a(1), a(2))
+        } else {
+            DVec3::new(a(0), 0.0, a(1))
+        }
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "rotating mandrel about X (A axis)".into(),
+            max_tilt_deg: None,
+            fixed_tilt_deg: None,
+            moving_bed: true,
+            warps: super::all_warps(),
+            notes: vec![format!(
+                "rotating mandrel about X (A axis) at y = {}, z = {} mm; pair it with the cylindrical warp",
+                self.c.y, self.c.z
+            )],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

@@ -47,18 +47,22 @@ pub mod feed;
 pub mod flavour;
 pub mod lathe;
 pub mod laws;
+pub mod options;
 pub mod pax;
 pub mod rtheta;
 pub mod rtn;
 pub mod spec;
 pub mod tessellate;
 pub mod threez;
+pub mod view;
 
+pub use crate::emit::FeedMode;
+pub use crate::emit::MachineReport;
 pub(crate) use axes::{check_limits, require};
 pub use axes::{AxisLimit, AxisSet, InverseResult, UNLIMITED};
-pub use emit::{MachineEmitter, MachineReport};
-pub use feed::FeedMode;
+pub use emit::MachineEmitter;
 pub use flavour::Flavour;
+pub use options::MachineOptions;
 pub use spec::{preset, preset_names, MachineSpec};
 
 /// Below this length a projected tool axis (|n_xy| for an azimuth, |n_xz| for a B angle) is
@@ -92,6 +96,30 @@ impl Workspace {
             max_tilt_deg,
         }
     }
+}
+
+/// What a machine says of itself to the CLI and the web page ([`crate::describe`]): what it
+/// can tilt, which warps it can print, whether the part or the head moves.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Capabilities {
+    /// One line: what kind of machine this is.
+    pub summary: String,
+    /// The largest tool-axis tilt from vertical it realises, degrees (`None`: no limit).
+    pub max_tilt_deg: Option<f64>,
+    /// A nozzle fixed at this tilt (rotating tilted nozzles), degrees.
+    pub fixed_tilt_deg: Option<f64>,
+    /// The part (bed, table, mandrel) moves, not only the head: the page can draw the toolpath
+    /// in machine coordinates ([`Machine::head_position`]).
+    pub moving_bed: bool,
+    /// The warps it can print (names of [`crate::warp::WARPS`]).
+    pub warps: Vec<&'static str>,
+    /// Facts a user should know (limits, clips), one line each.
+    pub notes: Vec<String>,
+}
+
+/// Every warp's name (machines that print them all).
+pub fn all_warps() -> Vec<&'static str> {
+    crate::warp::WARPS.iter().map(|w| w.name).collect()
 }
 
 /// A machine's kinematics. See the module documentation for the conventions.
@@ -135,6 +163,33 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn linear_at_fixed_pose(&self) -> bool {
         false
     }
+    /// What the machine says of itself (see [`Capabilities`]).
+    fn capabilities(&self) -> Capabilities;
+    /// A constant added to each axis value as written to G-code (same order as the axes), for
+    /// firmware that cannot take the raw values (the triple-Z bed's Z motors, see
+    /// [`threez`]). Zero for most machines.
+    fn written_offsets(&self) -> Vec<f64> {
+        vec![0.0; self.limits().len()]
+    }
+    /// Refuse a job this machine would print wrong although every point is reachable (the
+    /// lathe: a cylindrical warp whose axis is not the mandrel's). `model_to_output` moves the
+    /// job's model frame to the output frame.
+    fn check_job(
+        &self,
+        _job: &crate::job::Job,
+        _model_to_output: DVec3,
+    ) -> Result<(), MachineError> {
+        Ok(())
+    }
+    /// Where the head is in the machine's own frame for these axis values (mm), for drawing the
+    /// toolpath in machine coordinates: by default the first three axes are X Y Z.
+    fn head_position(&self, axes: &[f64]) -> DVec3 {
+        DVec3::new(
+            axes.first().copied().unwrap_or(0.0),
+            axes.get(1).copied().unwrap_or(0.0),
+            axes.get(2).copied().unwrap_or(0.0),
+        )
+    }
 }
 
 /// Errors of the machine area.
@@ -175,6 +230,13 @@ pub enum MachineError {
     BadSpec { machine: String, message: String },
     /// A batch CSV line is invalid (1-based line number).
     BadCsv { line: usize, message: String },
+    /// A cylindrical job's layer axis is not the lathe's mandrel axis (output frame, y and z
+    /// in mm): printing would wind the layers round the wrong line.
+    MandrelMismatch {
+        machine: String,
+        warp: [f64; 2],
+        mandrel: [f64; 2],
+    },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
         machine: String,
@@ -224,6 +286,11 @@ impl fmt::Display for MachineError {
                 f,
                 "kinematics input line {line}: {message}"
             ),
+            MachineError::MandrelMismatch { machine, warp, mandrel } => write!(
+                f,
+                "the cylindrical warp's layers are coaxial about the line y = {}, z = {} (along X, in the output) but machine {machine} turns about y = {}, z = {}: set \"axis_y_mm\": {}, \"axis_z_mm\": {} in the machine JSON, or --place the part so that its warp axis lies on the mandrel",
+                crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1]), crate::num::fmt_shortest(mandrel[0]), crate::num::fmt_shortest(mandrel[1]), crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1])
+            ),
             MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
@@ -233,3 +300,17 @@ impl fmt::Display for MachineError {
 }
 
 impl std::error::Error for MachineError {}
+
+crate::error_codes!(MachineError, ERROR_CODES, "machine" {
+    UnreachableOrientation => "machine.unreachable-orientation", "the machine cannot give this tool axis here";
+    AxisLimit => "machine.axis-limit", "an axis would leave its travel";
+    InvalidInput => "machine.invalid-input", "a non-finite point or a zero tool axis";
+    WrongAxisCount => "machine.wrong-axis-count", "the wrong number of axis values";
+    InvalidAxes => "machine.invalid-axes", "a non-finite axis value";
+    UnknownPreset => "machine.unknown-preset", "no machine preset of this name";
+    BadJson => "machine.bad-json", "the machine JSON does not parse";
+    BadSpec => "machine.bad-spec", "the machine's parameters are unusable";
+    BadCsv => "machine.bad-csv", "a kinematics CSV line is invalid";
+    MandrelMismatch => "machine.mandrel-mismatch", "a cylindrical job whose axis is not the mandrel's";
+    UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
+} wraps {});

@@ -16,7 +16,8 @@ use glam::DVec3;
 
 use super::angles::{nearer_half_turn, tilt, wrap180};
 use super::{
-    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
+    require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
+    UNLIMITED,
 };
 use crate::num;
 
@@ -76,6 +77,19 @@ impl Pax {
 impl Machine for Pax {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "5-axis head".into(),
+            max_tilt_deg: Some(self.params.max_tilt_deg),
+            fixed_tilt_deg: None,
+            moving_bed: false,
+            warps: super::all_warps(),
+            notes: vec![format!(
+                "5-axis head, tilt up to {}°",
+                self.params.max_tilt_deg
+            )],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

@@ -23,8 +23,8 @@ use glam::DVec3;
 
 use super::angles::{nearer_half_turn, rot_z, wrap180};
 use super::{
-    require, AxisLimit, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
-    UNLIMITED,
+    require, AxisLimit, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace,
+    POLE_EPSILON, UNLIMITED,
 };
 use crate::num;
 
@@ -119,6 +119,25 @@ impl RTheta {
 impl Machine for RTheta {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    /// (R, 0, Z): the head moves along the radius, the bed turns.
+    fn head_position(&self, axes: &[f64]) -> DVec3 {
+        let a = |i: usize| axes.get(i).copied().unwrap_or(0.0);
+        DVec3::new(a(0), 0.0, a(2))
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "polar printer (turning bed, radial head) with a tilting nozzle".into(),
+            max_tilt_deg: Some(self.params.max_tilt_deg),
+            fixed_tilt_deg: None,
+            moving_bed: true,
+            warps: super::all_warps(),
+            notes: vec![format!(
+                "polar printer, tilt up to {}°, reach r ≤ {} mm; place the part off the centre (--place)",
+                self.params.max_tilt_deg, self.params.max_radius_mm
+            )],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

@@ -25,7 +25,8 @@ use glam::DVec3;
 
 use super::angles::{rot_z, unwrap_near, wrap180};
 use super::{
-    require, AxisSet, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON, UNLIMITED,
+    require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
+    UNLIMITED,
 };
 use crate::num;
 
@@ -126,6 +127,20 @@ impl Rtn {
 impl Machine for Rtn {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    fn capabilities(&self) -> Capabilities {
+        Capabilities {
+            summary: "rotating tilted nozzle (fixed tilt, rotary axis about Z)".into(),
+            max_tilt_deg: Some(self.params.tilt_deg),
+            fixed_tilt_deg: Some(self.params.tilt_deg),
+            moving_bed: false,
+            warps: vec!["conic"],
+            notes: vec![format!(
+                "nozzle fixed at {}° and rotating about Z ({:?} revolution): conic layers at that angle",
+                self.params.tilt_deg,
+                format!("{:?}", self.params.revolution).to_lowercase()
+            )],
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

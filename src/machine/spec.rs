@@ -174,6 +174,17 @@ impl MachineSpec {
         }
     }
 
+    /// A machine given as text where no file can be read (the web page): a machine JSON
+    /// object (starts with `{`) or a preset name.
+    pub fn from_name_or_json(text: &str) -> Result<MachineSpec, MachineError> {
+        let t = text.trim();
+        if t.starts_with('{') {
+            MachineSpec::from_json(t, "machine JSON")
+        } else {
+            preset(t)
+        }
+    }
+
     /// The JSON text of this spec.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()

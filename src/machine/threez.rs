@@ -39,7 +39,7 @@
 use glam::{DVec2, DVec3};
 
 use super::angles::{rot_z, rotate, tilt};
-use super::{require, AxisSet, InverseResult, Machine, MachineError, Workspace};
+use super::{require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
 /// Parameters of [`ThreeZ`] (JSON `"kind": "three-z"`).
@@ -120,6 +120,19 @@ pub struct ThreeZ {
 }
 
 impl ThreeZ {
+    /// The offset D of [`Machine::written_offsets`], mm.
+    pub fn z_axes_offset(&self) -> f64 {
+        let p = &self.params;
+        let mut spread = 0.0f64;
+        for a in &p.balls_xy {
+            for b in &p.balls_xy {
+                spread = spread.max(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
+            }
+        }
+        let d = (spread + p.ball_z_mm.abs()) * num::sin(num::rad(p.max_tilt_deg));
+        d.max(0.0).ceil()
+    }
+
     /// Build with axis letters `names` (X Y Z U V).
     pub fn new(name: &str, names: &[String], params: ThreeZParams) -> Result<ThreeZ, MachineError> {
         let ok = params.balls_xy.iter().flatten().all(|v| v.is_finite())
@@ -200,6 +213,41 @@ impl Basis {
 impl Machine for ThreeZ {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
+    }
+    /// RepRapFirmware clamps negative axis values, so the Z motors (z₀ z₁ z₂, axes 2–4) are
+    /// written with a constant offset `D = (largest ball distance + |ball z|) · sin(max tilt)`,
+    /// rounded up to whole mm (seed 001's poses keep every raw height above −D).
+    fn written_offsets(&self) -> Vec<f64> {
+        let d = self.z_axes_offset();
+        (0..self.limits().len())
+            .map(|i| if (2..5).contains(&i) { d } else { 0.0 })
+            .collect()
+    }
+
+    /// X, Y and the mean of the Z motors (the bed's height under its centroid: the tilt a
+    /// drawing shows is that of the motor plane, an approximation of the bed's).
+    fn head_position(&self, axes: &[f64]) -> DVec3 {
+        let a = |i: usize| axes.get(i).copied().unwrap_or(0.0);
+        let zs = axes.len().saturating_sub(2).max(1);
+        let z: f64 = axes.iter().skip(2).sum();
+        DVec3::new(a(0), a(1), z / zs as f64)
+    }
+
+    fn capabilities(&self) -> Capabilities {
+        {
+            let v = self.params.build_volume_mm;
+            Capabilities {
+                summary: "tilting bed on three Z motors".into(),
+                max_tilt_deg: Some(self.params.max_tilt_deg),
+                fixed_tilt_deg: None,
+                moving_bed: true,
+                warps: super::all_warps(),
+                notes: vec![format!(
+                    "tilting bed on three Z motors, tilt up to {}°, build volume {} × {} × {} mm",
+                    self.params.max_tilt_deg, v[0], v[1], v[2]
+                )],
+            }
+        }
     }
     fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
         let n_hat = self.axis_set.check_input(p, n)?;

@@ -149,3 +149,13 @@ impl std::fmt::Display for MeshError {
 }
 
 impl std::error::Error for MeshError {}
+
+crate::error_codes!(MeshError, ERROR_CODES, "mesh" {
+    Empty => "mesh.empty", "the STL file has no bytes";
+    Truncated => "mesh.truncated", "a binary STL shorter than its header says";
+    FaceCountMismatch => "mesh.face-count", "a binary STL whose face count disagrees with its size";
+    NonFinite => "mesh.non-finite", "a coordinate is NaN or infinite";
+    NoTriangles => "mesh.no-triangles", "the file holds no triangles";
+    NotATriangle => "mesh.not-a-triangle", "an ASCII facet with other than three vertices";
+    Syntax => "mesh.syntax", "an ASCII STL line that does not parse";
+} wraps {});

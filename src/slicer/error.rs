@@ -162,6 +162,18 @@ impl fmt::Display for SlicerError {
 
 impl std::error::Error for SlicerError {}
 
+crate::error_codes!(SlicerError, ERROR_CODES, "slicer" {
+    UnknownSlicer => "slicer.unknown", "not one of the supported slicers";
+    InvalidOption => "slicer.invalid-option", "a slicer option out of range";
+    NotInstalled => "slicer.not-installed", "the slicer's executable was not found";
+    CuraDefinitionsMissing => "slicer.cura-definitions-missing", "CuraEngine's definitions were not found";
+    Io => "slicer.io", "a file could not be read, written or run";
+    TimedOut => "slicer.timed-out", "the slicer ran longer than the timeout";
+    Refused => "slicer.refused", "the slicer refused the model for a known reason";
+    Failed => "slicer.failed", "the slicer failed for a reason not recognised";
+    NoOutput => "slicer.no-output", "the slicer wrote no G-code";
+} wraps {});
+
 /// A message a slicer prints, and what it means for the user.
 struct Known {
     /// `None`: any slicer.

@@ -6,6 +6,7 @@
 //! z = k·h − (d·(x, y))·tan α fall toward d, and the tool axis ∇T_z/|∇T_z| = (d·sin α, cos α)
 //! tilts toward d by α.
 
+use crate::schema::{Param, ParamDefault, ParamType, WarpInfo};
 use glam::DVec2;
 
 use super::Height;
@@ -33,3 +34,20 @@ impl Height for Belt {
         self.k
     }
 }
+
+/// What the belt warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "belt",
+    title: "Belt (tilted planes)",
+    help: "parallel planes falling toward a direction (belt printers, Slicer4RTN --axis=3)",
+    formula: "T_z = z + (d·(x, y))·tan α",
+    seed: "002 (--axis=3)",
+    base: true,
+    params: &[
+        super::ANGLE,
+        Param::number("toward", "--toward", "Toward")
+            .of(ParamType::Pair)
+            .default(ParamDefault::Pair([0.0, 1.0]))
+            .help("the direction dx,dy the layers fall toward (any length but zero)"),
+    ],
+};

@@ -10,6 +10,7 @@
 //! **At the apex** (r = 0) the gradient is undefined; the apex gets the mean of all adjacent
 //! normals, the vertical axis (∇g := 0).
 
+use crate::schema::{Param, ParamDefault, ParamType, WarpInfo};
 use glam::DVec2;
 
 use super::{Direction, Height};
@@ -47,3 +48,22 @@ impl Height for Conic {
         }
     }
 }
+
+/// What the conic warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "conic",
+    title: "Conic (Slicer4RTN)",
+    help: "cone layers about a vertical axis: overhangs all round (outward) or a funnel (inward)",
+    formula: "T_z = z + c·r·tan α, r = |(x, y) − centre|",
+    seed: "002 (Slicer4RTN)",
+    base: true,
+    params: &[
+        super::ANGLE,
+        super::DIRECTION,
+        Param::number("center", "--center", "Centre")
+            .of(ParamType::Pair)
+            .unit("mm")
+            .default(ParamDefault::Pair([0.0, 0.0]))
+            .help("the cone's axis cx,cy in the model frame (0,0 = the footprint's centre)"),
+    ],
+};

@@ -6,6 +6,7 @@
 //! vertex of the parabola to x = −a, w = the model's width in x (mm). Layers are parabolic
 //! cylinders along y; the tool axis tilts in the XZ plane only, by atan(2·s·c·(x+a)/(w/2+|a|)).
 
+use crate::schema::WarpInfo;
 use glam::DVec2;
 
 use super::{Direction, Height};
@@ -35,3 +36,15 @@ impl Height for Curved {
         DVec2::new(2.0 * self.k * (x + self.a), 0.0)
     }
 }
+
+/// What the curved warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "curved",
+    title: "Curved (parabolic layers)",
+    help:
+        "parabolic cylinder layers along Y: domes (outward) or bowls (inward); the tool tilts in XZ",
+    formula: "T_z = z + s·c·(x+a)² / (w/2 + |a|)",
+    seed: "000 Eq. 1",
+    base: true,
+    params: &[super::STRENGTH, super::DIRECTION, super::OFFSET],
+};

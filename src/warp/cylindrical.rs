@@ -15,6 +15,7 @@
 //! scales E by 1/det J = ρ/R. Domain: ρ > 0 (the axis itself is excluded) and |θ| < π (the
 //! half-plane below the axis, θ = ±π, is the seam of the unrolled surface). No `--base` blend.
 
+use crate::schema::{Param, ParamType, WarpInfo};
 use glam::{DMat3, DVec3};
 
 use super::Warp;
@@ -77,4 +78,27 @@ impl Warp for Cylindrical {
             1.0
         }
     }
+}
+
+/// What the cylindrical warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "cylindrical",
+    title: "Cylindrical (mandrel)",
+    help: "coaxial cylinders about an axis parallel to X, for printing on a rotating mandrel (lathe-a)",
+    formula: "T_z = ρ − R, ρ = distance to the axis ∥ X through (y, z)",
+    seed: "002 (mandrel)",
+    base: false,
+    params: &[
+        super::RADIUS,
+        Param::number("axis", "--axis-yz", "Axis y,z")
+            .of(ParamType::Pair)
+            .unit("mm")
+            .optional()
+            .help("the mandrel axis (parallel to X) at y,z in the model frame; empty: 0,−radius (just under the part)"),
+    ],
+};
+
+/// The axis when none is given: just under the part, `(0, −R)`.
+pub fn default_axis(radius: f64) -> [f64; 2] {
+    [0.0, -radius]
 }

@@ -24,6 +24,8 @@
 use glam::{DMat3, DVec3};
 use serde::{Deserialize, Serialize};
 
+use crate::schema::{Param, ParamDefault, WarpInfo};
+
 pub mod base;
 pub mod belt;
 pub mod conic;
@@ -36,6 +38,51 @@ pub mod tilted;
 
 pub use base::BaseBlend;
 pub use shear::{Height, Shear};
+
+/// Every warp, in menu order: what each says of itself (its file's `INFO`). Adding a warp:
+/// its file, a [`WarpSpec`] variant, and one line here.
+pub const WARPS: &[WarpInfo] = &[
+    curved::INFO,
+    tilted::INFO,
+    conic::INFO,
+    belt::INFO,
+    cylindrical::INFO,
+    spherical::INFO,
+];
+
+/// `--strength s` of the curved and tilted warps (seed 000).
+pub(crate) const STRENGTH: Param = Param::number("strength", "--strength", "Strength")
+    .range(Some(0.0), None, (false, false))
+    .step(0.05)
+    .default(ParamDefault::Number(0.3))
+    .help("s of seed 000 Eqs. 1–2: the layers' rise per mm of x (dimensionless)");
+/// `--direction` (outward: c = +1).
+pub(crate) const DIRECTION: Param = Param::number("direction", "--direction", "Direction")
+    .choices(&["outward", "inward"])
+    .default(ParamDefault::Text("outward"))
+    .help(
+        "outward: layers fall away from the centre and the tool tilts outward; inward: the reverse",
+    );
+/// `--offset a` of the curved and tilted warps (mm).
+pub(crate) const OFFSET: Param = Param::number("offset", "--offset", "Offset")
+    .unit("mm")
+    .step(1.0)
+    .default(ParamDefault::Number(0.0))
+    .help("a: moves the vertex or crease to x = −a");
+/// `--angle α` of the conic and belt warps (degrees).
+pub(crate) const ANGLE: Param = Param::number("angle", "--angle", "Angle")
+    .unit("deg")
+    .range(Some(0.0), Some(90.0), (true, true))
+    .step(1.0)
+    .default(ParamDefault::Number(30.0))
+    .help("α: the layers' slope from horizontal (0 < α < 90)");
+/// `--radius R` of the cylindrical and spherical warps (mm).
+pub(crate) const RADIUS: Param = Param::number("radius", "--radius", "Radius")
+    .unit("mm")
+    .range(Some(0.0), None, (true, false))
+    .step(1.0)
+    .default(ParamDefault::Number(10.0))
+    .help("R: the radius of the first layer (mandrel or inner sphere)");
 
 /// A transform T from the model frame to the slicing frame (both mm).
 pub trait Warp: Send + Sync + std::fmt::Debug {
@@ -375,6 +422,13 @@ impl std::fmt::Display for WarpError {
 }
 
 impl std::error::Error for WarpError {}
+
+crate::error_codes!(WarpError, ERROR_CODES, "warp" {
+    BadParameter => "warp.bad-parameter", "a warp parameter outside its range";
+    NotMonotonic => "warp.not-monotonic", "the base blend would fold the layers over";
+    InverseFailed => "warp.inverse-failed", "a point outside the warp's domain";
+    BaseNotSupported => "warp.base-not-supported", "--base given for a warp that is not a shear";
+} wraps {});
 
 /// Everything that defines a warp: the spec and the optional flat base `[z0, z1]` (mm).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

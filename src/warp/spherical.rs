@@ -15,6 +15,7 @@
 //! 1/det J. Domain: ρ > 0 and φ < π (the centre and the downward axis are excluded). No
 //! `--base` blend.
 
+use crate::schema::{Param, ParamType, WarpInfo};
 use glam::{DMat3, DVec3};
 
 use super::Warp;
@@ -100,4 +101,29 @@ impl Warp for Spherical {
             DVec3::new(dx.z, dy.z, drho.z),
         )
     }
+}
+
+/// What the spherical warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "spherical",
+    title: "Spherical (5-axis)",
+    help: "concentric spheres about a centre, for a 5-axis head",
+    formula: "T_z = ρ − R, ρ = distance to the centre",
+    seed: "002 (5-axis)",
+    base: false,
+    params: &[
+        super::RADIUS,
+        Param::number("center", "--sphere-center", "Centre x,y,z")
+            .of(ParamType::Triple)
+            .unit("mm")
+            .optional()
+            .help(
+                "the spheres' centre in the model frame; empty: 0,0,−radius (just under the part)",
+            ),
+    ],
+};
+
+/// The centre when none is given: just under the part, `(0, 0, −R)`.
+pub fn default_center(radius: f64) -> [f64; 3] {
+    [0.0, 0.0, -radius]
 }

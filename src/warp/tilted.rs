@@ -9,6 +9,7 @@
 //! A point exactly on it (|x + a| ≤ [`CREASE_HALF_WIDTH`]) gets the mean of the two normals,
 //! the vertical axis (0, 0, 1): ∂|u|/∂u is taken as 0 there.
 
+use crate::schema::WarpInfo;
 use glam::DVec2;
 
 use super::{Direction, Height};
@@ -48,3 +49,14 @@ impl Height for Tilted {
         DVec2::new(self.k * s, 0.0)
     }
 }
+
+/// What the tilted warp says of itself ([`crate::describe`]).
+pub const INFO: WarpInfo = WarpInfo {
+    name: "tilted",
+    title: "Tilted (roof layers)",
+    help: "two planes meeting at a crease at x = −a (a roof or a valley); the tool tilts in XZ",
+    formula: "T_z = z + s·c·|x+a|",
+    seed: "000 Eq. 2",
+    base: true,
+    params: &[super::STRENGTH, super::DIRECTION, super::OFFSET],
+};

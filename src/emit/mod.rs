@@ -1,0 +1,118 @@
+//! Where the unwarped toolpath goes: an [`Emitter`] turns toolpath points into G-code lines.
+//!
+//! This module sits between the two that use it: [`crate::unwarp`] computes every point
+//! (output frame, tool axis, E, feed, layer, feature) and hands it over in order, interleaved
+//! with the lines that pass through verbatim; the [`Cartesian`] emitter here writes 3-axis
+//! G-code (`G1 X Y Z E F`); a machine's emitter ([`crate::machine::emit`]) turns the same
+//! points into its axes. Neither of them imports the other: the caller
+//! ([`crate::pipeline`]) picks the emitter and hands it to the unwarp.
+//!
+//! Also here, for every emitter: [`EWriter`] (E words without drift), the machine report an
+//! emitter may give ([`MachineReport`]) and the feed modes ([`FeedMode`]).
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::error::Coded;
+use crate::job::Job;
+use crate::toolpath::ToolPoint;
+
+mod cartesian;
+mod e_writer;
+mod report;
+
+pub use cartesian::Cartesian;
+pub use e_writer::{EWriter, E_QUANTUM};
+pub use report::{FeedMode, MachineReport};
+
+/// Feed for travels, lifts and descents warpslice adds when the slicer gave none, mm/min
+/// (100 mm/s).
+pub const DEFAULT_TRAVEL_FEED: f64 = 6000.0;
+
+/// An emitter's error: whatever the emitter's own area reports (a machine's
+/// [`crate::machine::MachineError`]), kept whole with its code and message. Use
+/// [`EmitError::downcast_ref`] to get the original back.
+#[derive(Clone, Debug)]
+pub struct EmitError(Arc<dyn Coded + Send + Sync>);
+
+impl EmitError {
+    /// Wrap an emitter's error.
+    pub fn new<E: Coded + Send + Sync + 'static>(e: E) -> EmitError {
+        EmitError(Arc::new(e))
+    }
+    /// The original error, if it is an `E`.
+    pub fn downcast_ref<E: Coded + 'static>(&self) -> Option<&E> {
+        let e: &(dyn std::error::Error + 'static) = &*self.0;
+        e.downcast_ref::<E>()
+    }
+}
+
+impl PartialEq for EmitError {
+    fn eq(&self, other: &EmitError) -> bool {
+        self.0.code() == other.0.code() && self.0.to_string() == other.0.to_string()
+    }
+}
+
+impl std::fmt::Display for EmitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl std::error::Error for EmitError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.0.source()
+    }
+}
+
+impl Coded for EmitError {
+    fn code(&self) -> &'static str {
+        self.0.code()
+    }
+}
+
+/// Turns toolpath points into G-code.
+pub trait Emitter: Send {
+    /// Before anything is written: refuse a job this emitter would print wrong although every
+    /// point is reachable. `model_to_output` moves the job's model frame to the output.
+    fn check_job(&mut self, _job: &Job, _model_to_output: DVec3) -> Result<(), EmitError> {
+        Ok(())
+    }
+    /// Header lines after warpslice's own (`; warpslice machine = …`).
+    fn header(&mut self, _out: &mut Vec<u8>) {}
+    /// The printed region starts; the head is at `p` with tool axis `n` (output frame).
+    fn begin_region(&mut self, _out: &mut Vec<u8>, _p: DVec3, _n: DVec3) -> Result<(), EmitError> {
+        Ok(())
+    }
+    /// The printed region ends (after the driver's lift): leave the machine ready for the
+    /// 3-axis G-code that follows.
+    fn end_region(&mut self, _out: &mut Vec<u8>) -> Result<(), EmitError> {
+        Ok(())
+    }
+    /// A line that passes through verbatim (without its terminator).
+    fn raw(&mut self, out: &mut Vec<u8>, raw: &[u8]) {
+        out.extend_from_slice(raw);
+        out.push(b'\n');
+    }
+    /// Move to `tp` from the previous point: an extrusion (`!tp.travel`), a travel
+    /// (`tp.travel`, `tp.e == 0`) or, when `tp.travel` and `tp.e != 0`, a retraction or
+    /// unretraction in place. `relative_e`: the file's E mode (M83) in force. A machine that
+    /// cannot reach the point returns the error; the driver stops with it.
+    fn point(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+    ) -> Result<(), EmitError>;
+    /// `G92 E v` passed through: the firmware's E is now v.
+    fn reset_e(&mut self, v: f64);
+    /// The firmware's E after the last point (absolute mode).
+    fn current_e(&self) -> f64;
+    /// End of the output (flush anything held back).
+    fn finish(&mut self, _out: &mut Vec<u8>) {}
+    /// The machine's measurements (machine emitters only).
+    fn machine_report(&self) -> Option<MachineReport> {
+        None
+    }
+}

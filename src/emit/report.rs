@@ -1,0 +1,62 @@
+//! What a machine emitter reports, and how it writes F.
+//!
+//! The feed modes are explained with their formulas in [`crate::machine::feed`].
+
+use serde::{Deserialize, Serialize};
+
+/// How the output F is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FeedMode {
+    /// F = tip feed (firmware counts linear axes only).
+    #[default]
+    Xyz,
+    /// F scaled so the move takes tip_length / f with rotary degrees counted in the length.
+    AllAxes,
+    /// G93 inverse time: F = 1 / minutes.
+    InverseTime,
+}
+
+impl FeedMode {
+    /// Parse `xyz`, `all-axes`, `inverse-time`.
+    pub fn parse(s: &str) -> Option<FeedMode> {
+        match s {
+            "xyz" => Some(FeedMode::Xyz),
+            "all-axes" => Some(FeedMode::AllAxes),
+            "inverse-time" => Some(FeedMode::InverseTime),
+            _ => None,
+        }
+    }
+}
+
+/// What the machine emitter measured over the file.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MachineReport {
+    /// Preset / machine name.
+    pub machine: String,
+    /// Firmware flavour.
+    pub flavour: String,
+    /// Feed mode.
+    pub feed: FeedMode,
+    /// Toolpath moves in, G1 moves out.
+    pub moves_in: u64,
+    pub moves_out: u64,
+    /// Worst tip deviation of the firmware's interpolation from the intended path, mm.
+    pub worst_position_mm: f64,
+    /// Worst tool-axis deviation of the interpolation, degrees.
+    pub worst_angle_deg: f64,
+    /// Largest angle between a requested tool axis and the realised one, degrees.
+    pub worst_dropped_deg: f64,
+    /// Moves where splitting hit the depth limit (a discontinuity; error still measured).
+    pub depth_limited: u64,
+    /// Single-revolution rotate-arounds.
+    pub rotate_arounds: u64,
+    /// Pose discontinuities crossed in place (rotary axes stepped with the tip held).
+    pub reposes: u64,
+    /// Filament of the moves replaced by a rotate-around, mm.
+    pub e_skipped_mm: f64,
+    /// `G92` modulo-360° resets of unlimited rotary axes.
+    pub rotary_resets: u64,
+    /// Offset added to the written Z axes (triple-Z bed), mm.
+    pub z_axes_offset_mm: f64,
+}

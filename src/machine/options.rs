@@ -1,0 +1,67 @@
+//! The machine options of the unwarp step (`--machine`, `--feed`, `--flavour`) and the emitter
+//! they ask for.
+
+use serde::{Deserialize, Serialize};
+
+use super::{FeedMode, Flavour, MachineEmitter, MachineError, MachineSpec};
+use crate::emit::{Cartesian, Emitter};
+use crate::schema::{Param, ParamDefault};
+
+/// `--machine`, `--feed`, `--flavour`: which emitter writes the unwarped toolpath. In the
+/// options JSON these keys sit beside the unwarp's own (see [`crate::pipeline::UnwarpSettings`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct MachineOptions {
+    /// `--machine`: write the machine's axes instead of 3-axis G-code. In JSON a machine
+    /// object or a preset name (`"machine": "pax-5axis"`).
+    #[serde(deserialize_with = "machine_from_json")]
+    pub machine: Option<MachineSpec>,
+    /// `--feed`: how F is written for a machine.
+    pub feed: FeedMode,
+    /// `--flavour`: the firmware (overrides the machine's).
+    pub flavour: Option<Flavour>,
+}
+
+/// `machine` in the options JSON: `null`, a preset name or a machine object.
+fn machine_from_json<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<MachineSpec>, D::Error> {
+    use serde::de::Error as _;
+    match Option::<serde_json::Value>::deserialize(d)? {
+        None | Some(serde_json::Value::Null) => Ok(None),
+        Some(serde_json::Value::String(name)) => {
+            super::preset(&name).map(Some).map_err(D::Error::custom)
+        }
+        Some(v @ serde_json::Value::Object(_)) => {
+            MachineSpec::from_json(&v.to_string(), "unwarp options 'machine'")
+                .map(Some)
+                .map_err(D::Error::custom)
+        }
+        Some(other) => Err(D::Error::custom(format!(
+            "machine must be a preset name or a machine object, not {other}"
+        ))),
+    }
+}
+
+impl MachineOptions {
+    /// The emitter these options ask for: 3-axis, or the machine's.
+    pub fn emitter(&self) -> Result<Box<dyn Emitter>, MachineError> {
+        Ok(match &self.machine {
+            None => Box::new(Cartesian::new()),
+            Some(spec) => Box::new(MachineEmitter::new(spec, self.flavour, self.feed)?),
+        })
+    }
+}
+
+/// The machine options as the CLI and the page show them ([`crate::describe`]); `machine`
+/// itself is a preset name or a machine object (the page's machine select and JSON box).
+pub const PARAMS: &[Param] = &[
+    Param::number("feed", "--feed", "Feed mode")
+        .choices(&["xyz", "all-axes", "inverse-time"])
+        .default(ParamDefault::Text("xyz"))
+        .help("how F is written for a machine: tip speed, scaled for rotary axes, or G93 inverse time"),
+    Param::number("flavour", "--flavour", "Firmware")
+        .choices(&["reprapfirmware", "marlin", "klipper"])
+        .optional()
+        .help("the firmware the output is for (default: the machine's, else reprapfirmware)"),
+];

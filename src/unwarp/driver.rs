@@ -1,0 +1,178 @@
+//! The streaming driver: two passes over the same bytes.
+
+use glam::DVec3;
+
+use super::core::Core;
+use super::{travel, UnwarpError, UnwarpOptions, UnwarpReport};
+use crate::emit::Emitter;
+use crate::gcode::{ReadOptions, Reader};
+use crate::job::Job;
+use crate::register::{Registration, Scanner};
+use crate::toolpath::ToolPoint;
+
+/// Streaming unwarp: [`Unwarper::scan`] the whole G-code, [`Unwarper::end_scan`], then
+/// [`Unwarper::push`] it again, draining [`Unwarper::take_output`] as you go, and
+/// [`Unwarper::finish`].
+pub struct Unwarper {
+    job: Job,
+    opts: UnwarpOptions,
+    scanner: Option<Scanner>,
+    reader: Reader,
+    core: Option<Core>,
+    /// The emitter, until pass 2 starts.
+    emitter: Option<Box<dyn Emitter>>,
+    finished: bool,
+}
+
+impl Unwarper {
+    /// Start an unwarp of a G-code sliced from `job`'s warped STL; `emitter` writes the
+    /// output (3-axis or a machine's axes; see [`crate::pipeline`]).
+    pub fn new(
+        job: &Job,
+        opts: &UnwarpOptions,
+        emitter: Box<dyn Emitter>,
+    ) -> Result<Unwarper, UnwarpError> {
+        opts.validate()?;
+        // build once to validate the job's warp
+        job.warp.clone().build(&job.model_bbox)?;
+        Ok(Unwarper {
+            emitter: Some(emitter),
+            job: job.clone(),
+            opts: opts.clone(),
+            scanner: Some(Scanner::new(job)),
+            reader: Reader::new(ReadOptions::default()),
+            core: None,
+            finished: false,
+        })
+    }
+
+    /// Pass 1: feed a chunk.
+    pub fn scan(&mut self, chunk: &[u8]) -> Result<(), UnwarpError> {
+        match self.scanner.as_mut() {
+            Some(s) => Ok(s.push(chunk)?),
+            None => Err(UnwarpError::Order {
+                expected: "scan before end_scan",
+            }
+            .into()),
+        }
+    }
+
+    /// End of pass 1: registration. Writes the output header.
+    pub fn end_scan(&mut self) -> Result<Registration, UnwarpError> {
+        let scanner = self
+            .scanner
+            .take()
+            .ok_or(UnwarpError::Order { expected: "scan" })?;
+        let reg = scanner.finish(&self.job, self.opts.offset)?;
+        let mut params = self.job.warp.clone();
+        let warp = params.build(&self.job.model_bbox)?;
+        let [dx, dy, _] = reg.translation;
+        let shift = match self.opts.place {
+            Some([px, py]) if px.is_finite() && py.is_finite() => DVec3::new(px - dx, py - dy, 0.0),
+            Some(place) => return Err(UnwarpError::BadPlace { place }.into()),
+            None => DVec3::ZERO,
+        };
+        let model_to_output = DVec3::new(dx + shift.x, dy + shift.y, self.opts.z_offset);
+        let mut emit = self.emitter.take().ok_or(UnwarpError::Order {
+            expected: "end_scan only once:",
+        })?;
+        emit.check_job(&self.job, model_to_output)
+            .map_err(|error| UnwarpError::Emit { line: None, error })?;
+        let b = reg.gcode_bbox;
+        let mut core = Core {
+            job: self.job.clone(),
+            warp,
+            opts: self.opts.clone(),
+            reg: reg.clone(),
+            dx,
+            dy,
+            shift,
+            out: Vec::with_capacity(1 << 16),
+            emit,
+            emit_error: None,
+            slicer_e: 0.0,
+            cur: None,
+            pending: None,
+            retracted: 0.0,
+            grid: travel::HeightGrid::new((b.min + shift).truncate(), (b.max + shift).truncate()),
+            inside: false,
+            done_region: false,
+            min_nz: 1.0,
+            e_relative: false,
+            report: UnwarpReport {
+                translation: reg.translation,
+                residual: reg.residual,
+                model_to_output: model_to_output.to_array(),
+                skirt: if self.opts.drop_skirt {
+                    "dropped".into()
+                } else {
+                    "flat".into()
+                },
+                ..UnwarpReport::default()
+            },
+            toolpath: Vec::new(),
+            stack: Vec::new(),
+            pieces: Vec::new(),
+        };
+        core.header();
+        self.core = Some(core);
+        Ok(reg)
+    }
+
+    /// Pass 2: feed a chunk (the same bytes again, from the start).
+    pub fn push(&mut self, chunk: &[u8]) -> Result<(), UnwarpError> {
+        let core = self.core.as_mut().ok_or(UnwarpError::Order {
+            expected: "end_scan",
+        })?;
+        let r = self
+            .reader
+            .push::<UnwarpError>(chunk, &mut |l, s| core.line(&l, s));
+        r
+    }
+
+    /// Drain the output written so far.
+    pub fn take_output(&mut self) -> Vec<u8> {
+        // hand over the buffer and start a new one of the same capacity (no regrowth)
+        self.core
+            .as_mut()
+            .map(|c| {
+                let cap = c.out.capacity();
+                std::mem::replace(&mut c.out, Vec::with_capacity(cap))
+            })
+            .unwrap_or_default()
+    }
+
+    /// Drain the toolpath collected so far (`collect_toolpath`).
+    pub fn take_toolpath(&mut self) -> Vec<ToolPoint> {
+        self.core
+            .as_mut()
+            .map(|c| std::mem::take(&mut c.toolpath))
+            .unwrap_or_default()
+    }
+
+    /// End of pass 2; drain the output after this.
+    pub fn finish(&mut self) -> Result<UnwarpReport, UnwarpError> {
+        if self.finished {
+            return Err(UnwarpError::Order {
+                expected: "finish only once:",
+            });
+        }
+        let core = self.core.as_mut().ok_or(UnwarpError::Order {
+            expected: "end_scan",
+        })?;
+        self.reader
+            .finish::<UnwarpError>(&mut |l, s| core.line(&l, s))?;
+        if core.inside && !core.done_region {
+            core.end_region();
+        }
+        core.report.largest_tilt_deg =
+            crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
+        if let Some(e) = core.emit_error.take() {
+            return Err(e);
+        }
+        core.counted(|c| c.emit.finish(&mut c.out));
+        core.report.machine = core.emit.machine_report();
+        self.finished = true;
+        Ok(core.report.clone())
+    }
+}

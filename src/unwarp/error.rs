@@ -1,0 +1,163 @@
+//! Why a G-code cannot be unwarped.
+
+use crate::emit::EmitError;
+use crate::error::{Coded, ErrorCode};
+use crate::gcode::GcodeError;
+use crate::register::RegisterError;
+use crate::warp::WarpError;
+
+/// Why a G-code cannot be unwarped.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum UnwarpError {
+    /// G91 relative positioning inside the printed region.
+    RelativePositioning {
+        line: u64,
+    },
+    /// G92 with X, Y or Z inside the printed region.
+    AxisReset {
+        line: u64,
+    },
+    /// G20 inches inside the printed region.
+    Inches {
+        line: u64,
+    },
+    Gcode(GcodeError),
+    /// The streaming calls came in the wrong order.
+    Order {
+        expected: &'static str,
+    },
+    /// The emitter (a machine) cannot follow the toolpath or refuses the job: the G-code line
+    /// being unwarped when it happened (`None`: before the first line).
+    Emit {
+        line: Option<u64>,
+        error: EmitError,
+    },
+    /// A bad option value (name, value, what is allowed).
+    Option {
+        name: &'static str,
+        value: String,
+        allowed: &'static str,
+    },
+    /// The job's warp cannot be built.
+    Warp(WarpError),
+    /// Pass 1 could not find where the slicer put the part.
+    Register(RegisterError),
+    /// `place` is not two finite numbers.
+    BadPlace {
+        place: [f64; 2],
+    },
+}
+
+impl From<GcodeError> for UnwarpError {
+    fn from(e: GcodeError) -> Self {
+        UnwarpError::Gcode(e)
+    }
+}
+
+impl std::fmt::Display for UnwarpError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            UnwarpError::RelativePositioning { line } => write!(
+                f,
+                "G-code line {line}: relative positioning (G91) inside the printed region is not supported; export absolute coordinates"
+            ),
+            UnwarpError::AxisReset { line } => write!(
+                f,
+                "G-code line {line}: G92 resets X/Y/Z inside the printed region; remove it (only G92 E is allowed there)"
+            ),
+            UnwarpError::Inches { line } => {
+                write!(f, "G-code line {line}: inches (G20) inside the printed region; export the G-code in millimetres")
+            }
+            UnwarpError::Gcode(e) => e.fmt(f),
+            UnwarpError::Warp(e) => e.fmt(f),
+            UnwarpError::Register(e) => e.fmt(f),
+            UnwarpError::Option {
+                name,
+                value,
+                allowed,
+            } => write!(f, "option {name} = {value} is not allowed: {allowed}"),
+            UnwarpError::Order { expected } => write!(f, "unwarp: call {expected} first"),
+            UnwarpError::Emit { line: Some(line), error } => write!(f, "G-code line {line}: {error}"),
+            UnwarpError::Emit { line: None, error } => error.fmt(f),
+            UnwarpError::BadPlace { place } => {
+                write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
+            }
+        }
+    }
+}
+
+impl std::error::Error for UnwarpError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            UnwarpError::Gcode(e) => Some(e),
+            UnwarpError::Warp(e) => Some(e),
+            UnwarpError::Register(e) => Some(e),
+            UnwarpError::Emit { error, .. } => Some(error),
+            _ => None,
+        }
+    }
+}
+
+impl From<WarpError> for UnwarpError {
+    fn from(e: WarpError) -> Self {
+        UnwarpError::Warp(e)
+    }
+}
+
+impl From<RegisterError> for UnwarpError {
+    fn from(e: RegisterError) -> Self {
+        UnwarpError::Register(e)
+    }
+}
+
+impl Coded for UnwarpError {
+    fn code(&self) -> &'static str {
+        match self {
+            UnwarpError::RelativePositioning { .. } => "unwarp.relative-positioning",
+            UnwarpError::AxisReset { .. } => "unwarp.axis-reset",
+            UnwarpError::Inches { .. } => "unwarp.inches",
+            UnwarpError::Order { .. } => "unwarp.order",
+            UnwarpError::BadPlace { .. } => "unwarp.bad-place",
+            UnwarpError::Option { .. } => "unwarp.option",
+            UnwarpError::Gcode(e) => e.code(),
+            UnwarpError::Warp(e) => e.code(),
+            UnwarpError::Register(e) => e.code(),
+            UnwarpError::Emit { error, .. } => error.code(),
+        }
+    }
+}
+
+/// The codes of the unwarp's own errors (see [`crate::error`]); wrapped errors report theirs.
+pub const ERROR_CODES: &[ErrorCode] = &[
+    ErrorCode {
+        code: "unwarp.relative-positioning",
+        area: "unwarp",
+        summary: "G91 relative positioning inside the printed region",
+    },
+    ErrorCode {
+        code: "unwarp.axis-reset",
+        area: "unwarp",
+        summary: "G92 X/Y/Z inside the printed region",
+    },
+    ErrorCode {
+        code: "unwarp.inches",
+        area: "unwarp",
+        summary: "G20 inches inside the printed region",
+    },
+    ErrorCode {
+        code: "unwarp.order",
+        area: "unwarp",
+        summary: "the streaming calls came in the wrong order",
+    },
+    ErrorCode {
+        code: "unwarp.bad-place",
+        area: "unwarp",
+        summary: "place is not two finite numbers",
+    },
+    ErrorCode {
+        code: "unwarp.option",
+        area: "unwarp",
+        summary: "an unwarp option outside its range",
+    },
+];

@@ -1,0 +1,41 @@
+//! What the unwarp step did.
+
+use serde::{Deserialize, Serialize};
+
+use crate::emit::MachineReport;
+
+/// What unwarp did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct UnwarpReport {
+    /// STL → G-code translation found (or given), mm.
+    pub translation: [f64; 3],
+    pub residual: f64,
+    /// Translation from model-frame coordinates to the output's X Y Z.
+    pub model_to_output: [f64; 3],
+    pub lines_in: u64,
+    pub lines_out: u64,
+    /// Object extrusion moves split into more than one piece.
+    pub moves_split: u64,
+    /// Extrusion segments written.
+    pub segments_out: u64,
+    /// Filament of all extrusions read, mm.
+    pub e_in: f64,
+    /// Filament of all extrusions written, mm.
+    pub e_out: f64,
+    /// Filament of the anchor layer (dropped), mm.
+    pub e_anchor: f64,
+    /// Filament of skirt/brim/custom extrusions (kept flat or dropped), mm.
+    pub e_skirt: f64,
+    /// "flat" or "dropped".
+    pub skirt: String,
+    /// Largest angle between tool axis and vertical on an extrusion, degrees.
+    pub largest_tilt_deg: f64,
+    /// Points clamped to the bed.
+    pub clamped_points: u64,
+    /// Travels lifted over printed material.
+    pub lifts: u64,
+    /// Retractions added around lifted travels.
+    pub retracts_added: u64,
+    /// The machine emitter's measurements (`--machine`).
+    pub machine: Option<MachineReport>,
+}
