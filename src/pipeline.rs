@@ -229,6 +229,13 @@ pub struct UnwarpSettings {
     pub output: MachineOptions,
 }
 
+impl From<UnwarpOptions> for UnwarpSettings {
+    /// 3-axis output with these unwarp options.
+    fn from(unwarp: UnwarpOptions) -> UnwarpSettings {
+        UnwarpSettings::three_axis(unwarp)
+    }
+}
+
 impl UnwarpSettings {
     /// 3-axis output with these unwarp options.
     pub fn three_axis(unwarp: UnwarpOptions) -> UnwarpSettings {

@@ -23,7 +23,9 @@ use warpslice::machine::{preset, MachineSpec};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
-use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::machine::MachineOptions;
+use warpslice::pipeline::{unwarp, UnwarpSettings};
+use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 fn tmpdir(tag: &str) -> std::path::PathBuf {
@@ -152,11 +154,13 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else {
         return Ok("skipped".into());
     };
-    let opts = UnwarpOptions {
-        collect_toolpath: true,
-        machine: Some(spec.clone()),
-        ..UnwarpOptions::default()
-    };
+    let opts = UnwarpSettings::with_machine(
+        UnwarpOptions {
+            collect_toolpath: true,
+            ..UnwarpOptions::default()
+        },
+        spec.clone(),
+    );
     let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
     let path = dir.join(format!("{tag}.gcode"));
     std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
@@ -324,10 +328,8 @@ fn unwarp_errors_are_named() {
     let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else {
         return;
     };
-    let ratrig = UnwarpOptions {
-        machine: Some(preset("ratrig-vcore3-3z").unwrap()),
-        ..UnwarpOptions::default()
-    };
+    let ratrig =
+        UnwarpSettings::with_machine(UnwarpOptions::default(), preset("ratrig-vcore3-3z").unwrap());
     let e = unwarp(&input, &job, &ratrig).unwrap_err().to_string();
     assert!(
         e.starts_with("G-code line ")
@@ -336,32 +338,36 @@ fn unwarp_errors_are_named() {
         "{e}"
     );
     // limit exceeded: the polar machine reaches 150 mm from its centre; the part is at (100, 100)
-    let polar = UnwarpOptions {
-        machine: Some(preset("core-r-theta").unwrap()),
-        ..UnwarpOptions::default()
-    };
+    let polar =
+        UnwarpSettings::with_machine(UnwarpOptions::default(), preset("core-r-theta").unwrap());
     let e = unwarp(&input, &job, &polar).unwrap_err().to_string();
     assert!(
         e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"),
         "{e}"
     );
     // Klipper cannot drive a 5-axis head
-    let klipper = UnwarpOptions {
-        machine: Some(preset("pax-5axis").unwrap()),
-        flavour: Some(warpslice::machine::Flavour::Klipper),
-        ..UnwarpOptions::default()
+    let klipper = UnwarpSettings {
+        unwarp: UnwarpOptions::default(),
+        output: MachineOptions {
+            machine: Some(preset("pax-5axis").unwrap()),
+            flavour: Some(warpslice::machine::Flavour::Klipper),
+            ..MachineOptions::default()
+        },
     };
     let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();
     assert!(e.contains("Klipper has no rotary-axis"), "{e}");
     // options JSON: a preset name, an unknown one
-    let o: UnwarpOptions =
+    let o: UnwarpSettings =
         serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
-    assert_eq!(o.machine.as_ref().map(|m| m.name.as_str()), Some("rotbot"));
-    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": "nope"}"#)
+    assert_eq!(
+        o.output.machine.as_ref().map(|m| m.name.as_str()),
+        Some("rotbot")
+    );
+    let bad = serde_json::from_str::<UnwarpSettings>(r#"{"machine": "nope"}"#)
         .unwrap_err()
         .to_string();
     assert!(bad.contains("unknown machine preset 'nope'"), "{bad}");
-    let bad = serde_json::from_str::<UnwarpOptions>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#)
+    let bad = serde_json::from_str::<UnwarpSettings>(r#"{"machine": {"kind": "pax", "tilt": 3}}"#)
         .unwrap_err()
         .to_string();
     assert!(bad.contains("unknown field 'tilt'"), "{bad}");
@@ -459,7 +465,7 @@ fn circle_path() -> Vec<ToolPoint> {
 }
 
 fn emit_all(spec: &MachineSpec, path: &[ToolPoint]) -> (String, warpslice::machine::MachineReport) {
-    use warpslice::unwarp::Emitter;
+    use warpslice::emit::Emitter;
     let mut em =
         warpslice::machine::MachineEmitter::new(spec, None, warpslice::machine::FeedMode::Xyz)
             .unwrap();

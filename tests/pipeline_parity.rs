@@ -14,7 +14,7 @@ mod synthetic;
 use glam::DVec3;
 use warpslice::job::fnv1a64;
 use warpslice::pipeline::{warp_model, WarpOptions};
-use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::warp::{laws, Direction, WarpParams, WarpSpec};
 
 const GOLDEN: &str = include_str!("golden/pipeline_parity.txt");
@@ -87,7 +87,7 @@ fn compute() -> String {
         let w = warp_model(&stl, &WarpOptions::new(params)).unwrap();
         for relative in [true, false] {
             let g = synthetic::gcode(&w.job, relative, 2.0);
-            let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
+            let u = unwarp(g.as_bytes(), &w.job, &UnwarpSettings::default()).unwrap();
             assert!(u.report.segments_out > 100, "{name}: {:?}", u.report);
             out += &format!(
                 "{name} {} {:016x} {:016x}\n",

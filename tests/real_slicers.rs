@@ -38,7 +38,8 @@ use warpslice::machine::{preset, preset_names, MachineSpec};
 use warpslice::pipeline::warp_model;
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
-use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
+use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{WarpParams, WarpSpec};
 
 /// Threads per test function (the tests themselves run in parallel too).
@@ -251,7 +252,8 @@ fn run_case(
         &UnwarpOptions {
             collect_toolpath: true,
             ..UnwarpOptions::default()
-        },
+        }
+        .into(),
     ) {
         Ok(out) => out,
         // a model thinner than a line width: the slicer printed nothing of it, and unwarp
@@ -335,12 +337,14 @@ fn machine_case(
     let shift = place.map_or(DVec3::ZERO, |[x, y]| {
         DVec3::new(x - core_m2o[0], y - core_m2o[1], 0.0)
     });
-    let opts = UnwarpOptions {
-        collect_toolpath: true,
-        machine: Some(spec),
-        place,
-        ..UnwarpOptions::default()
-    };
+    let opts = UnwarpSettings::with_machine(
+        UnwarpOptions {
+            collect_toolpath: true,
+            place,
+            ..UnwarpOptions::default()
+        },
+        spec,
+    );
     let out = match unwarp(input, job, &opts) {
         Ok(out) => out,
         Err(e) => {

@@ -9,7 +9,9 @@ mod synthetic;
 
 use warpslice::gcode::{ReadOptions, Reader};
 use warpslice::pipeline::{warp_model, WarpOptions};
-use warpslice::unwarp::{unwarp, UnwarpOptions};
+use warpslice::machine::MachineOptions;
+use warpslice::pipeline::{unwarp, UnwarpSettings};
+use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 fn conic_cube() -> warpslice::pipeline::WarpOutput {
@@ -56,7 +58,7 @@ fn absolute_e_continues_from_the_slicers_e_at_the_region_start() {
         "G1 E-2 F2400\n;TYPE:Skirt/Brim",
         1,
     );
-    let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
+    let u = unwarp(g.as_bytes(), &w.job, &UnwarpSettings::default()).unwrap();
     let read_back = extruded(&u.gcode);
     assert!(
         (read_back - u.report.e_out).abs() < 1e-3,
@@ -71,7 +73,7 @@ fn absolute_e_continues_from_the_slicers_e_at_the_region_start() {
 fn relative_e_gets_no_resync_line() {
     let w = conic_cube();
     let g = synthetic::gcode(&w.job, true, 2.0);
-    let u = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default()).unwrap();
+    let u = unwarp(g.as_bytes(), &w.job, &UnwarpSettings::default()).unwrap();
     assert!(!String::from_utf8_lossy(&u.gcode).contains("back to the slicer's E"));
     assert!((extruded(&u.gcode) - u.report.e_out).abs() < 1e-3);
 }
@@ -84,7 +86,7 @@ fn gcode_of_the_unwarped_model_is_refused() {
     // pretend the slicer was given the original 20 mm cube: its bbox is 8 mm lower
     job.warped_bbox.max.z -= 8.0;
     let g = synthetic::gcode(&job, true, 2.0);
-    let e = unwarp(g.as_bytes(), &w.job, &UnwarpOptions::default())
+    let e = unwarp(g.as_bytes(), &w.job, &UnwarpSettings::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("does not match the warped model"), "{e}");
@@ -94,7 +96,7 @@ fn gcode_of_the_unwarped_model_is_refused() {
 #[test]
 fn binary_gcode_is_refused() {
     let w = conic_cube();
-    let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpOptions::default())
+    let e = unwarp(b"GCDE\x01\x00\x00\x00", &w.job, &UnwarpSettings::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("binary G-code"), "{e}");
@@ -116,14 +118,15 @@ fn place_moves_part_and_skirt_but_not_the_start_gcode() {
         collect_toolpath: true,
         ..UnwarpOptions::default()
     };
-    let at = unwarp(g.as_bytes(), &w.job, &opts).unwrap();
+    let at = unwarp(g.as_bytes(), &w.job, &opts.clone().into()).unwrap();
     let placed = unwarp(
         g.as_bytes(),
         &w.job,
         &UnwarpOptions {
             place: Some([-30.0, 12.5]),
             ..opts.clone()
-        },
+        }
+        .into(),
     )
     .unwrap();
     let m2o = placed.report.model_to_output;
@@ -171,7 +174,8 @@ fn place_moves_part_and_skirt_but_not_the_start_gcode() {
         &UnwarpOptions {
             place: Some([f64::NAN, 0.0]),
             ..opts
-        },
+        }
+        .into(),
     )
     .unwrap_err()
     .to_string();
@@ -194,10 +198,15 @@ fn cylindrical_job_off_the_mandrel_axis_is_refused() {
     let w = warp_model(&stl, &WarpOptions::new(p)).unwrap();
     let g = synthetic::gcode(&w.job, true, 2.0);
     let mut lathe = warpslice::machine::preset("lathe-a").unwrap();
-    let opts = UnwarpOptions {
-        machine: Some(lathe.clone()),
-        place: Some([0.0, 0.0]),
-        ..UnwarpOptions::default()
+    let opts = UnwarpSettings {
+        unwarp: UnwarpOptions {
+            place: Some([0.0, 0.0]),
+            ..UnwarpOptions::default()
+        },
+        output: MachineOptions {
+            machine: Some(lathe.clone()),
+            ..MachineOptions::default()
+        },
     };
     let e = unwarp(g.as_bytes(), &w.job, &opts).unwrap_err().to_string();
     assert!(
@@ -211,10 +220,7 @@ fn cylindrical_job_off_the_mandrel_axis_is_refused() {
     let e = unwarp(
         g.as_bytes(),
         &w.job,
-        &UnwarpOptions {
-            machine: Some(lathe.clone()),
-            ..UnwarpOptions::default()
-        },
+        &UnwarpSettings::with_machine(UnwarpOptions::default(), lathe.clone()),
     )
     .unwrap_err()
     .to_string();
@@ -222,11 +228,13 @@ fn cylindrical_job_off_the_mandrel_axis_is_refused() {
     let ok = unwarp(
         g.as_bytes(),
         &w.job,
-        &UnwarpOptions {
-            machine: Some(lathe),
-            place: Some([0.0, 0.0]),
-            ..UnwarpOptions::default()
-        },
+        &UnwarpSettings::with_machine(
+            UnwarpOptions {
+                place: Some([0.0, 0.0]),
+                ..UnwarpOptions::default()
+            },
+            lathe,
+        ),
     );
     assert!(ok.is_ok(), "{:?}", ok.err().map(|e| e.to_string()));
 }
