@@ -116,14 +116,18 @@ ws_rust() {
   fi
 }
 
+# clippy and rustfmt: the clippy and fmt tiers fail without them.
 ws_clippy() {
-  if cargo clippy --version >/dev/null 2>&1; then
-    ws_say "clippy present"
-  elif command -v rustup >/dev/null 2>&1 && ws_logged rustup component add clippy; then
-    ws_say "installed clippy"
-  else
-    ws_say "clippy not available (the clippy tier will be skipped)"
-  fi
+  local c
+  for c in clippy rustfmt; do
+    if cargo "${c/rustfmt/fmt}" --version >/dev/null 2>&1; then
+      ws_say "$c present"
+    elif command -v rustup >/dev/null 2>&1 && ws_logged rustup component add "$c"; then
+      ws_say "installed $c"
+    else
+      ws_die "$c is missing and rustup cannot add it: install the Rust component '$c'"
+    fi
+  done
 }
 
 ws_cura_res_ok() { [[ -n "${1:-}" && -f "$1/definitions/fdmprinter.def.json" ]]; }

@@ -3,10 +3,11 @@
 # Exits non-zero if any tier fails.
 #
 #   bash scripts/test.sh            # all tiers
-#   bash scripts/test.sh native     # only the named tiers: clippy native wasm web
+#   bash scripts/test.sh native     # only the named tiers: fmt clippy native wasm web
 #
 # Tiers:
-#   clippy  cargo clippy --all-targets -- -D warnings   (report only: never fails the run)
+#   fmt     cargo fmt --check                            (the house format, rustfmt.toml)
+#   clippy  cargo clippy --all-targets -- -D warnings    (any finding fails the run)
 #   native  cargo test --release    (unit, property, integration incl. the real slicers)
 #   wasm    wasm-pack test --node   (the crate compiled to wasm32, run under node)
 #   web     browser tests of www/   (once www/package.json exists)
@@ -15,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 ROOT=$(pwd)
 
-ALL_TIERS=(clippy native wasm web)
+ALL_TIERS=(fmt clippy native wasm web)
 TIERS=("$@")
 [[ ${#TIERS[@]} == 0 ]] && TIERS=("${ALL_TIERS[@]}")
 for t in "${TIERS[@]}"; do
@@ -62,18 +63,14 @@ timed() {
   fi
 }
 
+tier_fmt() {
+  header fmt "cargo fmt --check"
+  timed fmt cargo fmt --check
+}
+
 tier_clippy() {
-  header clippy "cargo clippy --all-targets -- -D warnings (report only)"
-  if ! cargo clippy --version >/dev/null 2>&1; then
-    record clippy SKIP 0 "clippy not installed"
-    return
-  fi
-  local start=$(date +%s)
-  if cargo clippy --all-targets -- -D warnings; then
-    record clippy PASS $(($(date +%s) - start))
-  else
-    record clippy WARN $(($(date +%s) - start)) "clippy findings above; not counted as a failure yet"
-  fi
+  header clippy "cargo clippy --all-targets -- -D warnings"
+  timed clippy cargo clippy --all-targets -- -D warnings
 }
 
 tier_native() {

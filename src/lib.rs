@@ -11,6 +11,31 @@
 //!  G-code ◄─ machine.inverse ◄─ unwarp (segment, warp.inverse, E, travel) ◄─ register ◄─ gcode::read
 //! ```
 //!
+//! ## Layers
+//! Data flows one way. A module may use only modules on **earlier** lines of this list (modules
+//! on one line are independent of each other); `tests/architecture.rs` reads this list and
+//! fails on any `crate::` path that points sideways or back, and on any cycle:
+//!
+//! ```text
+//! 1  error num schema tolerance
+//! 2  mesh
+//! 3  shapes warp
+//! 4  anchor job toolpath
+//! 5  gcode surfaces
+//! 6  register
+//! 7  emit
+//! 8  unwarp
+//! 9  machine
+//! 10 calibrate slicer
+//! 11 pipeline
+//! 12 describe
+//! 13 wasm
+//! ```
+//!
+//! `emit` (the [`emit::Emitter`] trait, E writing, the 3-axis emitter) sits below both `unwarp`
+//! and `machine`: the unwarp computes the toolpath and hands it to an emitter it does not
+//! know; a machine's emitter writes its axes; the `pipeline` picks which.
+//!
 //! ## Frames
 //! - **input frame**: the STL as read.
 //! - **model frame**: the input translated so that the centre of its XY bounding box is at
@@ -25,6 +50,8 @@
 //! mm and degrees at every interface (CLI, JSON, G-code), radians inside; f64 throughout.
 //! The tool axis `n` is the unit vector from the tip into the nozzle (up when printing planar).
 //! "outward" means z' = z + g with g ≥ 0 growing away from the warp's centre.
+
+#![warn(missing_docs)]
 
 pub mod error;
 pub mod num;

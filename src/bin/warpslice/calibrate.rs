@@ -1,8 +1,7 @@
 //! `warpslice calibrate …`: argument parsing and printing for the calibration core
-//! (`warpslice::calibrate`, seed 004). Included by `main.rs` as a module; nothing else here.
+//! (`warpslice::calibrate`, seed 004); nothing else here.
 
-use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
 use glam::DVec3;
@@ -10,7 +9,9 @@ use warpslice::calibrate::patterns::{self, PrintOptions, TestKind};
 use warpslice::calibrate::probes::{self, ProbeInput};
 use warpslice::calibrate::simulate::{self, Deviation, Pair};
 use warpslice::calibrate::{self as cal, OriginOptions};
-use warpslice::machine::MachineSpec;
+
+use crate::args::{machine_spec as machine, pair, vec3};
+use crate::out::{read_text, say, write};
 
 /// Calibration of A/B rotary tables (seed 004): origin, probe formulas, test prints, simulation.
 #[derive(Subcommand)]
@@ -239,45 +240,6 @@ pub struct DeviationArgs {
     b_rot_y: f64,
 }
 
-fn numbers(s: &str) -> Result<Vec<f64>, String> {
-    s.split(',')
-        .map(|p| {
-            p.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("'{}' is not a number", p.trim()))
-        })
-        .collect()
-}
-
-fn vec3(s: &str) -> Result<DVec3, String> {
-    match numbers(s)?.as_slice() {
-        [x, y, z] => Ok(DVec3::new(*x, *y, *z)),
-        _ => Err(format!("expected three numbers x,y,z but got '{s}'")),
-    }
-}
-
-fn pair(s: &str) -> Result<[f64; 2], String> {
-    match numbers(s)?.as_slice() {
-        [a, b] => Ok([*a, *b]),
-        _ => Err(format!("expected two numbers a,b but got '{s}'")),
-    }
-}
-
-fn read_text(path: &Path) -> Result<String, String> {
-    fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn machine(arg: &str) -> Result<MachineSpec, String> {
-    MachineSpec::from_arg(arg, |p| fs::read_to_string(p).map_err(|e| e.to_string()))
-        .map_err(|e| e.to_string())
-}
-
 fn print_options(a: &PrintArgs) -> PrintOptions {
     PrintOptions {
         layer_height: a.layer_height,
@@ -372,7 +334,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             let (report, spec) = cal::calibrate_origin(&series, &opts, &machine(&base)?)
                 .map_err(|e| e.to_string())?;
             if json {
-                println!(
+                say!(
                     "{}",
                     serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
                 );
@@ -381,7 +343,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             }
             if let Some(out) = output {
                 write(&out, spec.to_json().as_bytes())?;
-                println!("wrote {} (use it with --machine)", out.display());
+                say!("wrote {} (use it with --machine)", out.display());
             }
         }
         CalibrateCommand::Probe { probe } => {
@@ -404,7 +366,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             let tp = patterns::test_print(&spec, kind, &opts).map_err(|e| e.to_string())?;
             write(&output, &tp.gcode)?;
             let r = &tp.report;
-            println!(
+            say!(
                 "{}: {} moves ({} printing), {:.2} mm of line, A {:.3}°…{:.3}°, B {:.3}°…{:.3}°, travel Z {:.2} mm",
                 kind.name(),
                 r.moves,
@@ -416,10 +378,10 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
                 r.b_range[1],
                 r.z_safe
             );
-            println!("wrote {}", output.display());
+            say!("wrote {}", output.display());
             if let Some(b) = base {
                 write(&b, &patterns::base_stl(kind))?;
-                println!(
+                say!(
                     "wrote {} (the base object; print it planar first)",
                     b.display()
                 );
@@ -429,7 +391,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
                 let (rep, text) = patterns::b_position_svg(&spec, d, &opts, exaggerate)
                     .map_err(|e| e.to_string())?;
                 write(&path, text.as_bytes())?;
-                println!(
+                say!(
                     "B axis off by ({}, {}) mm: the line waves by up to {:.3} mm; wrote {}",
                     d.x,
                     d.y,
@@ -494,15 +456,15 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             };
             let text = report.to_text();
             print!("{}", text.lines().next().unwrap_or_default());
-            println!();
+            say!();
             if let Some(path) = csv {
                 let body: String = text.lines().skip(1).map(|l| format!("{l}\n")).collect();
                 write(&path, body.as_bytes())?;
-                println!("wrote {}", path.display());
+                say!("wrote {}", path.display());
             }
             if let Some(path) = svg {
                 write(&path, simulate::svg(&report, &title, exaggerate).as_bytes())?;
-                println!("wrote {}", path.display());
+                say!("wrote {}", path.display());
             }
         }
     }

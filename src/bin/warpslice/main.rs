@@ -9,25 +9,23 @@ fn main() -> std::process::ExitCode {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-#[path = "bin_calibrate.rs"]
-mod calibrate_cli;
+mod args;
+#[cfg(not(target_arch = "wasm32"))]
+mod calibrate;
+#[cfg(not(target_arch = "wasm32"))]
+mod out;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
-    /// `println!` that ignores a closed stdout (`warpslice … | head`).
-    macro_rules! say {
-        ($($t:tt)*) => {{
-            use std::io::Write as _;
-            let _ = writeln!(std::io::stdout(), $($t)*);
-        }};
-    }
-
     use std::fs;
     use std::io::{IsTerminal, Read, Write};
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
 
     use clap::{Args, Parser, Subcommand, ValueEnum};
+
+    use crate::args::{machine_spec, pair, triple};
+    use crate::out::{read, say, write};
     use indicatif::{ProgressBar, ProgressStyle};
     use warpslice::job::Job;
     use warpslice::pipeline::{self, AnchorMode, UnwarpSettings, WarpOptions, WarpOutput};
@@ -90,7 +88,7 @@ mod cli {
         /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
         Calibrate {
             #[command(subcommand)]
-            cmd: crate::calibrate_cli::CalibrateCommand,
+            cmd: crate::calibrate::CalibrateCommand,
         },
         /// Batch kinematics: CSV on stdin, CSV on stdout (`px,py,pz,nx,ny,nz` ↔ machine axes).
         Kinematics {
@@ -230,33 +228,6 @@ mod cli {
         flavour: Option<FlavourArg>,
     }
 
-    fn machine_spec(arg: &str) -> Result<warpslice::machine::MachineSpec, String> {
-        warpslice::machine::MachineSpec::from_arg(arg, |p| {
-            fs::read_to_string(p).map_err(|e| e.to_string())
-        })
-        .map_err(|e| e.to_string())
-    }
-
-    fn triple(s: &str) -> Result<[f64; 3], String> {
-        let v: Vec<f64> = s
-            .split(',')
-            .filter_map(|p| p.trim().parse::<f64>().ok())
-            .filter(|v| v.is_finite())
-            .collect();
-        match (v.len(), s.split(',').count()) {
-            (3, 3) => Ok([v[0], v[1], v[2]]),
-            _ => Err(format!("expected three numbers x,y,z but got '{s}'")),
-        }
-    }
-
-    fn pair(s: &str) -> Result<[f64; 2], String> {
-        let mut it = s.split(',').map(|p| p.trim().parse::<f64>());
-        match (it.next(), it.next(), it.next()) {
-            (Some(Ok(a)), Some(Ok(b)), None) if a.is_finite() && b.is_finite() => Ok([a, b]),
-            _ => Err(format!("expected two numbers a,b but got '{s}'")),
-        }
-    }
-
     impl WarpArgs {
         fn options(&self, tolerance: f64) -> Result<WarpOptions, String> {
             let direction: Direction = self
@@ -348,14 +319,6 @@ mod cli {
 
     fn job_path(stl: &Path) -> PathBuf {
         stl.with_extension("job.json")
-    }
-
-    fn read(path: &Path) -> Result<Vec<u8>, String> {
-        fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
-    }
-
-    fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-        fs::write(path, bytes).map_err(|e| format!("{}: {e}", path.display()))
     }
 
     fn spinner(msg: &str) -> Option<ProgressBar> {
@@ -570,7 +533,7 @@ mod cli {
                 .map_err(|e| e.to_string())?;
                 let _ = std::io::stdout().write_all(out.as_bytes());
             }
-            Command::Calibrate { cmd } => crate::calibrate_cli::run(cmd)?,
+            Command::Calibrate { cmd } => crate::calibrate::run(cmd)?,
             Command::Example { name, output } => {
                 let m = warpslice::shapes::example(&name).ok_or_else(|| {
                     format!(
