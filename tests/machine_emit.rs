@@ -19,12 +19,12 @@ mod common;
 use common::machine::{check, deg, parse, AXIS_TOL_DEG, SAMPLES, TIP_TOL};
 use glam::DVec3;
 use warpslice::machine::tessellate::slerp;
+use warpslice::machine::MachineOptions;
 use warpslice::machine::{preset, MachineSpec};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
-use warpslice::machine::MachineOptions;
-use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
@@ -328,8 +328,10 @@ fn unwarp_errors_are_named() {
     let Some((input, job)) = sliced(&conic(45.0, [-15.0, 0.0]), None, &dir, "cone45") else {
         return;
     };
-    let ratrig =
-        UnwarpSettings::with_machine(UnwarpOptions::default(), preset("ratrig-vcore3-3z").unwrap());
+    let ratrig = UnwarpSettings::with_machine(
+        UnwarpOptions::default(),
+        preset("ratrig-vcore3-3z").unwrap(),
+    );
     let e = unwarp(&input, &job, &ratrig).unwrap_err().to_string();
     assert!(
         e.starts_with("G-code line ")

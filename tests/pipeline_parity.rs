@@ -13,8 +13,8 @@ mod synthetic;
 
 use glam::DVec3;
 use warpslice::job::fnv1a64;
-use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::pipeline::{unwarp, UnwarpSettings};
+use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::warp::{laws, Direction, WarpParams, WarpSpec};
 
 const GOLDEN: &str = include_str!("golden/pipeline_parity.txt");

@@ -36,9 +36,9 @@ use glam::DVec3;
 use warpslice::machine::{preset, preset_names, MachineSpec};
 
 use warpslice::pipeline::warp_model;
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
-use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{WarpParams, WarpSpec};
 

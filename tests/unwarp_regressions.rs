@@ -8,9 +8,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 mod synthetic;
 
 use warpslice::gcode::{ReadOptions, Reader};
-use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::machine::MachineOptions;
 use warpslice::pipeline::{unwarp, UnwarpSettings};
+use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
