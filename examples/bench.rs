@@ -31,7 +31,7 @@ mod native {
     use glam::DVec3;
     use warpslice::mesh::{self, SubdivideOptions};
     use warpslice::pipeline::{warp_model, WarpOptions};
-    use warpslice::unwarp::{UnwarpOptions, Unwarper};
+    use warpslice::unwarp::UnwarpOptions;
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
     fn peak_mib() -> String {
@@ -151,7 +151,8 @@ mod native {
         let mut bytes_out = 0;
         let (t_unwarp, _) = best_of(3, || {
             let mut f = std::io::BufWriter::new(std::fs::File::create(&path).expect("temp file"));
-            let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
+            let mut u = warpslice::pipeline::unwarper(&w.job, &UnwarpOptions::default().into())
+                .expect("unwarper");
             for c in gcode.chunks(1 << 20) {
                 u.scan(c).expect("scan");
             }
@@ -169,7 +170,8 @@ mod native {
         let _ = std::fs::remove_file(&path);
         // the same work into memory (what the Node wasm figure measures: no file writes)
         let (t_mem, _) = best_of(3, || {
-            let mut u = Unwarper::new(&w.job, &UnwarpOptions::default()).expect("unwarper");
+            let mut u = warpslice::pipeline::unwarper(&w.job, &UnwarpOptions::default().into())
+                .expect("unwarper");
             for c in gcode.chunks(1 << 20) {
                 u.scan(c).expect("scan");
             }
