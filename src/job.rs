@@ -37,8 +37,9 @@ pub struct Job {
     /// bottom is flat and needs none. The slicer's first layer holds only the anchor (and
     /// skirt/brim); unwarp drops the anchor's extrusions.
     pub anchor: Option<f64>,
-    /// Subdivision settings used.
+    /// Subdivision: longest edge left unsplit before warping, mm.
     pub max_edge: f64,
+    /// Subdivision: largest distance between a warped edge's chord and its warped midpoint, mm.
     pub tolerance: f64,
     /// FNV-1a 64 of the input STL bytes, 16 hex digits.
     pub input_hash: String,
@@ -51,11 +52,24 @@ pub struct Job {
 #[non_exhaustive]
 pub enum JobError {
     /// Not valid job JSON (serde's message with line and column).
-    Parse { message: String },
+    Parse {
+        /// serde_json's message, with the line and column of the problem.
+        message: String,
+    },
     /// The format is newer or older than this warpslice reads.
-    Format { found: u32, expected: u32 },
+    Format {
+        /// The `format` the job file holds.
+        found: u32,
+        /// The format this warpslice reads ([`JOB_FORMAT`]).
+        expected: u32,
+    },
     /// The hash does not match the content (the file was edited or damaged).
-    Hash { found: String, computed: String },
+    Hash {
+        /// The `hash` the job file holds (16 hex digits).
+        found: String,
+        /// The hash computed from the file's content (16 hex digits).
+        computed: String,
+    },
 }
 
 impl std::fmt::Display for JobError {

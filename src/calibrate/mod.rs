@@ -50,18 +50,34 @@ pub const PARALLEL_SINE: f64 = 1e-6;
 pub enum CalibError {
     /// A line of the measurement file cannot be read (1-based line number).
     BadLine {
+        /// 1-based line number in the measurement file.
         line: usize,
+        /// The offending line as read (untrimmed).
         text: String,
+        /// What is wrong with it (unknown component, missing or malformed value).
         message: String,
     },
     /// A measurement series lacks a component (the series starts at `line`).
-    IncompleteSeries { line: usize, missing: &'static str },
+    IncompleteSeries {
+        /// 1-based line number of the incomplete series' first component line.
+        line: usize,
+        /// The component key the series lacks (`a_axis`, `a_axis_dir`, `b_axis` or `b_axis_dir`).
+        missing: &'static str,
+    },
     /// The file holds no measurement series.
     NoSeries,
     /// The A and B lines are (nearly) parallel: no closest approach.
-    ParallelAxes { sine: f64 },
+    ParallelAxes {
+        /// |A_dir × B_dir| / (|A_dir| |B_dir|): the sine of the angle between the axis directions.
+        sine: f64,
+    },
     /// A numeric input is unusable (`what` names it).
-    BadInput { what: String, message: String },
+    BadInput {
+        /// Which input is unusable (e.g. `a_axis_dir`, `print options`, `A scaling`).
+        what: String,
+        /// Why it is unusable and what is expected instead.
+        message: String,
+    },
     /// The machine cannot be used (wrong kind, bad JSON, unreachable test print…).
     Machine(MachineError),
 }

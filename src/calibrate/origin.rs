@@ -69,8 +69,9 @@ pub struct Origin {
     pub a_pos: DVec3,
     /// B'_pos, mm.
     pub b_pos: DVec3,
-    /// t₁, t₂ (mm along the unit directions).
+    /// t₁: parameter of A''_pos along the unit A'_dir from A'_pos, mm.
     pub t1: f64,
+    /// t₂: parameter of B''_pos along the unit B_dir from B'_pos, mm.
     pub t2: f64,
     /// A''_pos: the A line's point closest to the B line (current frame), mm.
     pub a_closest: DVec3,
@@ -151,8 +152,11 @@ pub fn machine_origin(s: &Series, opts: &OriginOptions) -> Result<Origin, CalibE
 /// mean ± standard deviation (population) and max difference of one component.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stat {
+    /// Arithmetic mean of the values.
     pub mean: f64,
+    /// Population standard deviation (divides by n, as numpy's default).
     pub std: f64,
+    /// Max difference over the values (max − min).
     pub max_diff: f64,
 }
 
@@ -184,8 +188,11 @@ impl Stat {
 /// Per-component statistics of a vector quantity.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct VecStat {
+    /// Statistics of the x components.
     pub x: Stat,
+    /// Statistics of the y components.
     pub y: Stat,
+    /// Statistics of the z components.
     pub z: Stat,
 }
 
@@ -204,9 +211,13 @@ impl VecStat {
 /// Table 6.2 over repeated series (raw measurements), plus the spread of the results.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SeriesStats {
+    /// A_pos (`a_axis`) of each series as measured (printer's current frame), mm.
     pub a_pos: VecStat,
+    /// B_pos (`b_axis`) of each series as measured (printer's current frame), mm.
     pub b_pos: VecStat,
+    /// A_dir (`a_axis_dir`) of each series, normalised to unit length.
     pub a_dir: VecStat,
+    /// B_dir (`b_axis_dir`) of each series, normalised to unit length.
     pub b_dir: VecStat,
     /// A^B_pos of each series.
     pub a_from_b: VecStat,

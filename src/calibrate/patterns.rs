@@ -51,10 +51,15 @@ const MAX_POINTS: usize = 1 << 16;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TestKind {
+    /// §6.2.1 `a-position`: lines on both faces y = ±10 of a box at A = ±90°, B = 0 (A_pos Y/Z error).
     APosition,
+    /// §6.2.2 `a-orientation`: an arc over a half cylinder along X, A = arc angle (A_dir about Z).
     AOrientation,
+    /// §6.2.3 `b-position`: a straight line on a plate while B turns 0 → 720° (B_pos offset).
     BPosition,
+    /// §6.2.4 `b-orientation`: a line around a cylinder's side at A = 90°, B = arc angle (B_dir tilt).
     BOrientation,
+    /// §6.2.5 `integrated`: a circle on a hemisphere with A and B from inverse kinematics.
     Integrated,
 }
 
@@ -171,13 +176,27 @@ impl PrintOptions {
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Surface {
     /// An axis-aligned box.
-    Cuboid { min: DVec3, max: DVec3 },
+    Cuboid {
+        /// Lowest corner of the box (part frame), mm.
+        min: DVec3,
+        /// Highest corner of the box (part frame), mm.
+        max: DVec3,
+    },
     /// A cylinder about the X axis (radial distance).
-    CylinderX { radius: f64 },
+    CylinderX {
+        /// Cylinder radius, mm (axis: the part frame's X axis).
+        radius: f64,
+    },
     /// A cylinder about the Z axis (radial distance).
-    CylinderZ { radius: f64 },
+    CylinderZ {
+        /// Cylinder radius, mm (axis: the part frame's Z axis).
+        radius: f64,
+    },
     /// A sphere about the origin.
-    Sphere { radius: f64 },
+    Sphere {
+        /// Sphere radius, mm (centre: the part frame's origin).
+        radius: f64,
+    },
 }
 
 impl Surface {
@@ -211,14 +230,17 @@ pub struct PrintMove {
 /// What a test print contains.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PrintReport {
+    /// Number of moves in [`TestPrint::moves`] (travels and printing moves).
     pub moves: usize,
+    /// Number of those moves that extrude.
     pub print_moves: usize,
     /// Printed length, mm.
     pub length_mm: f64,
     /// Filament, mm.
     pub e_mm: f64,
-    /// Range of the 4th and 5th axis (A, B) over the printing moves, degrees.
+    /// Range [min, max] of the 4th axis (A) over the path points, degrees.
     pub a_range: [f64; 2],
+    /// Range [min, max] of the 5th axis (B) over the path points, degrees.
     pub b_range: [f64; 2],
     /// Machine Z used for travels, mm.
     pub z_safe: f64,
@@ -227,6 +249,7 @@ pub struct PrintReport {
 /// A generated test print.
 #[derive(Clone, Debug)]
 pub struct TestPrint {
+    /// Which test this is.
     pub kind: TestKind,
     /// The G-code.
     pub gcode: Vec<u8>,
@@ -238,6 +261,7 @@ pub struct TestPrint {
     pub paths: Vec<Vec<DVec3>>,
     /// Every move written, in order.
     pub moves: Vec<PrintMove>,
+    /// Counts, lengths and axis ranges of the G-code (see [`PrintReport`]).
     pub report: PrintReport,
 }
 

@@ -53,52 +53,88 @@ pub const THESIS_C_Y: f64 = 0.453;
 #[non_exhaustive]
 pub enum ProbeInput {
     /// Eq. 5.2.
-    APosError { radius: f64, z_rotation_deg: f64 },
+    APosError {
+        /// r: the probed radius, mm.
+        radius: f64,
+        /// θ: how far the A axis is turned about Z, degrees.
+        z_rotation_deg: f64,
+    },
     /// Eq. 5.3.
     APos {
+        /// z₀: the probed Z (sphere bottom) that A_pos.z is measured up from, mm.
         z0: f64,
+        /// y₉₀: Y reported by the probe (sphere centre) with A turned to +90°, mm.
         y90: f64,
+        /// y₋₉₀: Y reported by the probe (sphere centre) with A turned to −90°, mm.
         y_minus90: f64,
+        /// c_y: the probe's Y bias, subtracted from y_m (0.453 mm on the thesis printer), mm.
         c_y: f64,
+        /// r_p: radius of the probe's ruby sphere, mm (default [`PROBE_RADIUS`]).
         #[serde(default = "probe_radius")]
         r_p: f64,
     },
     /// Eq. 5.4: `z_x = [z_{x,1}, z_{x,2}]`, `z_y = [z_{y,1}, z_{y,2}]`,
     /// `y_x1 = [y_{x₁,1}, y_{x₁,2}]`, `y_x2 = [y_{x₂,1}, y_{x₂,2}]`.
     ADir {
+        /// [z_{x,1}, z_{x,2}]: Z probed from the top at two X positions 2·d_zx apart, mm.
         z_x: [f64; 2],
+        /// d_zx: half the X spacing of the `z_x` probes, mm (non-zero).
         d_zx: f64,
+        /// [z_{y,1}, z_{y,2}]: Z probed from the top at two Y positions 2·d_zy apart, mm.
         z_y: [f64; 2],
+        /// d_zy: half the Y spacing of the `z_y` probes, mm (non-zero).
         d_zy: f64,
+        /// [y_{x₁,1}, y_{x₁,2}]: the two side (Y) probes at the X position x₁, mm.
         y_x1: [f64; 2],
+        /// [y_{x₂,1}, y_{x₂,2}]: the two side (Y) probes at the X position x₂, mm.
         y_x2: [f64; 2],
+        /// d_yx: the X distance between x₁ and x₂, mm (non-zero).
         d_yx: f64,
     },
     /// Eq. 5.5.
     BPos {
+        /// [x_{p₁}, x_{p₂}]: X of the two probe points p₁, p₂, mm.
         x_p: [f64; 2],
+        /// [y_{p₁}, y_{p₂}]: Y of the two probe points p₁, p₂, mm.
         y_p: [f64; 2],
+        /// The commanded probe height, taken as B_pos.z, mm (default [`B_PROBE_Z`]).
         #[serde(default = "b_probe_z")]
         z: f64,
     },
     /// Eq. 5.6: four side points at each of two heights.
-    BDir { p_z1: [DVec3; 4], p_z2: [DVec3; 4] },
+    BDir {
+        /// The four side points probed at the first height z₁, mm.
+        p_z1: [DVec3; 4],
+        /// The four side points probed at the second height z₂, mm.
+        p_z2: [DVec3; 4],
+    },
     /// §5.1.6.
     ZBias {
+        /// Z values probed with A at +90° (their mean is used), mm.
         z90: Vec<f64>,
+        /// Z values probed with A at −90° (their mean is used), mm.
         z_minus90: Vec<f64>,
+        /// d_f: width across the flats of the B axle, mm (default [`AXLE_FLATS`]).
         #[serde(default = "axle_flats")]
         d_f: f64,
     },
     /// §5.1.7.
     AScaling {
+        /// z₁: Z probed at the smaller Y, mm.
         z1: f64,
+        /// z₂: Z probed at the larger Y, mm.
         z2: f64,
+        /// Distance between the two probe points, mm (default [`A_SCALING_DISTANCE`]).
         #[serde(default = "a_scaling_distance")]
         distance: f64,
     },
     /// §5.1.8.
-    Wobble { z_shift: f64, ab_z: f64 },
+    Wobble {
+        /// z_shift from the Z-bias probing (§5.1.6), mm.
+        z_shift: f64,
+        /// Z component of A^B_pos from Eq. 5.7 (the step-by-step measurements), mm.
+        ab_z: f64,
+    },
 }
 
 fn probe_radius() -> f64 {
@@ -120,26 +156,61 @@ fn a_scaling_distance() -> f64 {
 #[non_exhaustive]
 pub enum ProbeOutput {
     /// Eq. 5.2: E_y, mm.
-    APosError { e_y: f64 },
+    APosError {
+        /// E_y: the Y error of the A position method, mm.
+        e_y: f64,
+    },
     /// Eq. 5.3: A_pos and y_m, mm.
-    APos { a_pos: DVec3, y_m: f64 },
+    APos {
+        /// A_pos: a point of the A axis line (printer's current frame), mm.
+        a_pos: DVec3,
+        /// y_m = |y₉₀ − y₋₉₀|, mm.
+        y_m: f64,
+    },
     /// Eq. 5.4.
     ADir {
+        /// m_zx: slope of the A axis in Z over X.
         m_zx: f64,
+        /// m_zy: slope of the A axis in Z over Y, its levelness (`a_z_in_y`).
         m_zy: f64,
+        /// m_yx: slope of the A axis in Y over X.
         m_yx: f64,
+        /// A_dir = normalize([1, m_yx, m_zx]) (unit).
         a_dir: DVec3,
     },
     /// Eq. 5.5.
-    BPos { b_pos: DVec3 },
+    BPos {
+        /// B_pos: a point of the B axis line at the probe height, mm.
+        b_pos: DVec3,
+    },
     /// Eq. 5.6: the two mean points and B_dir.
-    BDir { p1: DVec3, p2: DVec3, b_dir: DVec3 },
+    BDir {
+        /// p₁: mean of the four side points at z₁, mm.
+        p1: DVec3,
+        /// p₂: mean of the four side points at z₂, mm.
+        p2: DVec3,
+        /// B_dir: unit direction of the B axis, turned to point up (+Z).
+        b_dir: DVec3,
+    },
     /// §5.1.6.
-    ZBias { z_bias: f64, z_shift: f64 },
+    ZBias {
+        /// z_bias = ½(mean z₉₀ + mean z₋₉₀ − d_f), mm (for `calibrate origin --bias`).
+        z_bias: f64,
+        /// z_shift = ½(mean z₉₀ + mean z₋₉₀), mm (the A–B distance the wobble needs).
+        z_shift: f64,
+    },
     /// §5.1.7: α, degrees.
-    AScaling { alpha_deg: f64 },
+    AScaling {
+        /// α: the signed angle error of the A axis, degrees.
+        alpha_deg: f64,
+    },
     /// §5.1.8: z_d and the Eq. 5.1 correction at A = −90°, −45°, 0°, 45°, 90°.
-    Wobble { z_d: f64, correction: Vec<[f64; 2]> },
+    Wobble {
+        /// z_d = z_shift − A^B_pos.z, mm (the machine JSON's `z_wobble_mm`).
+        z_d: f64,
+        /// [A in degrees, Eq. 5.1 Z correction in mm] at A = −90°, −45°, 0°, 45°, 90°.
+        correction: Vec<[f64; 2]>,
+    },
 }
 
 /// Eq. 5.2: `E_y = r − (cos θ − cos(θ + 180°))/2 · r`, θ in degrees.

@@ -32,7 +32,9 @@ use crate::num;
 /// One tool pose of a toolpath (part frame): tip and tool axis.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Pose {
+    /// Nozzle tip (part frame), mm.
     pub p: DVec3,
+    /// Tool axis: unit vector from the tip into the nozzle (part frame).
     pub n: DVec3,
 }
 
@@ -112,7 +114,9 @@ pub fn spec_origin(spec: &MachineSpec) -> Result<DVec3, CalibError> {
 /// A believed and a true machine sharing the believed machine's G-code frame.
 #[derive(Debug)]
 pub struct Pair {
+    /// The machine the G-code is made for (its inverse kinematics write the axes).
     pub believed: Box<dyn Machine>,
+    /// The machine as it really moves (its forward kinematics place the tip).
     pub truth: Box<dyn Machine>,
     /// Added to the believed G-code XYZ to get the true machine's XYZ, mm.
     pub shift: DVec3,
@@ -175,9 +179,13 @@ pub struct Landed {
 /// The simulation's result.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimReport {
+    /// Every simulated point, in toolpath order.
     pub points: Vec<Landed>,
+    /// Largest tip error |real − p| over the points, mm.
     pub max_error_mm: f64,
+    /// Mean tip error over the points (0 when there are none), mm.
     pub mean_error_mm: f64,
+    /// Largest angle between the real and the intended tool axis, degrees.
     pub max_axis_error_deg: f64,
 }
 

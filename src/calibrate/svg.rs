@@ -6,6 +6,7 @@ use core::fmt::Write;
 /// One polyline of a panel, in data coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Curve {
+    /// The vertices as [x, y] in data units, drawn in order.
     pub points: Vec<[f64; 2]>,
     /// SVG colour, e.g. `"green"`.
     pub color: String,
@@ -17,10 +18,15 @@ pub struct Curve {
 /// axes (a top view).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Panel {
+    /// Heading drawn above the panel (XML-escaped when rendered).
     pub title: String,
+    /// Label of the horizontal axis, with its unit.
     pub x_label: String,
+    /// Label of the vertical axis, with its unit.
     pub y_label: String,
+    /// The polylines drawn in the panel's data box.
     pub curves: Vec<Curve>,
+    /// Same scale on both axes (one data unit is as long in x as in y), for top views.
     pub equal: bool,
 }
 

@@ -38,8 +38,9 @@ pub struct MachineReport {
     pub flavour: String,
     /// Feed mode.
     pub feed: FeedMode,
-    /// Toolpath moves in, G1 moves out.
+    /// Toolpath moves received from the unwarp.
     pub moves_in: u64,
+    /// Moves written to the G-code (after splitting, rotate-arounds included).
     pub moves_out: u64,
     /// Worst tip deviation of the firmware's interpolation from the intended path, mm.
     pub worst_position_mm: f64,

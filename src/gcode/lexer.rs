@@ -20,7 +20,9 @@
 /// One word: an upper-case letter and its value (`None` for a letter with no number, `G28 X`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Word {
+    /// The word's letter, ASCII upper-case (`b'G'`, `b'X'`, …).
     pub letter: u8,
+    /// The number after the letter, `None` when the letter stands alone.
     pub value: Option<f64>,
 }
 
@@ -140,7 +142,9 @@ pub fn parse_checksum(digits: &[u8]) -> Option<u8> {
 /// A word that does not parse: the byte range of the word in the code.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BadWord {
+    /// Byte offset of the word's first byte in the code part.
     pub start: usize,
+    /// Byte offset one past the word's last byte in the code part.
     pub end: usize,
 }
 
@@ -151,6 +155,7 @@ pub struct Words<'a> {
 }
 
 impl<'a> Words<'a> {
+    /// Iterate over the words of `code`, the code part of a line (see [`Split::code`]).
     pub fn new(code: &'a [u8]) -> Words<'a> {
         Words { s: code, i: 0 }
     }

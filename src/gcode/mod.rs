@@ -30,22 +30,44 @@ pub enum Command {
     /// Blank line or a comment that changes nothing.
     Comment,
     /// G0/G1/G2/G3. `rapid` for G0, `arc` for G2/G3.
-    Move { rapid: bool, arc: bool },
+    Move {
+        /// G0 (a rapid travel) rather than G1/G2/G3.
+        rapid: bool,
+        /// G2/G3 (an arc, expanded into straight pieces) rather than G0/G1.
+        arc: bool,
+    },
     /// G92. `e` is the new E if given; `xyz` whether any of X, Y, Z was given.
-    SetPosition { e: Option<f64>, xyz: bool },
+    SetPosition {
+        /// The new E position (`G92 E…`), mm, if the line sets one.
+        e: Option<f64>,
+        /// Whether any of X, Y, Z was given (the XYZ position was reset).
+        xyz: bool,
+    },
     /// M82 (absolute, `relative = false`) or M83 (relative).
-    ExtrusionMode { relative: bool },
+    ExtrusionMode {
+        /// `true` for M83 (relative E), `false` for M82 (absolute E).
+        relative: bool,
+    },
     /// G90 (absolute) or G91 (relative): positioning mode for X Y Z (and E unless M82/M83 follow).
-    Positioning { relative: bool },
+    Positioning {
+        /// `true` for G91 (relative), `false` for G90 (absolute).
+        relative: bool,
+    },
     /// G20 (inch = true) or G21 (mm).
-    Units { inch: bool },
+    Units {
+        /// `true` for G20 (inches), `false` for G21 (millimetres).
+        inch: bool,
+    },
     /// A layer start: `;LAYER_CHANGE`, `;LAYER:n`, or (in files with no such markers) the first
     /// extrusion at a new, higher Z. The state's `layer` already holds the new index.
     LayerStart,
     /// `;TYPE:…` — the state's `feature` already holds the new feature.
     FeatureType(Feature),
     /// `;WARPSLICE_BEGIN` (true) or `;WARPSLICE_END` (false).
-    RegionMarker { begin: bool },
+    RegionMarker {
+        /// `true` for `;WARPSLICE_BEGIN`, `false` for `;WARPSLICE_END`.
+        begin: bool,
+    },
     /// Anything else (temperatures, fans, M-codes, unknown commands): pass through verbatim.
     Other,
 }
@@ -53,7 +75,9 @@ pub enum Command {
 /// One straight piece of a move, absolute millimetres in the G-code's own frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Move {
+    /// Start of the piece, absolute mm (the G-code's own frame).
     pub from: DVec3,
+    /// End of the piece, absolute mm (the G-code's own frame).
     pub to: DVec3,
     /// Filament pushed along this piece, mm (a delta, whatever the file's E mode).
     pub e: f64,
@@ -81,6 +105,7 @@ pub struct Line<'a> {
     pub raw: &'a [u8],
     /// 1-based line number.
     pub number: u64,
+    /// What the line did (and, for moves, whether G0 or an arc).
     pub command: Command,
     /// The straight pieces of a move (one for G0/G1, several for an arc, none otherwise).
     pub moves: &'a [Move],
@@ -96,13 +121,35 @@ pub enum GcodeError {
     /// Binary G-code (`.bgcode`, magic `GCDE`).
     Binary,
     /// A word that does not parse (`line`, the text of the word).
-    BadNumber { line: u64, word: String },
+    BadNumber {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The word that does not parse, as written (e.g. `X1.2.3`, `*abc`).
+        word: String,
+    },
     /// `*` checksum that does not match the line.
-    Checksum { line: u64, expected: u8, found: u8 },
+    Checksum {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The checksum computed from the line: XOR of its bytes before `*`.
+        expected: u8,
+        /// The checksum written after `*` on the line.
+        found: u8,
+    },
     /// An arc that cannot be expanded (radius too small for the chord, zero radius, no centre).
-    BadArc { line: u64, reason: String },
+    BadArc {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// Why the arc cannot be expanded (e.g. no centre, not in the XY plane).
+        reason: String,
+    },
     /// A line longer than the reader accepts; `bytes` is the limit it exceeds.
-    LineTooLong { line: u64, bytes: usize },
+    LineTooLong {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The longest line the reader accepts ([`MAX_LINE_BYTES`]), bytes.
+        bytes: usize,
+    },
 }
 
 impl std::fmt::Display for GcodeError {

@@ -89,12 +89,17 @@ impl Default for ReadOptions {
 pub struct State {
     /// Absolute position, mm (after G92 offsets: the G-code's own coordinates).
     pub position: glam::DVec3,
+    /// E is relative: set by M83 or G91, cleared by M82 or G90 (whichever came last).
     pub e_relative: bool,
+    /// X Y Z are relative (G91) rather than absolute (G90).
     pub positioning_relative: bool,
+    /// Values are in inches (G20) rather than mm (G21); the reader converts them to mm.
     pub inch: bool,
     /// Feed rate, mm/min (0 until the file sets one).
     pub feed: f64,
+    /// The slicer's 0-based layer index (0 before the first layer start too).
     pub layer: u32,
+    /// The feature type from the last `;TYPE:` comment (`Unknown` before any).
     pub feature: Feature,
     /// Whether an explicit layer marker (`;LAYER_CHANGE`, `;LAYER:`) has been seen.
     pub layer_markers: bool,
@@ -171,6 +176,7 @@ struct Core {
 type Sink<'s, E> = dyn FnMut(Line<'_>, &State) -> Result<(), E> + 's;
 
 impl Reader {
+    /// A reader at the start of a file (line 1, default [`State`]).
     pub fn new(opts: ReadOptions) -> Reader {
         Reader {
             pending: Vec::new(),

@@ -135,6 +135,7 @@ pub struct MoveWriter {
 }
 
 impl MoveWriter {
+    /// A writer that has written nothing yet (the first move writes every axis it is given, and F).
     pub fn new() -> MoveWriter {
         MoveWriter::default()
     }
