@@ -26,13 +26,16 @@ pub enum AnchorMode {
     /// When the warped bottom is not flat.
     #[default]
     Auto,
+    /// Always: a slab even under a flat warped bottom.
     On,
+    /// Never: the warped part goes to the slicer as it is.
     Off,
 }
 
 /// Options of the warp step (CLI: `warpslice warp`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WarpOptions {
+    /// The warp kind, its parameters and the optional flat base (`--warp` and its options).
     pub warp: WarpParams,
     /// `--max-edge`, mm.
     #[serde(default = "default_max_edge")]
@@ -59,6 +62,7 @@ fn default_layer_height() -> f64 {
 }
 
 impl WarpOptions {
+    /// The options for `warp` with every other option at its default.
     pub fn new(warp: WarpParams) -> WarpOptions {
         WarpOptions {
             warp,
@@ -105,7 +109,9 @@ pub const WARP_OPTION_PARAMS: &[Param] = &[
 /// What the warp step did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WarpReport {
+    /// What the input STL held and what is wrong with it.
     pub mesh: MeshReport,
+    /// What the subdivision before warping did.
     pub subdivide: SubdivideStats,
     /// Anchor slab thickness, if one was added.
     pub anchor: Option<f64>,
@@ -122,7 +128,9 @@ pub struct WarpReport {
 pub struct WarpOutput {
     /// The warped binary STL.
     pub stl: Vec<u8>,
+    /// The job to slice and unwarp with (also written as `WARPED.job.json`).
     pub job: Job,
+    /// What the warp step did.
     pub report: WarpReport,
 }
 
@@ -130,24 +138,35 @@ pub struct WarpOutput {
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Error {
+    /// The input STL cannot be read.
     Mesh(MeshError),
+    /// The warp cannot be built for this model, or its parameters are invalid.
     Warp(WarpError),
+    /// The job file cannot be used.
     Job(JobError),
+    /// The slicer's G-code cannot be read.
     Gcode(crate::gcode::GcodeError),
+    /// Pass 1 could not find where the slicer put the warped part.
     Register(crate::register::RegisterError),
+    /// The G-code cannot be unwarped.
     Unwarp(crate::unwarp::UnwarpError),
     /// The machine cannot be set up (`--machine`, `--flavour`).
     Machine(crate::machine::MachineError),
     /// A file or stream could not be read or written (`what`: the file, `message`: the
     /// operating system's words).
     Io {
+        /// What was being read or written (a file name, or `output`).
         what: String,
+        /// The operating system's error message.
         message: String,
     },
     /// A bad option value (name, value, what is allowed).
     Option {
+        /// The option's CLI name without dashes (e.g. `max-edge`).
         name: &'static str,
+        /// The value given, as text.
         value: String,
+        /// What the option accepts (e.g. `a positive number (mm)`).
         allowed: &'static str,
     },
 }

@@ -44,15 +44,21 @@ pub enum RegisterError {
     NoExtrusions,
     /// The G-code's object does not match the warped mesh.
     Mismatch {
+        /// Largest gap between the shifted G-code bbox and the mesh's (x, y sides; z top), mm.
         residual: f64,
+        /// Size (x, y, z) of the G-code's object extrusions, mm.
         gcode_size: [f64; 3],
+        /// Size (x, y, z) of the warped mesh (`job.warped_bbox`), mm.
         mesh_size: [f64; 3],
     },
     /// With an anchor, the slicer's first layer must be exactly the anchor's thickness.
     AnchorLayer {
+        /// Z of the first extrusion: the slicer's first layer height, mm.
         first_layer_z: f64,
+        /// The anchor's thickness from the job, mm.
         anchor: f64,
     },
+    /// The G-code cannot be read.
     Gcode(GcodeError),
 }
 
@@ -221,6 +227,7 @@ pub struct Scanner {
 }
 
 impl Scanner {
+    /// A pass-1 scanner for the G-code of `job`'s warped STL.
     pub fn new(job: &Job) -> Scanner {
         Scanner {
             reader: Reader::new(ReadOptions::default()),

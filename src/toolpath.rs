@@ -13,20 +13,35 @@ pub enum Feature {
     /// No `;TYPE:` seen (Slic3r writes none) — taken to be part of the object.
     #[default]
     Unknown,
+    /// The outermost perimeter (`External perimeter`, `Outer wall`, `WALL-OUTER`).
     OuterWall,
+    /// Perimeters inside the outer one (`Perimeter`, `Inner wall`, `WALL-INNER`).
     InnerWall,
+    /// Perimeters printed over air (`Overhang perimeter`, `Overhang wall`).
     OverhangWall,
+    /// Sparse interior infill (`Internal infill`, `Sparse infill`, `FILL`).
     Infill,
+    /// Solid interior infill (`Solid infill`, `Internal solid infill`, `SKIN`).
     SolidInfill,
+    /// Solid infill of top surfaces (`Top solid infill`, `Top surface`).
     TopSolidInfill,
+    /// Solid infill of bottom surfaces (`Bottom surface`).
     BottomSolidInfill,
+    /// Infill spanning air between supports (`Bridge infill`, `Internal bridge infill`).
     Bridge,
+    /// Extrusions filling gaps too narrow for a perimeter (`Gap fill`, `Gap infill`).
     GapFill,
+    /// Low-flow passes smoothing a top surface (`Ironing`).
     Ironing,
+    /// Support material (`Support material`, `SUPPORT`).
     Support,
+    /// Dense support layers touching the part (`Support material interface`, roof, floor).
     SupportInterface,
+    /// Loops around the part, not touching it (`Skirt`, `Skirt/Brim`, `SKIRT`); stays flat.
     Skirt,
+    /// A flat rim attached to the part's first layer (`Brim`); stays flat.
     Brim,
+    /// The purge tower of multi-material prints (`Wipe tower`, `PRIME-TOWER`); stays flat.
     WipeTower,
     /// Start/end or custom G-code extrusions (PrusaSlicer `;TYPE:Custom`, purge lines).
     Custom,

@@ -51,13 +51,13 @@ const MAX_POINTS: usize = 1 << 16;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TestKind {
-    /// §6.2.1 `a-position`: lines on both faces y = ±10 of a box at A = ±90°, B = 0 (A_pos Y/Z error).
+    /// §6.2.1 `a-position`: lines on the box faces y = ±10 at A = ±90°, B = 0 (A_pos Y/Z error).
     APosition,
     /// §6.2.2 `a-orientation`: an arc over a half cylinder along X, A = arc angle (A_dir about Z).
     AOrientation,
     /// §6.2.3 `b-position`: a straight line on a plate while B turns 0 → 720° (B_pos offset).
     BPosition,
-    /// §6.2.4 `b-orientation`: a line around a cylinder's side at A = 90°, B = arc angle (B_dir tilt).
+    /// §6.2.4 `b-orientation`: a line around a cylinder at A = 90°, B = arc angle (B_dir tilt).
     BOrientation,
     /// §6.2.5 `integrated`: a circle on a hemisphere with A and B from inverse kinematics.
     Integrated,

@@ -22,14 +22,18 @@ pub use subdivide::{
 /// An indexed triangle mesh (counter-clockwise triangles seen from outside).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// Vertex positions, mm (each stored once, shared by the triangles that use it).
     pub vertices: Vec<DVec3>,
+    /// Triangles as indices into `vertices`, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
 }
 
 /// An axis-aligned bounding box, mm.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Aabb {
+    /// Lowest corner (smallest x, y, z), mm.
     pub min: DVec3,
+    /// Highest corner (largest x, y, z), mm.
     pub max: DVec3,
 }
 
@@ -46,19 +50,24 @@ impl Aabb {
         max: DVec3::splat(f64::NEG_INFINITY),
     };
 
+    /// Grow the box to contain `p`.
     pub fn include(&mut self, p: DVec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
+    /// Whether the box contains no point (some min > max, or a NaN): e.g. [`Aabb::EMPTY`].
     pub fn is_empty(&self) -> bool {
         !(self.min.x <= self.max.x && self.min.y <= self.max.y && self.min.z <= self.max.z)
     }
+    /// Edge lengths along x, y, z (`max − min`), mm.
     pub fn size(&self) -> DVec3 {
         self.max - self.min
     }
+    /// The centre point `(min + max) / 2`, mm.
     pub fn center(&self) -> DVec3 {
         (self.min + self.max) * 0.5
     }
+    /// The smallest box containing every point ([`Aabb::EMPTY`] for none).
     pub fn of_points(points: impl IntoIterator<Item = DVec3>) -> Aabb {
         let mut b = Aabb::EMPTY;
         for p in points {
@@ -107,19 +116,39 @@ pub enum MeshError {
     Empty,
     /// Binary STL shorter than its header + face count + faces say.
     Truncated {
+        /// File size the header's face count requires (header, count and facets), bytes.
         expected_bytes: u64,
+        /// The file's actual size, bytes.
         actual_bytes: u64,
     },
     /// Binary STL whose face count disagrees with the file size.
-    FaceCountMismatch { header_count: u64, bytes_for: u64 },
+    FaceCountMismatch {
+        /// Face count stored in the binary header.
+        header_count: u64,
+        /// Number of whole 50-byte facet records the bytes after the header hold.
+        bytes_for: u64,
+    },
     /// A coordinate is NaN or infinite (triangle index, 0-based).
-    NonFinite { triangle: usize },
+    NonFinite {
+        /// 0-based index of the triangle (in file order) with the bad coordinate.
+        triangle: usize,
+    },
     /// The file holds no triangles.
     NoTriangles,
     /// ASCII STL: a facet with other than three vertices (1-based line number).
-    NotATriangle { line: usize, vertices: usize },
+    NotATriangle {
+        /// 1-based line number of the facet's `facet` keyword.
+        line: usize,
+        /// Number of `vertex` lines the facet holds (not 3).
+        vertices: usize,
+    },
     /// ASCII STL that does not parse (1-based line number and what was found).
-    Syntax { line: usize, message: String },
+    Syntax {
+        /// 1-based line number where the ASCII STL stops parsing.
+        line: usize,
+        /// What was expected and what was found instead.
+        message: String,
+    },
 }
 
 impl std::fmt::Display for MeshError {

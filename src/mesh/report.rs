@@ -24,8 +24,11 @@ pub const DEGENERATE_ALTITUDE: f64 = 1e-6;
 /// What was read and what is wrong with it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MeshReport {
+    /// Which kind of STL was read.
     pub format: StlFormat,
+    /// Number of triangles.
     pub triangles: usize,
+    /// Number of vertices (for a read STL: distinct coordinates after welding).
     pub vertices: usize,
     /// Triangles with (near) zero area (see [`DEGENERATE_ALTITUDE`]).
     pub degenerate: usize,
@@ -33,6 +36,7 @@ pub struct MeshReport {
     pub open_edges: usize,
     /// Edges used by more than two triangles.
     pub nonmanifold_edges: usize,
+    /// Bounding box of the vertices that triangles use, mm (the mesh's own frame).
     pub bbox: Aabb,
     /// Facets whose stored normal is (0, 0, 0). Harmless: normals are recomputed from the
     /// vertex order (counter-clockwise seen from outside). Set by `read_stl` only.

@@ -33,7 +33,9 @@ use super::{Mesh, MeshError, MeshReport};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum StlFormat {
+    /// Text STL (`solid … endsolid`).
     Ascii,
+    /// Binary STL (80-byte header, face count, 50-byte facets).
     Binary,
     /// Binary whose 80-byte header starts with `solid`.
     BinarySolidHeader,

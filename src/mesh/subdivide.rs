@@ -98,7 +98,9 @@ pub enum SubdivideLimit {
 /// Counts before and after.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub struct SubdivideStats {
+    /// Triangles in the input mesh.
     pub triangles_before: usize,
+    /// Triangles in the subdivided mesh.
     pub triangles_after: usize,
     /// Passes that split at least one edge.
     pub passes: usize,

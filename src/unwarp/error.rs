@@ -12,31 +12,41 @@ use crate::warp::WarpError;
 pub enum UnwarpError {
     /// G91 relative positioning inside the printed region.
     RelativePositioning {
+        /// 1-based line number of the G-code.
         line: u64,
     },
     /// G92 with X, Y or Z inside the printed region.
     AxisReset {
+        /// 1-based line number of the G-code.
         line: u64,
     },
     /// G20 inches inside the printed region.
     Inches {
+        /// 1-based line number of the G-code.
         line: u64,
     },
+    /// The G-code cannot be read.
     Gcode(GcodeError),
     /// The streaming calls came in the wrong order.
     Order {
+        /// The call that must come first (e.g. `scan`).
         expected: &'static str,
     },
     /// The emitter (a machine) cannot follow the toolpath or refuses the job: the G-code line
     /// being unwarped when it happened (`None`: before the first line).
     Emit {
+        /// 1-based line number of the G-code being unwarped, `None` before the first line.
         line: Option<u64>,
+        /// What the emitter refused.
         error: EmitError,
     },
     /// A bad option value (name, value, what is allowed).
     Option {
+        /// The option's CLI name without dashes (e.g. `max-segment`).
         name: &'static str,
+        /// The value given, as text.
         value: String,
+        /// What the option accepts (e.g. `a positive number`).
         allowed: &'static str,
     },
     /// The job's warp cannot be built.
@@ -45,6 +55,7 @@ pub enum UnwarpError {
     Register(RegisterError),
     /// `place` is not two finite numbers.
     BadPlace {
+        /// The `--place x,y` given, mm (at least one is NaN or infinite).
         place: [f64; 2],
     },
 }

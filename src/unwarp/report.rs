@@ -9,10 +9,13 @@ use crate::emit::MachineReport;
 pub struct UnwarpReport {
     /// STL → G-code translation found (or given), mm.
     pub translation: [f64; 3],
+    /// Residual of the bounding-box match, mm ([`crate::register`]; not checked with `--offset`).
     pub residual: f64,
     /// Translation from model-frame coordinates to the output's X Y Z.
     pub model_to_output: [f64; 3],
+    /// Lines of the slicer's G-code read (the last line number).
     pub lines_in: u64,
+    /// Lines written to the output G-code.
     pub lines_out: u64,
     /// Object extrusion moves split into more than one piece.
     pub moves_split: u64,

@@ -8,11 +8,14 @@
 /// The blend weight w(z) between `z0` and `z1` (mm, model frame).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BaseBlend {
+    /// Top of the flat part: w = 0 for z ≤ z0, mm (model frame).
     pub z0: f64,
+    /// Where the warp is complete: w = 1 for z ≥ z1, mm (model frame; z1 > z0).
     pub z1: f64,
 }
 
 impl BaseBlend {
+    /// The blend from `z0` to `z1` (mm, model frame; callers check 0 ≤ z0 < z1).
     pub fn new(z0: f64, z1: f64) -> BaseBlend {
         BaseBlend { z0, z1 }
     }

@@ -18,6 +18,7 @@ pub struct Belt {
 }
 
 impl Belt {
+    /// g from the slice angle `angle_deg` α (degrees) and `toward` d (normalised here).
     pub fn new(angle_deg: f64, toward: [f64; 2]) -> Belt {
         let d = DVec2::new(toward[0], toward[1]).normalize_or_zero();
         Belt {

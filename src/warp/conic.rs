@@ -24,6 +24,7 @@ pub struct Conic {
 }
 
 impl Conic {
+    /// g from the cone angle `angle_deg` α (degrees), `direction` c and the axis' `center`, mm.
     pub fn new(angle_deg: f64, direction: Direction, center: [f64; 2]) -> Conic {
         Conic {
             k: direction.sign() * crate::num::tan(crate::num::rad(angle_deg)),

@@ -19,6 +19,7 @@ pub struct Curved {
 }
 
 impl Curved {
+    /// g from `strength` s, `direction` c, `offset` a (mm) and the model's `width` w in x (mm).
     pub fn new(strength: f64, direction: Direction, offset: f64, width: f64) -> Curved {
         Curved {
             k: strength * direction.sign() / (width / 2.0 + offset.abs()),

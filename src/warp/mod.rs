@@ -115,8 +115,10 @@ pub trait Warp: Send + Sync + std::fmt::Debug {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum Direction {
+    /// c = +1: z' = z + g with g ≥ 0 growing away from the centre; layers fall outward.
     #[default]
     Outward,
+    /// c = −1: layers rise away from the centre and the tool tilts inward.
     Inward,
 }
 
@@ -153,31 +155,56 @@ impl std::str::FromStr for Direction {
 pub enum WarpSpec {
     /// Seed 000 Eq. 1. `width` is the model's width in x (filled in from the mesh when 0).
     Curved {
+        /// s: the layers' rise factor (dimensionless, ≥ 0).
         strength: f64,
+        /// c: outward (domes) or inward (bowls).
         direction: Direction,
+        /// a, mm: moves the parabola's vertex to x = −a (model frame).
         offset: f64,
+        /// w, mm: the model's width in x (0: taken from the model-frame bounding box).
         #[serde(default)]
         width: f64,
     },
     /// Seed 000 Eq. 2.
     Tilted {
+        /// s = tan of the layer tilt (dimensionless, ≥ 0).
         strength: f64,
+        /// c: outward (a ridge, layers falling away from the crease) or inward (a valley).
         direction: Direction,
+        /// a, mm: moves the crease to x = −a (model frame).
         offset: f64,
     },
     /// Seed 002: conic layers about the vertical axis through `center`.
     Conic {
+        /// α: the cone's slope from horizontal, degrees (0 < α < 90).
         angle: f64,
+        /// c: outward (layers fall away from the axis) or inward (they rise away from it).
         direction: Direction,
+        /// (x, y) of the cone's vertical axis, model frame, mm.
         center: [f64; 2],
     },
     /// Seed 002 tilted slices: planes falling toward the unit vector `toward`.
-    Belt { angle: f64, toward: [f64; 2] },
+    Belt {
+        /// α: the planes' slope from horizontal, degrees (0 < α < 90).
+        angle: f64,
+        /// Direction (dx, dy) the planes fall toward (normalised; must be non-zero).
+        toward: [f64; 2],
+    },
     /// Seed 002 mandrel: coaxial cylinders about the axis ∥ X through (y, z) = `axis`, the first
     /// of radius `radius` (mm).
-    Cylindrical { radius: f64, axis: [f64; 2] },
+    Cylindrical {
+        /// R: radius of the first layer (the mandrel), mm.
+        radius: f64,
+        /// (y, z) of the cylinders' axis (parallel to X), model frame, mm.
+        axis: [f64; 2],
+    },
     /// Seed 002 5-axis: concentric spheres about `center`, the first of radius `radius` (mm).
-    Spherical { radius: f64, center: [f64; 3] },
+    Spherical {
+        /// R: radius of the first layer (the inner sphere), mm.
+        radius: f64,
+        /// (x, y, z) of the spheres' centre, model frame, mm.
+        center: [f64; 3],
+    },
 }
 
 impl WarpSpec {
@@ -378,22 +405,36 @@ impl WarpSpec {
 pub enum WarpError {
     /// A parameter outside its range.
     BadParameter {
+        /// The parameter's name (e.g. `strength`, `angle`, `base`).
         name: &'static str,
+        /// The value given, as text.
         value: String,
+        /// The allowed range (e.g. `0 < angle < 90 degrees`).
         allowed: String,
     },
     /// ∂z'/∂z ≤ 0 somewhere in the model's bounding box: layers would fold over.
     NotMonotonic {
+        /// The warp's name (e.g. `belt`).
         warp: &'static str,
+        /// The parameter to lower: `strength` or `angle`.
         parameter: &'static str,
+        /// The parameter's largest value that keeps the layers from folding (its own unit).
         largest_allowed: f64,
+        /// The `--base` blend [z0, z1], mm.
         base: [f64; 2],
+        /// Model-frame (x, y) where g is most negative (where folding starts), mm.
         worst_point: [f64; 2],
     },
     /// The inverse did not converge (a point outside the warp's domain).
-    InverseFailed { point: [f64; 3] },
+    InverseFailed {
+        /// The slicing-frame point that could not be mapped back, mm.
+        point: [f64; 3],
+    },
     /// `--base` given for a warp that is not a shear in z.
-    BaseNotSupported { warp: &'static str },
+    BaseNotSupported {
+        /// The warp's name (`cylindrical` or `spherical`).
+        warp: &'static str,
+    },
 }
 
 impl std::fmt::Display for WarpError {
@@ -433,7 +474,9 @@ crate::error_codes!(WarpError, ERROR_CODES, "warp" {
 /// Everything that defines a warp: the spec and the optional flat base `[z0, z1]` (mm).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WarpParams {
+    /// The warp kind and its parameters.
     pub spec: WarpSpec,
+    /// Optional flat base [z0, z1], mm (model frame): flat below z0, fully warped above z1.
     #[serde(default)]
     pub base: Option<[f64; 2]>,
 }

@@ -52,12 +52,15 @@ pub struct Shear {
 const MAX_INVERSE_STEPS: usize = 200;
 
 impl Shear {
+    /// T = (x, y, z + w(z)·g(x, y)) with height `height` and optional blend (w ≡ 1 without).
     pub fn new(height: Box<dyn Height>, blend: Option<BaseBlend>) -> Shear {
         Shear { height, blend }
     }
+    /// The height function g(x, y).
     pub fn height(&self) -> &dyn Height {
         self.height.as_ref()
     }
+    /// The flat-base blend w(z), if any.
     pub fn blend(&self) -> Option<BaseBlend> {
         self.blend
     }

@@ -25,6 +25,7 @@ pub struct Tilted {
 }
 
 impl Tilted {
+    /// g from `strength` s (tan of the tilt), `direction` c and `offset` a (mm): crease at x = −a.
     pub fn new(strength: f64, direction: Direction, offset: f64) -> Tilted {
         Tilted {
             k: strength * direction.sign(),
