@@ -107,6 +107,7 @@ pub struct UnwarpStream {
 
 #[wasm_bindgen]
 impl UnwarpStream {
+    /// One G-code's stream: `job_json` is the job file, `options_json` the [`UnwarpSettings`] JSON.
     #[wasm_bindgen(constructor)]
     pub fn new(job_json: &str, options_json: &str) -> Result<UnwarpStream, JsValue> {
         let job = Job::from_json(job_json).map_err(js)?;
