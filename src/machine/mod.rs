@@ -198,49 +198,100 @@ pub trait Machine: Send + Sync + fmt::Debug {
 pub enum MachineError {
     /// The machine cannot give this tool axis at this point.
     UnreachableOrientation {
+        /// Name of the machine (preset or JSON `name`).
         machine: String,
+        /// The tool tip asked for, output frame, mm.
         p: DVec3,
+        /// The tool axis asked for (tip → nozzle), output frame.
         n: DVec3,
+        /// Why the machine cannot give it (e.g. the tilt exceeds the head's range).
         reason: String,
     },
     /// An axis would leave its travel.
     AxisLimit {
+        /// Name of the machine (preset or JSON `name`).
         machine: String,
+        /// The axis' letter in the G-code (e.g. `B`).
         axis: String,
+        /// The value the axis would take (mm, or degrees for a rotary axis).
         value: f64,
+        /// Lower end of the axis' travel (mm, or degrees for a rotary axis).
         min: f64,
+        /// Upper end of the axis' travel (mm, or degrees for a rotary axis).
         max: f64,
+        /// The tool tip being reached, output frame, mm.
         p: DVec3,
     },
     /// A zero or non-finite tool axis or position.
-    InvalidInput { machine: String, p: DVec3, n: DVec3 },
+    InvalidInput {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// The tool tip given, output frame, mm.
+        p: DVec3,
+        /// The tool axis given (tip → nozzle), output frame.
+        n: DVec3,
+    },
     /// `forward` got the wrong number of axis values.
     WrongAxisCount {
+        /// Name of the machine (preset or JSON `name`).
         machine: String,
+        /// Number of axes the machine has.
         expected: usize,
+        /// Number of axis values given.
         got: usize,
     },
     /// `forward` got a non-finite axis value.
-    InvalidAxes { machine: String, axes: Vec<f64> },
+    InvalidAxes {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// The axis values given, in the machine's axis order (mm or degrees).
+        axes: Vec<f64>,
+    },
     /// No preset with this name.
-    UnknownPreset { name: String, known: Vec<String> },
+    UnknownPreset {
+        /// The preset name asked for.
+        name: String,
+        /// Names of the built-in presets.
+        known: Vec<String>,
+    },
     /// The machine JSON could not be parsed.
-    BadJson { source: String, message: String },
+    BadJson {
+        /// Where the JSON came from (a file path, `preset <name>`, `machine JSON`).
+        source: String,
+        /// The parser's message (serde_json's, with line and column) or the read error.
+        message: String,
+    },
     /// The machine JSON parsed but its parameters are unusable.
-    BadSpec { machine: String, message: String },
+    BadSpec {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// Which parameter is unusable and why.
+        message: String,
+    },
     /// A batch CSV line is invalid (1-based line number).
-    BadCsv { line: usize, message: String },
+    BadCsv {
+        /// 1-based line number of the CSV text.
+        line: usize,
+        /// What is wrong with the line (a field that is not a number, a wrong field count).
+        message: String,
+    },
     /// A cylindrical job's layer axis is not the lathe's mandrel axis (output frame, y and z
     /// in mm): printing would wind the layers round the wrong line.
     MandrelMismatch {
+        /// Name of the machine (preset or JSON `name`).
         machine: String,
+        /// The warp's axis (y, z) moved to the output frame, mm.
         warp: [f64; 2],
+        /// The machine's mandrel axis (y, z), output frame, mm.
         mandrel: [f64; 2],
     },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
+        /// Name of the machine (preset or JSON `name`).
         machine: String,
+        /// The flavour's name (`marlin`, `klipper` or `reprapfirmware`).
         flavour: String,
+        /// Why the firmware cannot drive the machine (e.g. axis letters it does not accept).
         reason: String,
     },
 }

@@ -161,6 +161,7 @@ pub struct Slerp {
 }
 
 impl Slerp {
+    /// Precompute the angle between the unit vectors `a` and `b`.
     pub fn new(a: DVec3, b: DVec3) -> Slerp {
         // equal vectors (the common case: one layer normal along a move) need no trigonometry
         let w = if a == b {
@@ -171,6 +172,7 @@ impl Slerp {
         Slerp { a, b, w }
     }
 
+    /// The unit vector a fraction `s` ∈ [0, 1] of the way from `a` to `b` (`a` at 0, `b` at 1).
     pub fn at(&self, s: f64) -> DVec3 {
         let (a, b, w) = (self.a, self.b, self.w);
         let v = if !(SLERP_EPSILON..=core::f64::consts::PI - SLERP_EPSILON).contains(&w) {
