@@ -43,6 +43,11 @@ use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, UNLIMITED,
 };
 use crate::num;
+use crate::tolerance::LENGTH_EPSILON;
+
+/// Slack below zero on z² of the closest approach (mm², rounding of a difference of
+/// products of unit-vector dot products): within it z² is taken to be 0.
+pub const Z2_SLACK: f64 = 1e-15;
 
 /// Parameters of [`AbTable`] (JSON `"kind": "ab-table"`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -107,13 +112,17 @@ impl AbTable {
         )?;
         require(
             name,
-            params.a_dir.length() >= 1e-9 && params.b_dir.length() >= 1e-9,
+            params.a_dir.length() >= LENGTH_EPSILON && params.b_dir.length() >= LENGTH_EPSILON,
             "a_dir and b_dir must be non-zero",
         )?;
         params.a_dir = params.a_dir.normalize();
         params.b_dir = params.b_dir.normalize();
         let w = params.a_dir.cross(params.b_dir);
-        require(name, w.length() >= 1e-6, "the A and B lines are parallel")?;
+        require(
+            name,
+            w.length() >= super::PARALLEL_SINE,
+            "the A and B lines are parallel",
+        )?;
         // Closest approach: B_pos + s·B_dir with (B_pos + s B_dir − A_pos − u A_dir) ⟂ both.
         let (a, b) = (params.a_dir, params.b_dir);
         let r = params.b_pos - params.a_pos;
@@ -170,7 +179,7 @@ impl AbTable {
         let e = ca - ab * cb;
         let mut z2 = (s2 * det - e * e) / (det * det);
         if z2 < 0.0 {
-            if z2 > -1e-15 {
+            if z2 > -Z2_SLACK {
                 z2 = 0.0;
             } else {
                 return None;
@@ -228,7 +237,9 @@ impl AbTable {
                 let c0 = (cand[0].0, unwrap_near(cand[0].1, pb));
                 let c1 = (cand[1].0, unwrap_near(cand[1].1, pb));
                 let (d0, d1) = ((c0.1 - pb).abs(), (c1.1 - pb).abs());
-                if d1 < d0 - 1e-9 || ((d1 - d0).abs() <= 1e-9 && c1.0 > c0.0) {
+                if d1 < d0 - super::LIMIT_SLACK_DEG
+                    || ((d1 - d0).abs() <= super::LIMIT_SLACK_DEG && c1.0 > c0.0)
+                {
                     c1
                 } else {
                     c0
@@ -247,6 +258,15 @@ impl AbTable {
         let p = &self.params;
         let y = p.a_pos + rotate(q - p.a_pos, p.a_dir, -a);
         p.b_pos + rotate(y - p.b_pos, p.b_dir, -b)
+    }
+}
+
+impl super::spec::Kind for AbTableParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z", "A", "B"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(AbTable::new(name, axis_names, self.clone())?))
     }
 }
 
@@ -325,7 +345,7 @@ impl Machine for AbTable {
     fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
         let n = n / n.length();
         if n.cross(self.params.b_dir).length() < num::sin(self.hold_radius()) {
-            2.0 * self.hold_radius() + 1e-12
+            2.0 * self.hold_radius() + super::UNIT_EPSILON
         } else {
             0.0
         }

@@ -100,6 +100,15 @@ impl BHead {
     }
 }
 
+impl super::spec::Kind for BHeadParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z", "B"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(BHead::new(name, axis_names, self.clone())?))
+    }
+}
+
 impl Machine for BHead {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

@@ -34,6 +34,15 @@ impl Cartesian {
     }
 }
 
+impl super::spec::Kind for CartesianParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(Cartesian::new(name, axis_names, self.clone())))
+    }
+}
+
 impl Machine for Cartesian {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

@@ -87,6 +87,19 @@ impl Lathe {
     }
 }
 
+impl super::spec::Kind for LatheParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        if self.with_y {
+            &["X", "Y", "Z", "A"]
+        } else {
+            &["X", "Z", "A"]
+        }
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(Lathe::new(name, axis_names, self.clone())?))
+    }
+}
+
 impl Machine for Lathe {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

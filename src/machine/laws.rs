@@ -149,7 +149,7 @@ fn check_one(
     rep.worst_angle_rad = rep.worst_angle_rad.max(da);
     if !(dp <= POSITION_TOLERANCE)
         || !(da <= ANGLE_TOLERANCE)
-        || !((nq.length() - 1.0).abs() <= 1e-12)
+        || !((nq.length() - 1.0).abs() <= super::UNIT_EPSILON)
     {
         return Err(format!(
             "{}: forward(inverse({p}, {n}, {previous:?})) = ({q}, {nq}) via axes {a:?}: position error {dp:e} mm, axis error {da:e} rad against realised {want}",
@@ -201,7 +201,7 @@ fn walk(
                         continue;
                     }
                     let mut d = (a[k] - pa[k]).abs();
-                    if (l.max - l.min) <= 360.0 + 1e-9 && d > 180.0 {
+                    if (l.max - l.min) <= 360.0 + super::ONE_TURN_SLACK_DEG && d > 180.0 {
                         d = (d - 360.0).abs();
                     }
                     rep.worst_rotary_step_deg = rep.worst_rotary_step_deg.max(d);

@@ -68,6 +68,21 @@ pub use spec::{preset, preset_names, MachineSpec};
 /// Below this length a projected tool axis (|n_xy| for an azimuth, |n_xz| for a B angle) is
 /// taken to be zero: the angle it would define is undefined and the previous value is held.
 pub const POLE_EPSILON: f64 = 1e-12;
+/// Below this |det| the small linear systems of the machine code (normal equations of a few
+/// unit vectors) are taken to be singular: no unique solution, the caller falls back.
+pub const SINGULAR_EPSILON: f64 = 1e-12;
+/// Slack on a unit vector's length after normalisation (rounding of a few ulps, well below
+/// this), and below this length a vector is taken to be zero: its direction is undefined.
+pub const UNIT_EPSILON: f64 = 1e-12;
+/// Below this |sin| of the angle between two axis directions the axes are taken to be
+/// parallel (0.2 millidegree: far below any real machine's misalignment, far above rounding).
+pub const PARALLEL_SINE: f64 = 1e-6;
+/// Relative slack on a discriminant computed as a difference of squares (rounding of both
+/// terms): a value within it below zero is a double root, not "no solution".
+pub const DISCRIMINANT_SLACK: f64 = 1e-12;
+/// A rotary axis whose travel is at most one turn plus this (degrees) wraps: its values are
+/// compared modulo 360°.
+pub const ONE_TURN_SLACK_DEG: f64 = 1e-9;
 /// Slack on angle limits (degrees) so that values computed exactly at a limit pass.
 pub const LIMIT_SLACK_DEG: f64 = 1e-9;
 /// Slack on unit vectors given by the user (|n| may differ from 1 by this before it is an error;

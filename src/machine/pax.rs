@@ -74,6 +74,15 @@ impl Pax {
     }
 }
 
+impl super::spec::Kind for PaxParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z", "A", "B"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(Pax::new(name, axis_names, self.clone())?))
+    }
+}
+
 impl Machine for Pax {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

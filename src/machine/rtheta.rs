@@ -116,6 +116,15 @@ impl RTheta {
     }
 }
 
+impl super::spec::Kind for RThetaParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "C", "Z", "B"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(RTheta::new(name, axis_names, self.clone())?))
+    }
+}
+
 impl Machine for RTheta {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

@@ -124,6 +124,15 @@ impl Rtn {
     }
 }
 
+impl super::spec::Kind for RtnParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z", "A"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(Rtn::new(name, axis_names, self.clone())?))
+    }
+}
+
 impl Machine for Rtn {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set

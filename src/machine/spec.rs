@@ -8,59 +8,70 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::abtable::{AbTable, AbTableParams};
-use super::bhead::{BHead, BHeadParams};
-use super::cartesian::{Cartesian, CartesianParams};
-use super::lathe::{Lathe, LatheParams};
-use super::pax::{Pax, PaxParams};
-use super::rtheta::{RTheta, RThetaParams};
-use super::rtn::{Rtn, RtnParams};
-use super::threez::{ThreeZ, ThreeZParams};
 use super::{Machine, MachineError};
 
-/// The kinematics of a machine and its parameters (JSON tag `kind`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "kebab-case")]
-#[non_exhaustive]
-pub enum Kinematics {
-    /// 3-axis, vertical nozzle.
-    Cartesian(CartesianParams),
-    /// Head tilting about Y (FullControl Prusa B).
-    BHead(BHeadParams),
-    /// Rotating tilted nozzle (Slicer4RTN, RotBot).
-    Rtn(RtnParams),
-    /// 5-axis head (PAX).
-    Pax(PaxParams),
-    /// A/B rotary table (Open5x).
-    AbTable(AbTableParams),
-    /// Triple-Z tilting bed (RatRig V-Core 3).
-    ThreeZ(ThreeZParams),
-    /// Polar printer with tilting nozzle (Core R-Theta).
-    RTheta(RThetaParams),
-    /// Rotating mandrel about X.
-    LatheA(LatheParams),
+/// What every kind's parameter type does (each in its kind's file): the default axis letters
+/// and building the machine.
+pub trait Kind {
+    /// Default axis letters, in the machine's axis order.
+    fn default_axis_names(&self) -> &'static [&'static str];
+    /// Build the machine named `name` with axis letters `axis_names`.
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError>;
+}
+
+/// `kinds! { Variant(module::Params) = "json-kind", … }` defines [`Kinematics`] (the JSON tag
+/// `kind`) and its dispatch to [`Kind`] from one line per kind.
+macro_rules! kinds {
+    ($($variant:ident($params:ty) = $tag:literal,)*) => {
+        /// The kinematics of a machine and its parameters (JSON tag `kind`).
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(tag = "kind")]
+        #[non_exhaustive]
+        pub enum Kinematics {
+            $(
+                #[doc = concat!("`\"kind\": \"", $tag, "\"`: see [`", stringify!($params), "`].")]
+                #[serde(rename = $tag)]
+                $variant($params),
+            )*
+        }
+
+        impl Kinematics {
+            /// Every kind's JSON name.
+            pub const KINDS: &'static [&'static str] = &[$($tag),*];
+
+            /// The kind's parameters.
+            pub fn params(&self) -> &dyn Kind {
+                match self {
+                    $(Kinematics::$variant(p) => p,)*
+                }
+            }
+
+            /// The kind's JSON name.
+            pub fn kind_name(&self) -> &'static str {
+                match self {
+                    $(Kinematics::$variant(_) => $tag,)*
+                }
+            }
+        }
+    };
+}
+
+// The machine kinds: one line each (the kind's file holds everything else).
+kinds! {
+    Cartesian(super::cartesian::CartesianParams) = "cartesian",
+    BHead(super::bhead::BHeadParams) = "b-head",
+    Rtn(super::rtn::RtnParams) = "rtn",
+    Pax(super::pax::PaxParams) = "pax",
+    AbTable(super::abtable::AbTableParams) = "ab-table",
+    ThreeZ(super::threez::ThreeZParams) = "three-z",
+    RTheta(super::rtheta::RThetaParams) = "r-theta",
+    LatheA(super::lathe::LatheParams) = "lathe-a",
 }
 
 impl Kinematics {
     /// Default axis letters.
     pub fn default_axis_names(&self) -> &'static [&'static str] {
-        if let Kinematics::LatheA(p) = self {
-            return if p.with_y {
-                &["X", "Y", "Z", "A"]
-            } else {
-                &["X", "Z", "A"]
-            };
-        }
-        match self {
-            Kinematics::Cartesian(_) => &["X", "Y", "Z"],
-            Kinematics::BHead(_) => &["X", "Y", "Z", "B"],
-            Kinematics::Rtn(_) => &["X", "Y", "Z", "A"],
-            Kinematics::Pax(_) => &["X", "Y", "Z", "A", "B"],
-            Kinematics::AbTable(_) => &["X", "Y", "Z", "A", "B"],
-            Kinematics::ThreeZ(_) => &["X", "Y", "Z", "U", "V"],
-            Kinematics::RTheta(_) => &["X", "C", "Z", "B"],
-            Kinematics::LatheA(_) => &["X", "Y", "Z", "A"],
-        }
+        self.params().default_axis_names()
     }
 }
 
@@ -81,30 +92,9 @@ pub struct MachineSpec {
     pub kinematics: Kinematics,
 }
 
-/// The presets shipped in `presets/` (name, JSON text).
-const PRESETS: &[(&str, &str)] = &[
-    ("cartesian", include_str!("../../presets/cartesian.json")),
-    (
-        "fullcontrol-prusa-b",
-        include_str!("../../presets/fullcontrol-prusa-b.json"),
-    ),
-    (
-        "rtn-slicer4rtn",
-        include_str!("../../presets/rtn-slicer4rtn.json"),
-    ),
-    ("rotbot", include_str!("../../presets/rotbot.json")),
-    ("pax-5axis", include_str!("../../presets/pax-5axis.json")),
-    ("open5x-ab", include_str!("../../presets/open5x-ab.json")),
-    (
-        "ratrig-vcore3-3z",
-        include_str!("../../presets/ratrig-vcore3-3z.json"),
-    ),
-    (
-        "core-r-theta",
-        include_str!("../../presets/core-r-theta.json"),
-    ),
-    ("lathe-a", include_str!("../../presets/lathe-a.json")),
-];
+// The presets shipped in `presets/`: `PRESETS: &[(&str, &str)]` (name, JSON text), every
+// `presets/*.json` in name order, compiled in (so they work in wasm) by build.rs.
+include!(concat!(env!("OUT_DIR"), "/presets.rs"));
 
 /// Names of the shipped presets.
 pub fn preset_names() -> Vec<&'static str> {
@@ -214,16 +204,6 @@ impl MachineSpec {
     /// Build the machine.
     pub fn build(&self) -> Result<Box<dyn Machine>, MachineError> {
         let names = self.axis_names()?;
-        let n = &self.name;
-        Ok(match &self.kinematics {
-            Kinematics::Cartesian(p) => Box::new(Cartesian::new(n, &names, p.clone())),
-            Kinematics::BHead(p) => Box::new(BHead::new(n, &names, p.clone())?),
-            Kinematics::Rtn(p) => Box::new(Rtn::new(n, &names, p.clone())?),
-            Kinematics::Pax(p) => Box::new(Pax::new(n, &names, p.clone())?),
-            Kinematics::AbTable(p) => Box::new(AbTable::new(n, &names, p.clone())?),
-            Kinematics::ThreeZ(p) => Box::new(ThreeZ::new(n, &names, p.clone())?),
-            Kinematics::RTheta(p) => Box::new(RTheta::new(n, &names, p.clone())?),
-            Kinematics::LatheA(p) => Box::new(Lathe::new(n, &names, p.clone())?),
-        })
+        self.kinematics.params().build(&self.name, &names)
     }
 }

@@ -181,7 +181,7 @@ impl Slerp {
             (a * num::sin((1.0 - s) * w) + b * num::sin(s * w)) / num::sin(w)
         };
         let l = v.length();
-        if l > 1e-12 {
+        if l > super::UNIT_EPSILON {
             v / l
         } else {
             a
@@ -266,7 +266,7 @@ impl Ctx<'_> {
                     m.col_mut(b)[a] = cols[a].dot(cols[b]);
                 }
             }
-            if m.determinant().abs() < 1e-12 {
+            if m.determinant().abs() < super::SINGULAR_EPSILON {
                 return Ok(None);
             }
             let d = m.inverse() * rhs;
@@ -468,7 +468,7 @@ fn wrap_axes(machine: &dyn Machine) -> Vec<bool> {
     machine
         .limits()
         .iter()
-        .map(|l| l.rotary && l.max - l.min <= 360.0 + 1e-9)
+        .map(|l| l.rotary && l.max - l.min <= 360.0 + super::ONE_TURN_SLACK_DEG)
         .collect()
 }
 

@@ -42,6 +42,10 @@ use super::angles::{rot_z, rotate, tilt};
 use super::{require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
+/// Below this |cross product| of two ball-to-ball vectors (mm²) the three balls are taken to be
+/// collinear: they span no bed plane.
+pub const COLLINEAR_AREA: f64 = 1e-6;
+
 /// Parameters of [`ThreeZ`] (JSON `"kind": "three-z"`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -84,7 +88,7 @@ pub fn solve_trig(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
     let scale = alpha * alpha + beta * beta;
     let mut d = scale - gamma * gamma;
     if d < 0.0 {
-        if d > -1e-12 * scale {
+        if d > -super::DISCRIMINANT_SLACK * scale {
             d = 0.0;
         } else {
             return None;
@@ -155,7 +159,9 @@ impl ThreeZ {
         let nrm = d.map(perp);
         let k = [0, 1, 2].map(|i| -nrm[i].dot(l[i].truncate()));
         let tri = l[1].truncate().perp_dot(l[2].truncate());
-        let collinear = tri.abs() < 1e-6 || nrm[0].dot(d[0]).abs() > 1e-12;
+        // the balls span no triangle (area² below 1e-6 mm²), or a slot direction is not
+        // perpendicular to its normal (cannot happen but for NaN)
+        let collinear = tri.abs() < COLLINEAR_AREA || nrm[0].dot(d[0]).abs() > super::UNIT_EPSILON;
         require(name, !collinear, "the three balls are collinear")?;
         Ok(ThreeZ {
             axis_set: AxisSet::linear(name, names),
@@ -186,7 +192,7 @@ impl ThreeZ {
         let beta = dn1 * s2 - dn2 * s1;
         let gamma = d0.dot(n1 * k2 - n2 * k1);
         let theta = solve_trig(alpha, beta, gamma)?;
-        if dn1.abs() < 1e-300 {
+        if dn1.abs() < f64::MIN_POSITIVE {
             return None;
         }
         let t = -(c1 * num::cos(theta) + s1 * num::sin(theta) + k1) / dn1;
@@ -207,6 +213,15 @@ impl Basis {
     }
     fn apply_t(&self, w: DVec3) -> DVec3 {
         self.t * w.x + self.b * w.y + self.n * w.z
+    }
+}
+
+impl super::spec::Kind for ThreeZParams {
+    fn default_axis_names(&self) -> &'static [&'static str] {
+        &["X", "Y", "Z", "U", "V"]
+    }
+    fn build(&self, name: &str, axis_names: &[String]) -> Result<Box<dyn Machine>, MachineError> {
+        Ok(Box::new(ThreeZ::new(name, axis_names, self.clone())?))
     }
 }
 

@@ -10,7 +10,7 @@ use crate::gcode::{Command, Line, Move, State};
 use crate::job::Job;
 use crate::num::fmt_shortest as fmt;
 use crate::register::Registration;
-use crate::tolerance::LENGTH_EPSILON;
+use crate::tolerance::{BED_Z, LENGTH_EPSILON};
 use crate::toolpath::{Feature, ToolPoint};
 use crate::warp::Warp;
 
@@ -244,7 +244,10 @@ impl Core {
             Kind::Object => {
                 let p = self.to_model(g);
                 let n = self.warp.tool_axis(p);
-                (self.model_to_output(DVec3::new(p.x, p.y, p.z.max(0.0))), n)
+                (
+                    self.model_to_output(DVec3::new(p.x, p.y, p.z.max(BED_Z))),
+                    n,
+                )
             }
             _ => (
                 DVec3::new(
@@ -355,13 +358,14 @@ impl Core {
         for &(t1, b) in &pieces {
             let mid = (a + b) * 0.5;
             let det = self.warp.jacobian_det(mid);
-            let mut e = m.e * (t1 - t0) / det * self.opts.flow.at(mid.z.max(0.0));
-            if b.z < 0.0 {
+            let mut e = m.e * (t1 - t0) / det * self.opts.flow.at(mid.z.max(BED_Z));
+            if b.z < BED_Z {
+                // clamped to the bed: the bead is (BED_Z − z) thinner
                 self.report.clamped_points += 1;
-                e *= ((h + b.z) / h).clamp(0.0, 1.0);
+                e *= ((h - (BED_Z - b.z)) / h).clamp(0.0, 1.0);
             }
             let n = self.warp.tool_axis(b);
-            let out = self.model_to_output(DVec3::new(b.x, b.y, b.z.max(0.0)));
+            let out = self.model_to_output(DVec3::new(b.x, b.y, b.z.max(BED_Z)));
             self.write_extrusion(out, n, e, m, m.feature, relative, true);
             t0 = t1;
             a = b;

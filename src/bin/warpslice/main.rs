@@ -17,7 +17,6 @@ mod out;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
-    use std::fs;
     use std::io::{IsTerminal, Read, Write};
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
@@ -25,10 +24,11 @@ mod cli {
     use clap::{Args, Parser, Subcommand, ValueEnum};
 
     use crate::args::{machine_spec, pair, triple};
-    use crate::out::{read, say, write};
+    use crate::out::{say, write};
     use indicatif::{ProgressBar, ProgressStyle};
-    use warpslice::job::Job;
-    use warpslice::pipeline::{self, AnchorMode, UnwarpSettings, WarpOptions, WarpOutput};
+    use warpslice::pipeline::files::{self, Observer};
+    use warpslice::pipeline::{AnchorMode, UnwarpSettings, WarpOptions, WarpOutput};
+    use warpslice::slicer::SliceReport;
     use warpslice::unwarp::{Flow, UnwarpOptions, UnwarpReport};
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
@@ -317,29 +317,63 @@ mod cli {
         }
     }
 
-    fn job_path(stl: &Path) -> PathBuf {
-        stl.with_extension("job.json")
+    /// Prints each step's report and shows progress on a terminal.
+    struct Steps {
+        bar: Option<ProgressBar>,
     }
 
-    fn spinner(msg: &str) -> Option<ProgressBar> {
-        std::io::stderr().is_terminal().then(|| {
-            let pb = ProgressBar::new_spinner();
-            pb.set_message(msg.to_string());
-            pb.enable_steady_tick(std::time::Duration::from_millis(100));
-            pb
-        })
-    }
-
-    fn do_warp(model: &Path, opts: &WarpOptions, output: &Path) -> Result<WarpOutput, String> {
-        let bytes = read(model)?;
-        let sp = spinner("warping");
-        let out =
-            pipeline::warp_model(&bytes, opts).map_err(|e| format!("{}: {e}", model.display()))?;
-        if let Some(sp) = sp {
-            sp.finish_and_clear();
+    impl Observer for Steps {
+        fn start(&mut self, step: &str, bytes: u64) {
+            if !std::io::stderr().is_terminal() {
+                return;
+            }
+            let pb = if bytes > 0 {
+                let pb = ProgressBar::new(bytes);
+                pb.set_style(
+                    ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes}")
+                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                );
+                pb
+            } else {
+                let pb = ProgressBar::new_spinner();
+                pb.enable_steady_tick(std::time::Duration::from_millis(100));
+                pb
+            };
+            pb.set_message(step.to_string());
+            self.bar = Some(pb);
         }
-        write(output, &out.stl)?;
-        write(&job_path(output), out.job.to_json_pretty().as_bytes())?;
+
+        fn advance(&mut self, n: u64) {
+            if let Some(pb) = &self.bar {
+                pb.inc(n);
+            }
+        }
+
+        fn finish(&mut self) {
+            if let Some(pb) = self.bar.take() {
+                pb.finish_and_clear();
+            }
+        }
+
+        fn warped(&mut self, model: &Path, out: &WarpOutput, stl: &Path, job: &Path) {
+            print_warp_report(model, out, stl, job);
+        }
+
+        fn sliced(&mut self, stl: &Path, gcode: &Path, report: &SliceReport) {
+            say!(
+                "sliced {} with {} → {}",
+                stl.display(),
+                report.slicer,
+                gcode.display()
+            );
+        }
+
+        fn unwarped(&mut self, report: &UnwarpReport, output: &Path) {
+            print_report(report, output);
+        }
+    }
+
+    fn print_warp_report(model: &Path, out: &WarpOutput, stl: &Path, job: &Path) {
         let r = &out.report;
         say!(
             "model: {} ({} triangles, {} vertices)",
@@ -372,54 +406,10 @@ mod cli {
         );
         say!(
             "wrote {} and {} (job {})",
-            output.display(),
-            job_path(output).display(),
+            stl.display(),
+            job.display(),
             out.job.hash
         );
-        Ok(out)
-    }
-
-    /// Two streaming passes over the file, output written as it is produced.
-    fn do_unwarp(
-        gcode: &Path,
-        job: &Job,
-        settings: &UnwarpSettings,
-        output: &Path,
-    ) -> Result<UnwarpReport, String> {
-        let len = fs::metadata(gcode)
-            .map_err(|e| format!("{}: {e}", gcode.display()))?
-            .len();
-        let pb = std::io::stderr().is_terminal().then(|| {
-            let pb = ProgressBar::new(2 * len);
-            pb.set_style(
-                ProgressStyle::with_template("{msg} [{bar:40}] {bytes}/{total_bytes}")
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
-            );
-            pb.set_message("unwarping");
-            pb
-        });
-        let mut out = std::io::BufWriter::new(
-            fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?,
-        );
-        let name = gcode.display().to_string();
-        let report = pipeline::unwarp_stream(
-            job,
-            settings,
-            &name,
-            || fs::File::open(gcode),
-            &mut out,
-            |n| {
-                if let Some(pb) = &pb {
-                    pb.inc(n);
-                }
-            },
-        )
-        .map_err(|e| format!("{name}: {e}"))?;
-        if let Some(pb) = pb {
-            pb.finish_and_clear();
-        }
-        print_report(&report, output);
-        Ok(report)
     }
 
     fn print_report(r: &UnwarpReport, output: &Path) {
@@ -464,7 +454,8 @@ mod cli {
                 output,
             } => {
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
-                do_warp(&model, &opts, &output)?;
+                files::warp_file(&model, &opts, &output, &mut Steps { bar: None })
+                    .map_err(|e| files::in_file(&model, &e))?;
             }
             Command::Unwarp {
                 gcode,
@@ -474,10 +465,10 @@ mod cli {
                 tolerance,
                 output,
             } => {
-                let text =
-                    fs::read_to_string(&job).map_err(|e| format!("{}: {e}", job.display()))?;
-                let job = Job::from_json(&text).map_err(|e| format!("{}: {e}", job.display()))?;
-                do_unwarp(&gcode, &job, &unwarp.options(tolerance, offset)?, &output)?;
+                let job = files::read_job(&job).map_err(|e| files::in_file(&job, &e))?;
+                let settings = unwarp.options(tolerance, offset)?;
+                files::unwarp_file(&gcode, &job, &settings, &output, &mut Steps { bar: None })
+                    .map_err(|e| files::in_file(&gcode, &e))?;
             }
             Command::Run {
                 model,
@@ -491,30 +482,24 @@ mod cli {
                     .parse()
                     .map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
                 let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
-                let uopts = unwarp.options(opts.tolerance, None)?;
-                let warped = output.with_extension("warped.stl");
-                let w = do_warp(&model, &opts, &warped)?;
-                let sliced = output.with_extension("sliced.gcode");
+                let settings = unwarp.options(opts.tolerance, None)?;
                 let so = warpslice::slicer::SliceOptions {
                     slicer: kind,
                     e_mode: match e_mode {
                         EModeArg::Relative => warpslice::slicer::EMode::Relative,
                         EModeArg::Absolute => warpslice::slicer::EMode::Absolute,
                     },
-                    layer_height: opts.layer_height,
                     ..Default::default()
                 };
-                let sp = spinner("slicing");
-                warpslice::slicer::slice(&warped, &sliced, &so).map_err(|e| e.to_string())?;
-                if let Some(sp) = sp {
-                    sp.finish_and_clear();
-                }
-                say!(
-                    "sliced {} with {slicer} → {}",
-                    warped.display(),
-                    sliced.display()
-                );
-                do_unwarp(&sliced, &w.job, &uopts, &output)?;
+                files::run(
+                    &model,
+                    &opts,
+                    &so,
+                    &settings,
+                    &output,
+                    &mut Steps { bar: None },
+                )
+                .map_err(|e| e.to_string())?;
             }
             Command::Kinematics { direction, machine } => {
                 let m = machine_spec(&machine)?.build().map_err(|e| e.to_string())?;

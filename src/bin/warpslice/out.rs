@@ -13,11 +13,6 @@ macro_rules! say {
 }
 pub(crate) use say;
 
-/// Read a file, naming it in the error.
-pub fn read(path: &Path) -> Result<Vec<u8>, String> {
-    std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// Read a text file, naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, String> {
     std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))

@@ -1,0 +1,154 @@
+//! The steps on files (native only): what the CLI runs, and tests and benches with it.
+//!
+//! - [`warp_file`]: read an STL, warp it, write the warped STL and its job next to it
+//!   (`part.warped.stl` + `part.warped.job.json`).
+//! - [`unwarp_file`]: the two-pass streaming unwarp of a G-code file into an output file
+//!   ([`super::unwarp_stream`]: memory bounded whatever the file's size).
+//! - [`run`]: warp, slice with a real slicer ([`crate::slicer`]), unwarp; the intermediate files
+//!   sit next to the output ([`RunFiles`]).
+//!
+//! The caller sees each step through [`Observer`] (the CLI prints reports and a progress bar);
+//! every I/O error names its file.
+
+use std::path::{Path, PathBuf};
+
+use super::{unwarp_stream, warp_model, Error, UnwarpSettings, WarpOptions, WarpOutput};
+use crate::job::Job;
+use crate::slicer::{SliceOptions, SliceReport};
+use crate::unwarp::UnwarpReport;
+
+/// What a caller wants to know while the steps run. Every method has a default that ignores it.
+pub trait Observer {
+    /// A step starts (`"warping"`, `"slicing"`, `"unwarping"`); `bytes` is the unwarp's total
+    /// of bytes to read (both passes), 0 for the others.
+    fn start(&mut self, _step: &str, _bytes: u64) {}
+    /// The unwarp read `n` more bytes.
+    fn advance(&mut self, _n: u64) {}
+    /// The step that started last is over.
+    fn finish(&mut self) {}
+    /// The warp step wrote `stl` and `job`.
+    fn warped(&mut self, _model: &Path, _out: &WarpOutput, _stl: &Path, _job: &Path) {}
+    /// The slicer wrote `gcode`.
+    fn sliced(&mut self, _stl: &Path, _gcode: &Path, _report: &SliceReport) {}
+    /// The unwarp wrote `output`.
+    fn unwarped(&mut self, _report: &UnwarpReport, _output: &Path) {}
+}
+
+/// An observer that ignores everything.
+impl Observer for () {}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |e| Error::Io {
+        what: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// The job file that goes with a warped STL: `x.stl` → `x.job.json`.
+pub fn job_path(stl: &Path) -> PathBuf {
+    stl.with_extension("job.json")
+}
+
+/// Read a job file.
+pub fn read_job(path: &Path) -> Result<Job, Error> {
+    let text = std::fs::read_to_string(path).map_err(io(path))?;
+    Ok(Job::from_json(&text)?)
+}
+
+/// An error's text with the file it concerns in front (I/O errors name theirs already).
+pub fn in_file(path: &Path, e: &Error) -> String {
+    match e {
+        Error::Io { .. } => e.to_string(),
+        _ => format!("{}: {e}", path.display()),
+    }
+}
+
+/// Warp `model` into `output` (binary STL) and its job ([`job_path`]).
+pub fn warp_file(
+    model: &Path,
+    opts: &WarpOptions,
+    output: &Path,
+    observer: &mut dyn Observer,
+) -> Result<WarpOutput, Error> {
+    let bytes = std::fs::read(model).map_err(io(model))?;
+    observer.start("warping", 0);
+    let out = warp_model(&bytes, opts)?;
+    observer.finish();
+    std::fs::write(output, &out.stl).map_err(io(output))?;
+    let job = job_path(output);
+    std::fs::write(&job, out.job.to_json_pretty()).map_err(io(&job))?;
+    observer.warped(model, &out, output, &job);
+    Ok(out)
+}
+
+/// Unwarp the G-code file `gcode` (sliced from `job`'s warped STL) into `output`.
+pub fn unwarp_file(
+    gcode: &Path,
+    job: &Job,
+    settings: &UnwarpSettings,
+    output: &Path,
+    observer: &mut dyn Observer,
+) -> Result<UnwarpReport, Error> {
+    let len = std::fs::metadata(gcode).map_err(io(gcode))?.len();
+    let file = std::fs::File::create(output).map_err(io(output))?;
+    let mut out = std::io::BufWriter::new(file);
+    observer.start("unwarping", 2 * len);
+    let report = {
+        let mut advance = |n: u64| observer.advance(n);
+        unwarp_stream(
+            job,
+            settings,
+            &gcode.display().to_string(),
+            || std::fs::File::open(gcode),
+            &mut out,
+            &mut advance,
+        )
+    };
+    observer.finish();
+    let report = report?;
+    observer.unwarped(&report, output);
+    Ok(report)
+}
+
+/// The intermediate files of [`run`], next to the output.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunFiles {
+    /// The warped STL (`out.warped.stl`); its job is [`job_path`] of it.
+    pub warped: PathBuf,
+    /// The slicer's G-code (`out.sliced.gcode`).
+    pub sliced: PathBuf,
+}
+
+impl RunFiles {
+    /// The files next to `output`.
+    pub fn next_to(output: &Path) -> RunFiles {
+        RunFiles {
+            warped: output.with_extension("warped.stl"),
+            sliced: output.with_extension("sliced.gcode"),
+        }
+    }
+}
+
+/// Warp `model`, slice the warped STL with `slice` (its layer height is the warp's), unwarp
+/// into `output`.
+pub fn run(
+    model: &Path,
+    warp: &WarpOptions,
+    slice: &SliceOptions,
+    settings: &UnwarpSettings,
+    output: &Path,
+    observer: &mut dyn Observer,
+) -> Result<UnwarpReport, Error> {
+    let files = RunFiles::next_to(output);
+    let w = warp_file(model, warp, &files.warped, observer)?;
+    let slice = SliceOptions {
+        layer_height: warp.layer_height,
+        ..slice.clone()
+    };
+    observer.start("slicing", 0);
+    let sliced = crate::slicer::slice(&files.warped, &files.sliced, &slice);
+    observer.finish();
+    let report = sliced?;
+    observer.sliced(&files.warped, &files.sliced, &report);
+    unwarp_file(&files.sliced, &w.job, settings, output, observer)
+}

@@ -1,0 +1,225 @@
+//! The warp step: STL → warped STL and job.
+
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+
+use super::Error;
+use crate::anchor;
+use crate::job::{fnv1a64, Job, JOB_FORMAT};
+use crate::mesh::{self, Aabb, Mesh, MeshReport, SubdivideOptions, SubdivideStats};
+use crate::schema::{Param, ParamDefault, ParamType};
+use crate::tolerance::{DEFAULT_LAYER_HEIGHT, DEFAULT_MAX_EDGE, DEFAULT_TOLERANCE};
+use crate::warp::WarpParams;
+
+/// Whether to put the removable anchor slab under the warped part (see [`crate::anchor`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum AnchorMode {
+    /// When the warped bottom is not flat.
+    #[default]
+    Auto,
+    /// Always: a slab even under a flat warped bottom.
+    On,
+    /// Never: the warped part goes to the slicer as it is.
+    Off,
+}
+
+/// Options of the warp step (CLI: `warpslice warp`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WarpOptions {
+    /// The warp kind, its parameters and the optional flat base (`--warp` and its options).
+    pub warp: WarpParams,
+    /// `--max-edge`, mm.
+    #[serde(default = "default_max_edge")]
+    pub max_edge: f64,
+    /// `--tolerance`, mm.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// `--layer-height`, mm: the layer height you will slice with (anchor thickness).
+    #[serde(default = "default_layer_height")]
+    pub layer_height: f64,
+    /// `--anchor auto|on|off`.
+    #[serde(default)]
+    pub anchor: AnchorMode,
+}
+
+fn default_max_edge() -> f64 {
+    DEFAULT_MAX_EDGE
+}
+fn default_tolerance() -> f64 {
+    DEFAULT_TOLERANCE
+}
+fn default_layer_height() -> f64 {
+    DEFAULT_LAYER_HEIGHT
+}
+
+impl WarpOptions {
+    /// The options for `warp` with every other option at its default.
+    pub fn new(warp: WarpParams) -> WarpOptions {
+        WarpOptions {
+            warp,
+            max_edge: DEFAULT_MAX_EDGE,
+            tolerance: DEFAULT_TOLERANCE,
+            layer_height: DEFAULT_LAYER_HEIGHT,
+            anchor: AnchorMode::Auto,
+        }
+    }
+}
+
+/// The parameters of the warp step besides the warp's own ([`crate::warp::WARPS`]): the
+/// `--base` blend (key in the warp object) and the options' top-level keys.
+pub const WARP_OPTION_PARAMS: &[Param] = &[
+    Param::number("base", "--base", "Flat base z0,z1")
+        .of(ParamType::Pair)
+        .unit("mm")
+        .optional()
+        .help("keep the layers flat below z0 and blend the warp in up to z1 (shear warps only)"),
+    Param::number("max_edge", "--max-edge", "Max edge")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.1)
+        .default(ParamDefault::Number(DEFAULT_MAX_EDGE))
+        .help("split mesh edges longer than this before warping"),
+    Param::number("tolerance", "--tolerance", "Tolerance")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.001)
+        .default(ParamDefault::Number(DEFAULT_TOLERANCE))
+        .help("split where the warped midpoint of an edge (or a move) deviates more than this"),
+    Param::number("layer_height", "--layer-height", "Layer height")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.05)
+        .default(ParamDefault::Number(DEFAULT_LAYER_HEIGHT))
+        .help("the layer height you will slice with (the anchor's thickness and first layer)"),
+    Param::number("anchor", "--anchor", "Anchor")
+        .choices(&["auto", "on", "off"])
+        .default(ParamDefault::Text("auto"))
+        .help("a removable one-layer slab under a warped bottom that is not flat"),
+];
+
+/// What the warp step did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WarpReport {
+    /// What the input STL held and what is wrong with it.
+    pub mesh: MeshReport,
+    /// What the subdivision before warping did.
+    pub subdivide: SubdivideStats,
+    /// Anchor slab thickness, if one was added.
+    pub anchor: Option<f64>,
+    /// Bounding box of the warped part in STL coordinates.
+    pub warped_bbox: Aabb,
+    /// Largest angle between the tool axis and vertical over the mesh's vertices, degrees.
+    pub largest_tilt_deg: f64,
+    /// Triangles written (part + anchor).
+    pub triangles_out: usize,
+}
+
+/// Result of the warp step.
+#[derive(Clone, Debug)]
+pub struct WarpOutput {
+    /// The warped binary STL.
+    pub stl: Vec<u8>,
+    /// The job to slice and unwarp with (also written as `WARPED.job.json`).
+    pub job: Job,
+    /// What the warp step did.
+    pub report: WarpReport,
+}
+
+fn check_positive(name: &'static str, v: f64) -> Result<(), Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::Option {
+            name,
+            value: v.to_string(),
+            allowed: "a positive number (mm)",
+        })
+    }
+}
+
+/// The model-frame translation of a mesh: centre of the XY bbox to (0, 0), lowest point to z = 0.
+pub fn input_to_model(bbox: &Aabb) -> DVec3 {
+    let c = bbox.center();
+    DVec3::new(-c.x, -c.y, -bbox.min.z)
+}
+
+/// Warp an STL: read, move to the model frame, subdivide, warp, add the anchor if needed,
+/// lift to z ≥ 0 and write the warped STL and its job.
+pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
+    check_positive("max-edge", opts.max_edge)?;
+    check_positive("tolerance", opts.tolerance)?;
+    check_positive("layer-height", opts.layer_height)?;
+    let (mut model, mesh_report) = mesh::read_stl(stl)?;
+    let t = input_to_model(&mesh_report.bbox);
+    model.translate(t);
+    let model_bbox = model.bbox();
+    let mut params = opts.warp.clone();
+    let warp = params.build(&model_bbox)?;
+
+    let sub = SubdivideOptions {
+        max_edge: opts.max_edge,
+        tolerance: opts.tolerance,
+    };
+    let (model, warped_vertices, stats) =
+        mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
+    let mut warped = Mesh {
+        vertices: warped_vertices,
+        triangles: model.triangles.clone(),
+    };
+    let min_nz = model
+        .vertices
+        .iter()
+        .map(|&p| warp.tool_axis(p).z)
+        .fold(1.0, f64::min);
+    let largest_tilt_deg = crate::num::deg(crate::num::acos(min_nz.clamp(-1.0, 1.0)));
+
+    let part_bbox_t = warped.bbox();
+    let anchor = match opts.anchor {
+        AnchorMode::On => true,
+        AnchorMode::Off => false,
+        AnchorMode::Auto => anchor::needs_anchor(&warped, opts.layer_height),
+    };
+    let mut anchor_thickness = None;
+    if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, opts.layer_height) {
+        anchor_thickness = Some(opts.layer_height);
+    }
+    let stl_z_offset = -part_bbox_t.min.z + anchor_thickness.unwrap_or(0.0);
+    warped.translate(DVec3::new(0.0, 0.0, stl_z_offset));
+    let warped_bbox = Aabb {
+        min: part_bbox_t.min + DVec3::new(0.0, 0.0, stl_z_offset),
+        max: part_bbox_t.max + DVec3::new(0.0, 0.0, stl_z_offset),
+    };
+
+    let mut job = Job {
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        format: JOB_FORMAT,
+        warp: params,
+        input_to_model: t.to_array(),
+        model_bbox,
+        stl_z_offset,
+        warped_bbox,
+        layer_height: opts.layer_height,
+        anchor: anchor_thickness,
+        max_edge: opts.max_edge,
+        tolerance: opts.tolerance,
+        input_hash: format!("{:016x}", fnv1a64(stl)),
+        hash: String::new(),
+    };
+    job.seal();
+    let header = format!("warpslice job {} {}", job.hash, job.warp.spec.name());
+    let out = mesh::write_stl(&warped, &header);
+    let report = WarpReport {
+        mesh: mesh_report,
+        subdivide: stats,
+        anchor: anchor_thickness,
+        warped_bbox,
+        largest_tilt_deg,
+        triangles_out: warped.triangles.len(),
+    };
+    Ok(WarpOutput {
+        stl: out,
+        job,
+        report,
+    })
+}
