@@ -54,6 +54,33 @@ fn default_layer_height() -> f64 {
 }
 
 impl WarpOptions {
+    /// Options from their JSON object (the CLI's and the web page's shape): parameters left out
+    /// of the warp take their defaults ([`crate::warp::fill_defaults`]).
+    pub fn from_json_value(mut v: serde_json::Value) -> Result<WarpOptions, Error> {
+        if let Some(spec) = v
+            .get_mut("warp")
+            .and_then(|w| w.get_mut("spec"))
+            .and_then(serde_json::Value::as_object_mut)
+        {
+            crate::warp::fill_defaults(spec);
+        }
+        serde_json::from_value(v).map_err(|e| Error::Option {
+            name: "warp options",
+            value: e.to_string(),
+            allowed: "the warp options JSON of `describe()`",
+        })
+    }
+
+    /// [`WarpOptions::from_json_value`] of a JSON text.
+    pub fn from_json(text: &str) -> Result<WarpOptions, Error> {
+        let v = serde_json::from_str(text).map_err(|e| Error::Option {
+            name: "warp options",
+            value: e.to_string(),
+            allowed: "a JSON object",
+        })?;
+        WarpOptions::from_json_value(v)
+    }
+
     /// The options for `warp` with every other option at its default.
     pub fn new(warp: WarpParams) -> WarpOptions {
         WarpOptions {

@@ -52,8 +52,7 @@ impl Unwarper {
             Some(s) => Ok(s.push(chunk)?),
             None => Err(UnwarpError::Order {
                 expected: "scan before end_scan",
-            }
-            .into()),
+            }),
         }
     }
 
@@ -69,7 +68,7 @@ impl Unwarper {
         let [dx, dy, _] = reg.translation;
         let shift = match self.opts.place {
             Some([px, py]) if px.is_finite() && py.is_finite() => DVec3::new(px - dx, py - dy, 0.0),
-            Some(place) => return Err(UnwarpError::BadPlace { place }.into()),
+            Some(place) => return Err(UnwarpError::BadPlace { place }),
             None => DVec3::ZERO,
         };
         let model_to_output = DVec3::new(dx + shift.x, dy + shift.y, self.opts.z_offset);
@@ -124,10 +123,8 @@ impl Unwarper {
         let core = self.core.as_mut().ok_or(UnwarpError::Order {
             expected: "end_scan",
         })?;
-        let r = self
-            .reader
-            .push::<UnwarpError>(chunk, &mut |l, s| core.line(&l, s));
-        r
+        self.reader
+            .push::<UnwarpError>(chunk, &mut |l, s| core.line(&l, s))
     }
 
     /// Drain the output written so far.

@@ -50,6 +50,51 @@ pub const WARPS: &[WarpInfo] = &[
     spherical::INFO,
 ];
 
+/// Complete a warp spec given as a JSON object (`{"kind": …, …}`, as the CLI and the web page
+/// build it): every parameter left out takes its default ([`WarpInfo::params`]), and the
+/// defaults derived from another parameter are filled in (the cylindrical axis and the
+/// spherical centre sit just under the part, from the radius). Unknown kinds are left alone
+/// (serde names them).
+pub fn fill_defaults(spec: &mut serde_json::Map<String, serde_json::Value>) {
+    use serde_json::Value;
+    let Some(kind) = spec.get("kind").and_then(Value::as_str).map(str::to_string) else {
+        return;
+    };
+    let Some(info) = WARPS.iter().find(|w| w.name == kind) else {
+        return;
+    };
+    for p in info.params {
+        if spec.contains_key(p.key) {
+            continue;
+        }
+        let v = match p.default {
+            ParamDefault::None => continue,
+            ParamDefault::Number(v) => Value::from(v),
+            ParamDefault::Text(t) => Value::from(t),
+            ParamDefault::Bool(b) => Value::Bool(b),
+            ParamDefault::Pair(v) => Value::from(v.to_vec()),
+            ParamDefault::Triple(v) => Value::from(v.to_vec()),
+        };
+        spec.insert(p.key.to_string(), v);
+    }
+    let radius = spec.get("radius").and_then(Value::as_f64);
+    match (kind.as_str(), radius) {
+        ("cylindrical", Some(r)) if !spec.contains_key("axis") => {
+            spec.insert(
+                "axis".into(),
+                Value::from(cylindrical::default_axis(r).to_vec()),
+            );
+        }
+        ("spherical", Some(r)) if !spec.contains_key("center") => {
+            spec.insert(
+                "center".into(),
+                Value::from(spherical::default_center(r).to_vec()),
+            );
+        }
+        _ => {}
+    }
+}
+
 /// `--strength s` of the curved and tilted warps (seed 000).
 pub(crate) const STRENGTH: Param = Param::number("strength", "--strength", "Strength")
     .range(Some(0.0), None, (false, false))

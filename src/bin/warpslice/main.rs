@@ -14,6 +14,8 @@ mod args;
 mod calibrate;
 #[cfg(not(target_arch = "wasm32"))]
 mod out;
+#[cfg(not(target_arch = "wasm32"))]
+mod schema_args;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
@@ -21,16 +23,16 @@ mod cli {
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
 
-    use clap::{Args, Parser, Subcommand, ValueEnum};
+    use clap::{Parser, Subcommand, ValueEnum};
 
-    use crate::args::{machine_spec, pair, triple};
+    use crate::args::machine_spec;
     use crate::out::{say, write};
+    use crate::schema_args::{UnwarpArgs, WarpArgs};
     use indicatif::{ProgressBar, ProgressStyle};
     use warpslice::pipeline::files::{self, Observer};
-    use warpslice::pipeline::{AnchorMode, UnwarpSettings, WarpOptions, WarpOutput};
+    use warpslice::pipeline::WarpOutput;
     use warpslice::slicer::SliceReport;
-    use warpslice::unwarp::{Flow, UnwarpOptions, UnwarpReport};
-    use warpslice::warp::{Direction, WarpParams, WarpSpec};
+    use warpslice::unwarp::UnwarpReport;
 
     /// Non-planar slicing with any planar slicer: warp an STL, slice it, unwarp the G-code.
     #[derive(Parser)]
@@ -60,13 +62,8 @@ mod cli {
             #[arg(long)]
             job: PathBuf,
             #[command(flatten)]
-            unwarp: UnwarpArgs,
-            /// The slicer's placement dx,dy (mm) instead of finding it.
-            #[arg(long, value_parser = pair, allow_hyphen_values = true)]
-            offset: Option<[f64; 2]>,
-            /// Chord tolerance, mm.
-            #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_TOLERANCE)]
-            tolerance: f64,
+            unwarp: UnwarpArgs<false>,
+            /// The unwarped G-code to write.
             #[arg(short, long)]
             output: PathBuf,
         },
@@ -81,7 +78,9 @@ mod cli {
             #[command(flatten)]
             warp: WarpArgs,
             #[command(flatten)]
-            unwarp: UnwarpArgs,
+            unwarp: UnwarpArgs<true>,
+            /// The unwarped G-code to write (the warped STL, its job and the sliced G-code go
+            /// next to it).
             #[arg(short, long)]
             output: PathBuf,
         },
@@ -113,208 +112,9 @@ mod cli {
     }
 
     #[derive(Clone, Copy, ValueEnum)]
-    enum FeedArg {
-        Xyz,
-        AllAxes,
-        InverseTime,
-    }
-
-    #[derive(Clone, Copy, ValueEnum)]
-    enum FlavourArg {
-        Reprapfirmware,
-        Marlin,
-        Klipper,
-    }
-
-    #[derive(Clone, Copy, ValueEnum)]
     enum EModeArg {
         Relative,
         Absolute,
-    }
-
-    #[derive(Clone, Copy, ValueEnum)]
-    enum WarpKind {
-        Curved,
-        Tilted,
-        Conic,
-        Belt,
-        Cylindrical,
-        Spherical,
-    }
-
-    #[derive(Clone, Copy, ValueEnum)]
-    enum AnchorArg {
-        Auto,
-        On,
-        Off,
-    }
-
-    #[derive(Args)]
-    struct WarpArgs {
-        /// The warp.
-        #[arg(long, value_enum)]
-        warp: WarpKind,
-        /// curved/tilted: strength s (seed 000 Eqs. 1–2).
-        #[arg(long, default_value_t = 0.3)]
-        strength: f64,
-        /// outward (layers fall away from the centre, tool tilts outward) or inward.
-        #[arg(long, default_value = "outward")]
-        direction: String,
-        /// curved/tilted: offset a of the vertex/crease, mm (the crease is at x = −a).
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-        offset: f64,
-        /// conic/belt: angle α in degrees (0 < α < 90).
-        #[arg(long, default_value_t = 30.0)]
-        angle: f64,
-        /// conic: axis position cx,cy in the model frame, mm.
-        #[arg(long, value_parser = pair, default_value = "0,0", allow_hyphen_values = true)]
-        center: [f64; 2],
-        /// belt: direction dx,dy the layers fall toward.
-        #[arg(long, value_parser = pair, default_value = "0,1", allow_hyphen_values = true)]
-        toward: [f64; 2],
-        /// cylindrical/spherical: radius R of the first layer (mandrel or inner sphere), mm.
-        #[arg(long, default_value_t = 10.0)]
-        radius: f64,
-        /// cylindrical: the mandrel axis (parallel to X) at y,z in the model frame, mm
-        /// (default: 0,−radius, just under the part).
-        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
-        axis_yz: Option<[f64; 2]>,
-        /// spherical: the centre x,y,z in the model frame, mm (default: 0,0,−radius).
-        #[arg(long, value_parser = triple, allow_hyphen_values = true)]
-        sphere_center: Option<[f64; 3]>,
-        /// Keep the layers flat below z0 and blend in the warp up to z1 (mm): --base z0,z1.
-        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
-        base: Option<[f64; 2]>,
-        /// Split triangle edges longer than this, mm.
-        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_MAX_EDGE)]
-        max_edge: f64,
-        /// Layer height you will slice with, mm (the anchor's thickness and first layer).
-        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_LAYER_HEIGHT)]
-        layer_height: f64,
-        /// The removable flat anchor under a non-flat warped bottom.
-        #[arg(long, value_enum, default_value_t = AnchorArg::Auto)]
-        anchor: AnchorArg,
-    }
-
-    #[derive(Args)]
-    struct UnwarpArgs {
-        /// Longest extruding segment after unwarping, mm.
-        #[arg(long, default_value_t = warpslice::tolerance::DEFAULT_MAX_SEGMENT)]
-        max_segment: f64,
-        /// Flow factor.
-        #[arg(long, default_value_t = 1.0)]
-        flow: f64,
-        /// Flow ramp f0,z_ramp: from f0 at z = 0 to 1 at z_ramp (seed 000: 0.8,1.2).
-        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
-        ramp: Option<[f64; 2]>,
-        /// Added to every output z, mm.
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-        z_offset: f64,
-        /// Drop skirt and brim instead of printing them flat.
-        #[arg(long)]
-        drop_skirt: bool,
-        /// Put the part's footprint centre at x,y (mm) in the output instead of where the
-        /// slicer put it (e.g. 0,0 on an A/B table whose axes meet at the origin).
-        #[arg(long, value_parser = pair, allow_hyphen_values = true)]
-        place: Option<[f64; 2]>,
-        /// Write a 4/5-axis machine's axes: a preset name or a machine JSON file (docs/machines.md).
-        #[arg(long)]
-        machine: Option<String>,
-        /// Feed mode for a machine: xyz, all-axes, inverse-time (G93).
-        #[arg(long, value_enum, default_value_t = FeedArg::Xyz)]
-        feed: FeedArg,
-        /// Firmware flavour for a machine (default: the machine's, else reprapfirmware).
-        #[arg(long, value_enum)]
-        flavour: Option<FlavourArg>,
-    }
-
-    impl WarpArgs {
-        fn options(&self, tolerance: f64) -> Result<WarpOptions, String> {
-            let direction: Direction = self
-                .direction
-                .parse()
-                .map_err(|e: warpslice::warp::WarpError| e.to_string())?;
-            let spec = match self.warp {
-                WarpKind::Curved => WarpSpec::Curved {
-                    strength: self.strength,
-                    direction,
-                    offset: self.offset,
-                    width: 0.0,
-                },
-                WarpKind::Tilted => WarpSpec::Tilted {
-                    strength: self.strength,
-                    direction,
-                    offset: self.offset,
-                },
-                WarpKind::Conic => WarpSpec::Conic {
-                    angle: self.angle,
-                    direction,
-                    center: self.center,
-                },
-                WarpKind::Belt => WarpSpec::Belt {
-                    angle: self.angle,
-                    toward: self.toward,
-                },
-                WarpKind::Cylindrical => WarpSpec::Cylindrical {
-                    radius: self.radius,
-                    axis: self.axis_yz.unwrap_or([0.0, -self.radius]),
-                },
-                WarpKind::Spherical => WarpSpec::Spherical {
-                    radius: self.radius,
-                    center: self.sphere_center.unwrap_or([0.0, 0.0, -self.radius]),
-                },
-            };
-            let mut o = WarpOptions::new(WarpParams {
-                spec,
-                base: self.base,
-            });
-            o.max_edge = self.max_edge;
-            o.tolerance = tolerance;
-            o.layer_height = self.layer_height;
-            o.anchor = match self.anchor {
-                AnchorArg::Auto => AnchorMode::Auto,
-                AnchorArg::On => AnchorMode::On,
-                AnchorArg::Off => AnchorMode::Off,
-            };
-            Ok(o)
-        }
-    }
-
-    impl UnwarpArgs {
-        fn options(
-            &self,
-            tolerance: f64,
-            offset: Option<[f64; 2]>,
-        ) -> Result<UnwarpSettings, String> {
-            use warpslice::machine::{FeedMode, Flavour, MachineOptions};
-            let unwarp = UnwarpOptions {
-                tolerance,
-                max_segment: self.max_segment,
-                flow: Flow {
-                    factor: self.flow,
-                    ramp: self.ramp,
-                },
-                z_offset: self.z_offset,
-                drop_skirt: self.drop_skirt,
-                place: self.place,
-                offset,
-                ..UnwarpOptions::default()
-            };
-            let output = MachineOptions {
-                machine: self.machine.as_deref().map(machine_spec).transpose()?,
-                feed: match self.feed {
-                    FeedArg::Xyz => FeedMode::Xyz,
-                    FeedArg::AllAxes => FeedMode::AllAxes,
-                    FeedArg::InverseTime => FeedMode::InverseTime,
-                },
-                flavour: self.flavour.map(|f| match f {
-                    FlavourArg::Reprapfirmware => Flavour::RepRapFirmware,
-                    FlavourArg::Marlin => Flavour::Marlin,
-                    FlavourArg::Klipper => Flavour::Klipper,
-                }),
-            };
-            Ok(UnwarpSettings { unwarp, output })
-        }
     }
 
     /// Prints each step's report and shows progress on a terminal.
@@ -453,20 +253,17 @@ mod cli {
                 warp,
                 output,
             } => {
-                let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
-                files::warp_file(&model, &opts, &output, &mut Steps { bar: None })
+                files::warp_file(&model, &warp.options, &output, &mut Steps { bar: None })
                     .map_err(|e| files::in_file(&model, &e))?;
             }
             Command::Unwarp {
                 gcode,
                 job,
                 unwarp,
-                offset,
-                tolerance,
                 output,
             } => {
                 let job = files::read_job(&job).map_err(|e| files::in_file(&job, &e))?;
-                let settings = unwarp.options(tolerance, offset)?;
+                let settings = unwarp.settings;
                 files::unwarp_file(&gcode, &job, &settings, &output, &mut Steps { bar: None })
                     .map_err(|e| files::in_file(&gcode, &e))?;
             }
@@ -481,8 +278,7 @@ mod cli {
                 let kind: warpslice::slicer::SlicerKind = slicer
                     .parse()
                     .map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
-                let opts = warp.options(warpslice::tolerance::DEFAULT_TOLERANCE)?;
-                let settings = unwarp.options(opts.tolerance, None)?;
+                let (opts, settings) = (warp.options, unwarp.settings);
                 let so = warpslice::slicer::SliceOptions {
                     slicer: kind,
                     e_mode: match e_mode {
