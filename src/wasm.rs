@@ -54,7 +54,7 @@ pub fn version() -> String {
 /// `warp(stl, optionsJson)` → `{ stl: Uint8Array, job: string, report: object }`.
 #[wasm_bindgen]
 pub fn warp(stl: &[u8], options_json: &str) -> Result<JsValue, JsValue> {
-    let opts: WarpOptions = parse("warp options", options_json)?;
+    let opts = WarpOptions::from_json(options_json).map_err(js)?;
     let out = pipeline::warp_model(stl, &opts).map_err(js)?;
     let obj = js_sys::Object::new();
     set(

@@ -199,6 +199,31 @@ impl clap::FromArgMatches for WarpArgs {
             .iter()
             .find(|w| w.name == name)
             .ok_or_else(|| invalid(format!("unknown warp {name}")))?;
+        // a flag of another warp is a mistake, not something to ignore
+        for other in WARPS {
+            for p in other.params {
+                let given = m.value_source(id(p)) == Some(clap::parser::ValueSource::CommandLine);
+                if given && !info.params.iter().any(|q| q.flag == p.flag) {
+                    let takers: Vec<&str> = WARPS
+                        .iter()
+                        .filter(|o| o.params.iter().any(|q| q.flag == p.flag))
+                        .map(|o| o.name)
+                        .collect();
+                    return Err(invalid(format!(
+                        "{} is not a parameter of the {} warp (it is for {}); the {} warp takes {}",
+                        p.flag,
+                        info.name,
+                        takers.join(", "),
+                        info.name,
+                        info.params
+                            .iter()
+                            .map(|q| q.flag)
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    )));
+                }
+            }
+        }
         let mut spec = Map::new();
         spec.insert("kind".into(), Value::from(info.name));
         for p in info.params {
