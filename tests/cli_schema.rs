@@ -63,3 +63,89 @@ fn every_schema_parameter_is_a_flag_with_its_default() {
                 continue;
             }
 
+            let line =
+                line_of(h, p.flag).unwrap_or_else(|| panic!("{} missing from:\n{h}", p.flag));
+            if let Some(t) = default_text(p) {
+                // the help of a flag may wrap onto the next lines, up to the next flag
+                let text = h
+                    .split(&format!("{} ", p.flag))
+                    .nth(1)
+                    .and_then(|rest| rest.split("\n      --").next())
+                    .unwrap_or_default();
+                assert!(
+                    text.contains(&format!("[default: {t}]")),
+                    "{}: default {t} not in '{line}…'",
+                    p.flag
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 40, "{checked}");
+    for w in d.warps {
+        assert!(warp_help.contains(w.formula), "{}", w.name);
+    }
+}
+
+#[test]
+fn a_flag_of_another_warp_is_refused() {
+    let dir = std::env::temp_dir().join(format!("warpslice-cli-schema-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stl = dir.join("cube.stl");
+    assert!(cli(&["example", "cube", "-o", stl.to_str().unwrap()]).0);
+    let out = dir.join("w.stl");
+    let (ok, _, err) = cli(&[
+        "warp",
+        stl.to_str().unwrap(),
+        "--warp",
+        "curved",
+        "--angle",
+        "45",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("--angle is not a parameter of the curved warp (it is for conic, belt)"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+}
+
+#[test]
+fn parameters_left_out_take_the_schema_defaults() {
+    let dir = std::env::temp_dir().join(format!("warpslice-cli-defaults-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stl = dir.join("cube.stl");
+    assert!(cli(&["example", "cube", "-o", stl.to_str().unwrap()]).0);
+    for (warp, want) in [
+        (
+            "spherical",
+            r#"{"kind":"spherical","radius":10.0,"center":[0.0,0.0,-10.0]}"#,
+        ),
+        (
+            "cylindrical",
+            r#"{"kind":"cylindrical","radius":10.0,"axis":[0.0,-10.0]}"#,
+        ),
+        (
+            "conic",
+            r#"{"kind":"conic","angle":30.0,"direction":"outward","center":[0.0,0.0]}"#,
+        ),
+        ("belt", r#"{"kind":"belt","angle":30.0,"toward":[0.0,1.0]}"#),
+    ] {
+        let out = dir.join(format!("{warp}.stl"));
+        let (ok, _, err) = cli(&[
+            "warp",
+            stl.to_str().unwrap(),
+            "--warp",
+            warp,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{warp}: {err}");
+        let text = std::fs::read_to_string(dir.join(format!("{warp}.job.json"))).unwrap();
+        let job: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let want: serde_json::Value = serde_json::from_str(want).unwrap();
+        assert_eq!(job["warp"]["spec"], want, "{warp}");
+    }
+}
