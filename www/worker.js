@@ -15,8 +15,14 @@ const PREVIEW_POINTS = 250_000;
 /** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
 const BYTES_PER_POINT = 28;
 
-function errText(e) {
-  return e && e.message ? e.message : String(e);
+/** An error as the page gets it: the core's stable `code` (null when it has none) and its text. */
+function errReply(e) {
+  return { code: typeof e?.code === 'string' ? e.code : null, message: e && e.message ? e.message : String(e) };
+}
+
+/** An Error with a stable code, for what the worker itself refuses. */
+function coded(code, message) {
+  return Object.assign(new Error(message), { code });
 }
 
 self.onmessage = async (ev) => {
@@ -24,7 +30,7 @@ self.onmessage = async (ev) => {
   try {
     await ready;
     if (msg.op === 'init') {
-      self.postMessage({ id: msg.id, type: 'done', version: ws.version(), presets: JSON.parse(ws.machine_presets()) });
+      self.postMessage({ id: msg.id, type: 'done', schema: JSON.parse(ws.describe()) });
     } else if (msg.op === 'example') {
       const stl = ws.example_stl(msg.name);
       self.postMessage({ id: msg.id, type: 'done', stl }, [stl.buffer]);
@@ -39,7 +45,7 @@ self.onmessage = async (ev) => {
       await unwarpFile(msg);
     }
   } catch (e) {
-    self.postMessage({ id: msg.id, type: 'error', message: errText(e) });
+    self.postMessage({ id: msg.id, type: 'error', ...errReply(e) });
   }
 };
 
@@ -99,55 +105,27 @@ class Preview {
 }
 
 /**
- * The preview in machine coordinates (moving-bed machines): for every preview point i the
- * machine's inverse kinematics (`machine_axes`) of the tip p and of p + e_x, p + e_y, p + e_z
- * with the same tool axis n, in sequence (each uses the previous axes, so all four share the
- * rotary axes of p). `headXyz` gives the head position `mpos` = H(p) from the machine's axes
- * and the bed's pose: the rigid map part → machine at move i is q ↦ mpos_i + R_i (q − p_i),
- * R_i's columns `mrot` = H(p + e_k) − H(p).
+ * The preview in machine coordinates (moving-bed machines): the core's `machine_view` gives, per
+ * preview point (tip p, tool axis n), the head position H(p) in the machine frame and the columns
+ * H(p + e_k) − H(p) of the part → machine rotation, from the machine's own inverse kinematics.
+ * The rigid map part → machine at move i is q ↦ mpos_i + R_i (q − p_i).
  */
-function machineFrame({ machine, kind }, pv) {
+function machineFrame({ machine, name }, pv) {
   const n = pv.count;
-  const pts = new Float64Array(n * 24);
+  const pts = new Float64Array(n * 6);
   for (let i = 0; i < n; i++) {
-    for (let k = 0; k < 4; k++) {
-      const o = (i * 4 + k) * 6;
-      for (let j = 0; j < 3; j++) {
-        pts[o + j] = pv.pos[i * 3 + j] + (k > 0 && j === k - 1 ? 1 : 0);
-        pts[o + 3 + j] = pv.axis[i * 3 + j];
-      }
+    for (let j = 0; j < 3; j++) {
+      pts[i * 6 + j] = pv.pos[i * 3 + j];
+      pts[i * 6 + 3 + j] = pv.axis[i * 3 + j];
     }
   }
-  const axes = ws.machine_axes(machine, pts);
-  const na = axes.length / (n * 4);
+  const v = ws.machine_view(machine, pts);
   const mpos = new Float32Array(n * 3), mrot = new Float32Array(n * 9);
   for (let i = 0; i < n; i++) {
-    const base = i * 4 * na;
-    const h0 = headXyz(kind, axes, base, na);
-    for (let j = 0; j < 3; j++) mpos[i * 3 + j] = h0[j];
-    for (let k = 0; k < 3; k++) {
-      const hk = headXyz(kind, axes, base + (k + 1) * na, na);
-      for (let j = 0; j < 3; j++) mrot[i * 9 + k * 3 + j] = hk[j] - h0[j];
-    }
+    for (let j = 0; j < 3; j++) mpos[i * 3 + j] = v[i * 12 + j];
+    for (let k = 0; k < 9; k++) mrot[i * 9 + k] = v[i * 12 + 3 + k];
   }
-  return { mpos, mrot, machine };
-}
-
-/**
- * The head's position in the machine frame from the axes at `o` (`na` axes): X Y Z for the A/B
- * table and the lathe (X 0 Z for a lathe without Y); (R, 0, Z) for r-theta (the head moves along the radius, the bed turns);
- * for the three-Z bed X, Y and the mean of the Z motors (the bed's height under its centroid:
- * the tilt shown is that of the motor plane, an approximation of the bed's).
- */
-function headXyz(kind, a, o, na) {
-  if (kind === 'r-theta') return [a[o], 0, a[o + 2]];
-  if (kind === 'lathe-a' && na === 3) return [a[o], 0, a[o + 1]];
-  if (kind === 'three-z') {
-    let z = 0;
-    for (let k = 2; k < na; k++) z += a[o + k];
-    return [a[o], a[o + 1], z / Math.max(1, na - 2)];
-  }
-  return [a[o], a[o + 1], a[o + 2]];
+  return { mpos, mrot, machine: name };
 }
 
 async function unwarpFile(msg) {
@@ -158,7 +136,7 @@ async function unwarpFile(msg) {
   const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2, workerBytes: wasmBytes() + (preview ? preview.cap * 33 : 0) });
   const head = await readSlice(file, 0, Math.min(total, 16));
   if (head.length >= 4 && head[0] === 0x47 && head[1] === 0x43 && head[2] === 0x44 && head[3] === 0x45) {
-    throw new Error('this is a binary G-code (.bgcode): export plain-text G-code instead (PrusaSlicer: Printer settings → General → “Supports binary G-code” off)');
+    throw coded('gcode.binary', 'this is a binary G-code (.bgcode): export plain-text G-code instead (PrusaSlicer: Printer settings → General → “Supports binary G-code” off)');
   }
   const t0 = performance.now();
   const stream = new ws.UnwarpStream(job, JSON.stringify(options));

@@ -3,12 +3,14 @@
 //   node www/tests/run.mjs            # everything (needs www/pkg, www/vendor, the CLI, prusa-slicer)
 //   WARPSLICE_WEB_BIG=0 node ...      # skip the 100 MB G-code test
 //   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100'
+//   WARPSLICE_CLI=path node ...       # compare with this CLI binary (built from the same tree as
+//                                     # www/pkg) instead of building $CARGO_TARGET_DIR/release/warpslice
 //
 // Serves www/ on 127.0.0.1, drives the page, slices the downloaded warped STL with prusa-slicer,
 // and checks the browser's output is byte-identical to the CLI's for the same settings.
 // Screenshots go to artifacts/web/. Prints `N passed, N failed`; exits non-zero on failure.
 import { chromium } from 'playwright-core';
-import { execFileSync } from 'node:child_process';
+import { execFileSync, spawnSync } from 'node:child_process';
 import { existsSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
@@ -22,7 +24,7 @@ const ART = join(ROOT, 'artifacts', 'web');
 const CORPUS = resolve(ROOT, '..', 'shared', 'corpus', 'stl');
 const SLICE = resolve(ROOT, '..', 'shared', 'tools', 'slice.sh');
 const TARGET = process.env.CARGO_TARGET_DIR ? resolve(process.env.CARGO_TARGET_DIR) : join(ROOT, 'target');
-const CLI = join(TARGET, 'release', 'warpslice');
+const CLI = process.env.WARPSLICE_CLI ? resolve(process.env.WARPSLICE_CLI) : join(TARGET, 'release', 'warpslice');
 const BIG = process.env.WARPSLICE_WEB_BIG !== '0';
 const TMP = mkdtempSync(join(tmpdir(), 'warpslice-web-'));
 mkdirSync(ART, { recursive: true });
@@ -73,13 +75,24 @@ for (const [what, p, fix] of [
   }
 }
 // The CLI the browser is compared with: built from the same tree as www/pkg (a no-op when fresh).
-console.log(`building the CLI (${CLI})`);
-execFileSync('cargo', ['build', '--release', '--bin', 'warpslice'], { cwd: ROOT, stdio: 'inherit' });
+if (process.env.WARPSLICE_CLI) {
+  console.log(`the CLI: ${CLI} (WARPSLICE_CLI)`);
+  if (!existsSync(CLI)) {
+    console.log(`missing CLI ${CLI}`);
+    console.log('0 passed, 1 failed');
+    process.exit(1);
+  }
+} else {
+  console.log(`building the CLI (${CLI})`);
+  execFileSync('cargo', ['build', '--release', '--bin', 'warpslice'], { cwd: ROOT, stdio: 'inherit' });
+}
 
 // The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
 const wasm = await import(join(WWW, 'pkg', 'warpslice.js'));
 await wasm.default({ module_or_path: readFileSync(join(WWW, 'pkg', 'warpslice_bg.wasm')) });
 const presetNames = JSON.parse(wasm.machine_presets()).map((p) => p.name);
+// The core's self-description, which the page's forms and advice are built from.
+const schema = JSON.parse(wasm.describe());
 
 // --- browser --------------------------------------------------------------------------------------
 const { server, url } = await startServer(WWW, 0);
@@ -164,6 +177,97 @@ async function roundTrip(label, stlPath, angle) {
   const cli = readFileSync(join(dir, 'C.out.gcode'));
   assert(out.length === cli.length && out.equals(cli), `${label}: browser G-code (${out.length} B, ${sha(out)}) is not byte-identical to the CLI's (${cli.length} B, ${sha(cli)})`);
   return dir;
+}
+
+/**
+ * One model through the page (the form as `setForm` leaves it) and through the CLI (`warpArgs`,
+ * `unwarpArgs`): the warped STL, the job and the output G-code must be byte-identical.
+ */
+async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
+  const dir = join(TMP, label);
+  mkdirSync(dir, { recursive: true });
+  await tid('model-input').setInputFiles(stlPath);
+  await warpSettled();
+  await setForm();
+  await warpSettled();
+  await screenshot(`${label}-warped`);
+  const wStl = await download('warped-download', join(dir, 'W.stl'));
+  const wJob = await download('job-download', join(dir, 'W.job.json'));
+  cliWarp(stlPath, join(dir, 'C.stl'), warpArgs);
+  const cStl = readFileSync(join(dir, 'C.stl'));
+  assert(wStl.equals(cStl), `${label}: warped STL (${wStl.length} B, ${sha(wStl)}) differs from the CLI's (${cStl.length} B, ${sha(cStl)}) for ${warpArgs.join(' ')}`);
+  assert(JSON.stringify(JSON.parse(wJob)) === JSON.stringify(JSON.parse(readFileSync(join(dir, 'C.job.json')))), `${label}: job differs from the CLI's`);
+  slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), ...unwarpArgs, '-o', join(dir, 'C.out.gcode')]);
+  await unwarpInBrowser(join(dir, 'W.gcode'));
+  await screenshot(`${label}-toolpath`);
+  const out = await download('result-download', join(dir, 'B.out.gcode'));
+  const cli = readFileSync(join(dir, 'C.out.gcode'));
+  assert(out.equals(cli), `${label}: browser G-code (${out.length} B, ${sha(out)}) is not byte-identical to the CLI's (${cli.length} B, ${sha(cli)}) for unwarp ${unwarpArgs.join(' ')}`);
+  return { dir, out };
+}
+
+/** Types `value` into the input `selector` and fires its change event. */
+async function setInput(selector, value) {
+  await page.locator(selector).fill(String(value));
+  await page.locator(selector).dispatchEvent('change');
+}
+
+/** Waits for the error box; returns its code, message, advice and advice key. */
+async function shownError() {
+  await page.waitForSelector('[data-testid="error"]:not([hidden])', { timeout: 60000 });
+  return page.evaluate(() => {
+    const box = document.querySelector('[data-testid="error"]');
+    const advice = box.querySelector('[data-testid="error-advice"]');
+    return { code: box.dataset.code ?? null, message: box.querySelector('[data-testid="error-message"]')?.textContent, advice: advice?.textContent ?? null, key: advice?.dataset.advice ?? null };
+  });
+}
+
+/** The form's rows of a container: key, flag, label, and each input's kind and limits. */
+async function formRows(container) {
+  return page.locator(`${container} > .param`).evaluateAll((rows) => rows.map((r) => ({
+    key: r.dataset.key, flag: r.dataset.flag ?? null, type: r.dataset.type, label: r.querySelector('label')?.textContent.trim(),
+    inputs: [...r.querySelectorAll('input:not([data-switch]), select')].map((i) => ({
+      tag: i.tagName.toLowerCase(), type: i.type, min: i.getAttribute('min'), max: i.getAttribute('max'),
+      choices: i.tagName === 'SELECT' ? [...i.options].map((o) => o.value) : null,
+    })),
+    switch: !!r.querySelector('[data-switch]'),
+  })));
+}
+
+/** Checks the rows against the schema's Params; `maxFor(p)` is the max a number input must show. */
+function checkRows(where, rows, params, maxFor = (p) => p.max) {
+  assert(JSON.stringify(rows.map((r) => r.key)) === JSON.stringify(params.map((p) => p.key)), `${where}: rows ${rows.map((r) => r.key)} ≠ schema ${params.map((p) => p.key)}`);
+  const arity = { number: 1, pair: 2, triple: 3, choice: 1, bool: 1 };
+  params.forEach((p, k) => {
+    const r = rows[k];
+    const what = `${where} ${p.key}`;
+    assert(r.type === p.type && r.flag === (p.flag ?? null), `${what}: type ${r.type} / flag ${r.flag} ≠ ${p.type} / ${p.flag}`);
+    assert(r.label?.includes(p.label), `${what}: label “${r.label}” lacks “${p.label}”`);
+    if (p.unit === 'mm') assert(r.label.includes('(mm)'), `${what}: label “${r.label}” shows the unit mm`);
+    if (p.unit === 'deg') assert(r.label.includes('(°)'), `${what}: label “${r.label}” shows the unit °`);
+    assert(r.inputs.length === arity[p.type], `${what}: ${r.inputs.length} inputs for a ${p.type}`);
+    const optionalSwitch = !!p.optional && p.type !== 'choice' && p.type !== 'bool';
+    assert(r.switch === optionalSwitch, `${what}: an on/off switch exactly when optional (${p.optional})`);
+    for (const i of r.inputs) {
+      if (p.type === 'choice') {
+        const want = (p.optional ? [''] : []).concat(p.choices);
+        assert(i.tag === 'select' && JSON.stringify(i.choices) === JSON.stringify(want), `${what}: choices ${i.choices} ≠ ${want}`);
+      } else if (p.type === 'bool') {
+        assert(i.type === 'checkbox', `${what}: a checkbox`);
+      } else {
+        const max = maxFor(p);
+        assert(i.type === 'number', `${what}: a number input`);
+        assert((i.min ?? '') === (p.min == null ? '' : String(p.min)), `${what}: min ${i.min} ≠ ${p.min}`);
+        assert((i.max ?? '') === (max == null ? '' : String(max)), `${what}: max ${i.max} ≠ ${max}`);
+      }
+    }
+  });
+}
+
+/** The long flags of a CLI subcommand's --help. */
+function cliFlags(sub) {
+  return [...new Set([...sh(CLI, [sub, '--help']).matchAll(/^\s+(?:-\w, )?(--[a-z][a-z0-9-]*)/gm)].map((m) => m[1]))];
 }
 
 async function pixels() {
@@ -534,6 +638,226 @@ try {
       rmSync(outPath);
     });
   }
+
+  await test('the form lists exactly the core\'s schema: every warp, its parameters, the warp and unwarp options, with labels and limits', async () => {
+    await page.goto(url);
+    await page.waitForSelector('body[data-ready="1"]');
+    const warps = await tid('warp-select').locator('option').evaluateAll((os) => os.map((o) => o.value));
+    assert(JSON.stringify(warps) === JSON.stringify(schema.warps.map((w) => w.name)), `warp options ${warps} ≠ schema ${schema.warps.map((w) => w.name)}`);
+    for (const w of schema.warps) {
+      // a machine that prints this warp; a degree parameter (the layer tilt) is capped at its tilt limit
+      const m = schema.machines.find((x) => x.warps.includes(w.name));
+      assert(m, `some preset prints the ${w.name} warp`);
+      await tid('machine-select').selectOption(m.name);
+      await tid('warp-select').selectOption(w.name);
+      const cap = (p) => (p.unit === 'deg' && m.max_tilt_deg != null && (p.max == null || m.max_tilt_deg < p.max) ? m.max_tilt_deg : p.max);
+      checkRows(`warp ${w.name} on ${m.name}`, await formRows('#warp-params'), w.params, cap);
+      assert((await page.locator('#warp-params .formula').innerText()).includes(w.formula), `${w.name}: the formula is shown`);
+    }
+    checkRows('warp options', await formRows('#warp-options'), schema.warp_options);
+    checkRows('unwarp options', await formRows('#unwarp-options'), schema.unwarp_options);
+    // Every flag of the CLI is a field of the page: --warp is the warp select, --machine the
+    // machine select and the custom machine JSON, --job and -o are the page's own steps.
+    const pageFlags = new Set([...schema.warps.flatMap((w) => w.params), ...schema.warp_options, ...schema.unwarp_options].map((p) => p.flag));
+    for (const sub of ['warp', 'unwarp']) {
+      for (const f of cliFlags(sub)) {
+        if (['--warp', '--machine', '--job', '--output', '--help'].includes(f)) continue;
+        assert(pageFlags.has(f), `warpslice ${sub} ${f} has a field in the page`);
+      }
+    }
+    const warpValues = /--warp <WARP>.*\[possible values: ([^\]]+)\]/.exec(sh(CLI, ['warp', '--help']))[1].split(', ');
+    assert(JSON.stringify(warpValues) === JSON.stringify(warps), `the CLI's warps ${warpValues} are the page's ${warps}`);
+    await tid('machine-select').selectOption('cartesian');
+    await tid('warp-select').selectOption('conic');
+  });
+
+  await test('cylindrical and spherical warps through the page: byte-identical to the CLI (prusa-slicer)', async () => {
+    const p = join(TMP, 'cylinder-curved-warps.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    // The axis / centre are given: the core's JSON requires them (the CLI derives them from the radius).
+    for (const [warp, key, flag, at] of [['cylindrical', 'axis', '--axis-yz', [0, -20]], ['spherical', 'center', '--sphere-center', [0, 0, -20]]]) {
+      await pageVsCli(`${warp}-cylinder`, p, async () => {
+        await tid('machine-select').selectOption('cartesian');
+        await tid('warp-select').selectOption(warp);
+        await setInput(`#p-${warp}-radius`, 20);
+        await tid(`${key}-on`).check();
+        for (const [k, v] of at.entries()) await setInput(`#p-${warp}-${key}-${'xyz'[k]}`, v);
+      }, ['--warp', warp, '--radius', '20', flag, at.join(',')]);
+      const job = JSON.parse(readFileSync(join(TMP, `${warp}-cylinder`, 'W.job.json')));
+      assert(job.warp.spec.kind === warp && job.warp.spec.radius === 20, `the job is the ${warp} warp of radius 20: ${JSON.stringify(job.warp.spec)}`);
+    }
+  });
+
+  await test('custom machine JSON (pax-5axis, limit changed) and the unwarp options: byte-identical to the CLI, and the limit holds', async () => {
+    const pax = schema.machines.find((m) => m.name === 'pax-5axis');
+    assert(pax && pax.spec.kind === 'pax', 'the pax-5axis preset is in the schema');
+    const custom = { ...pax.spec, name: 'pax-custom', axis_names: ['X', 'Y', 'Z', 'U', 'V'], max_tilt_deg: 20 };
+    const dir = join(TMP, 'custom-machine');
+    mkdirSync(dir, { recursive: true });
+    const file = join(dir, 'pax-custom.json');
+    writeFileSync(file, JSON.stringify(custom, null, 2));
+    const p = join(dir, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    const useCustom = async (angle) => {
+      await tid('machine-select').selectOption('pax-5axis');
+      await page.locator('#machine-custom-box').evaluate((d) => (d.open = true));
+      await tid('machine-json').fill(JSON.stringify(custom, null, 2));
+      await tid('machine-json').dispatchEvent('change');
+      assert(await tid('machine-custom').isChecked(), 'pasting a machine JSON switches it on');
+      await tid('warp-select').selectOption('conic');
+      await setInput('#p-conic-angle', angle);
+    };
+    const unwarpOpts = async () => {
+      await tid('flow-ramp-on').check();
+      await setInput('#p-flow-ramp-x', 0.8);
+      await setInput('#p-flow-ramp-y', 1.2);
+      await page.locator('#p-feed').selectOption('inverse-time');
+      await page.locator('#p-flavour').selectOption('marlin');
+      await setInput('#p-z_offset', 0.1);
+      await setInput('#p-max_segment', 0.5);
+    };
+    const { out } = await pageVsCli('custom-machine', p, async () => {
+      await useCustom(15);
+      await unwarpOpts();
+    }, ['--warp', 'conic', '--angle', '15'], ['--machine', file, '--ramp', '0.8,1.2', '--feed', 'inverse-time', '--flavour', 'marlin', '--z-offset', '0.1', '--max-segment', '0.5']);
+    const text = out.toString();
+    assert(/^G1 .*\bU-?\d/m.test(text) && /^G1 .*\bV-?\d/m.test(text) && !/^G1 .*\bB-?\d/m.test(text), 'the output drives the custom machine\'s U and V axes');
+    assert(/^G93/m.test(text), 'inverse-time feed (G93) from the feed option');
+    // The custom limit (20°) holds: conic 30° fails in the page as on the CLI.
+    await setInput('#p-conic-angle', 30);
+    await warpSettled();
+    await download('warped-download', join(dir, 'W30.stl'));
+    await download('job-download', join(dir, 'W30.job.json'));
+    slice(join(dir, 'W30.stl'), join(dir, 'W30.gcode'));
+    let cliError = null;
+    try {
+      sh(CLI, ['unwarp', join(dir, 'W30.gcode'), '--job', join(dir, 'W30.job.json'), '--machine', file, '-o', join(dir, 'C30.out.gcode')]);
+    } catch (e) {
+      cliError = String(e.stderr ?? e);
+    }
+    assert(cliError && /outside its travel/.test(cliError), `the CLI refuses conic 30° on the custom machine: ${cliError}`);
+    await tid('gcode-input').setInputFiles(join(dir, 'W30.gcode'));
+    const err = await shownError();
+    assert(err.code === 'machine.axis-limit', `the page refuses it with the code machine.axis-limit: ${JSON.stringify(err)}`);
+    await screenshot('custom-machine-limit');
+    await tid('machine-custom').uncheck();
+    await tid('flow-ramp-on').uncheck();
+    await page.locator('#p-feed').selectOption('xyz');
+    await page.locator('#p-flavour').selectOption('');
+    await setInput('#p-z_offset', 0);
+    await setInput('#p-max_segment', 1);
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+  });
+
+  await test('settings round-trip: custom machine JSON and every unwarp option survive the URL hash', async () => {
+    await tid('machine-select').selectOption('pax-5axis');
+    await page.locator('#machine-custom-box').evaluate((d) => (d.open = true));
+    await tid('machine-json').fill(JSON.stringify({ ...schema.machines.find((m) => m.name === 'pax-5axis').spec, max_tilt_deg: 40 }));
+    await tid('machine-json').dispatchEvent('change');
+    await tid('warp-select').selectOption('spherical');
+    await setInput('#p-spherical-radius', 15);
+    await tid('flow-ramp-on').check();
+    await setInput('#p-flow-ramp-x', 0.7);
+    await tid('offset-on').check();
+    await setInput('#p-offset-x', 3);
+    await page.locator('#p-feed').selectOption('all-axes');
+    await page.locator('#p-flavour').selectOption('klipper');
+    await page.locator('#p-drop_skirt').check();
+    await page.locator('#p-drop_skirt').dispatchEvent('change');
+    const a = JSON.parse(await download('settings-export', join(TMP, 'settings-a.json')));
+    assert(a.machine_json && JSON.parse(a.machine_json).max_tilt_deg === 40, `custom machine exported: ${a.machine_json}`);
+    assert(a.warp.kind === 'spherical' && a.warp.radius === 15, `warp exported: ${JSON.stringify(a.warp)}`);
+    assert(a.unwarp.flow.ramp[0] === 0.7 && a.unwarp.offset[0] === 3 && a.unwarp.feed === 'all-axes' && a.unwarp.flavour === 'klipper' && a.unwarp.drop_skirt === true, `unwarp options exported: ${JSON.stringify(a.unwarp)}`);
+    const hash = await page.evaluate(() => location.hash);
+    const page2 = await context.newPage();
+    await page2.goto(url + hash);
+    await page2.waitForSelector('body[data-ready="1"]');
+    const [dl] = await Promise.all([page2.waitForEvent('download'), page2.locator('[data-testid="settings-export"]').click()]);
+    await dl.saveAs(join(TMP, 'settings-b.json'));
+    const b = JSON.parse(readFileSync(join(TMP, 'settings-b.json')));
+    await page2.close();
+    assert(JSON.stringify(b) === JSON.stringify(a), `the hash restores every setting:\n${JSON.stringify(a)}\n${JSON.stringify(b)}`);
+    // back to the defaults for the tests after this one
+    await page.goto(url);
+    await page.waitForSelector('body[data-ready="1"]');
+    assert((await tid('warp-select').inputValue()) === 'conic' && !(await tid('machine-custom').isChecked()), 'a page without a hash starts from the defaults');
+  });
+
+  await test('error advice is keyed by the core\'s error code: three codes, each with its own advice, unchanged when the message is reworded', async () => {
+    const { ADVICE } = await import(join(WWW, 'js', 'advice.js'));
+    const codes = new Set(schema.errors.map((e) => e.code));
+    for (const k of Object.keys(ADVICE)) assert(k.startsWith('page.') || codes.has(k), `advice for ${k}, a code the core does not have`);
+    const dir = join(TMP, 'coded-errors');
+    mkdirSync(dir, { recursive: true });
+    const stl = join(dir, 'cylinder.stl');
+    writeFileSync(stl, wasm.example_stl('cylinder'));
+    await tid('model-input').setInputFiles(stl);
+    await warpSettled();
+    await setConic(30);
+    await download('warped-download', join(dir, 'W.stl'));
+    await download('job-download', join(dir, 'W.job.json'));
+    slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+    // The slicer's placement, so that a G-code with G91 in the middle gets past registration.
+    const run = spawnSync(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '-o', join(dir, 'C.out.gcode')], { encoding: 'utf8' });
+    const placed = /registration: translation (\S+) (\S+)/.exec(run.stdout + run.stderr);
+    assert(run.status === 0 && placed, `the CLI unwarps the clean G-code: ${run.stderr}`);
+    const lines = readFileSync(join(dir, 'W.gcode'), 'utf8').split('\n');
+    let at = Math.floor(lines.length * 0.4);
+    while (!lines[at].startsWith('G1 ')) at++;
+    lines.splice(at, 0, 'G91');
+    writeFileSync(join(dir, 'relative.gcode'), lines.join('\n'));
+    writeFileSync(join(dir, 'hello.gcode'), 'G28\nG1 X10 Y10 Z0.2 E1 F1200\n');
+    writeFileSync(join(dir, 'empty.stl'), '');
+    const cases = [
+      ['register.no-object-extrusions', () => tid('gcode-input').setInputFiles(join(dir, 'hello.gcode'))],
+      ['unwarp.relative-positioning', async () => {
+        await tid('offset-on').check();
+        await setInput('#p-offset-x', placed[1]);
+        await setInput('#p-offset-y', placed[2]);
+        await tid('gcode-input').setInputFiles(join(dir, 'relative.gcode'));
+      }],
+      ['mesh.empty', () => tid('model-input').setInputFiles(join(dir, 'empty.stl'))],
+    ];
+    const errorWhere = async (pred, arg, what) => {
+      await page.waitForFunction(pred, arg, { timeout: 60000 }).catch(async () => {
+        throw new Error(`${what}; the page shows ${JSON.stringify(await page.evaluate(() => ({ hidden: document.querySelector('[data-testid="error"]').hidden, text: document.querySelector('[data-testid="error"]').innerText })))}`);
+      });
+      return shownError();
+    };
+    const shown = [];
+    for (const [code, provoke] of cases) {
+      assert(codes.has(code), `${code} is a code of describe().errors`);
+      assert(ADVICE[code], `the page has advice for ${code}`);
+      await provoke();
+      const plain = await errorWhere((c) => { const b = document.querySelector('[data-testid="error"]'); return !b.hidden && b.dataset.code === c; }, code, `an error with the code ${code}`);
+      assert(plain.advice === `What to do: ${ADVICE[code]}` && plain.key === code, `${code}: the advice shown is the one for this code: ${JSON.stringify(plain)}`);
+      // The same failure with the message reworded on its way from the worker (code kept).
+      await page.evaluate(() => {
+        const d = Object.getOwnPropertyDescriptor(MessageEvent.prototype, 'data');
+        window.__warpsliceData = d;
+        Object.defineProperty(MessageEvent.prototype, 'data', {
+          configurable: true,
+          get() {
+            const m = d.get.call(this);
+            return m && m.type === 'error' ? { ...m, message: `reworded: something else went wrong (${m.code})` } : m;
+          },
+        });
+      });
+      try {
+        await provoke();
+        const reworded = await errorWhere((c) => { const b = document.querySelector('[data-testid="error"]'); return !b.hidden && b.innerText.includes(`reworded: something else went wrong (${c})`); }, code, `the reworded message of ${code}`);
+        assert(reworded.code === code && reworded.advice === plain.advice && reworded.key === code, `${code}: the same advice with the message reworded: ${JSON.stringify(reworded)}`);
+        assert(reworded.message !== plain.message, `${code}: the message was reworded (${reworded.message})`);
+      } finally {
+        await page.evaluate(() => Object.defineProperty(MessageEvent.prototype, 'data', window.__warpsliceData));
+      }
+      await screenshot(`error-${code}`);
+      shown.push(plain.advice);
+    }
+    assert(new Set(shown).size === cases.length, `each code has its own advice: ${shown.join(' | ')}`);
+    await tid('offset-on').uncheck();
+  });
 
   await test('no request left 127.0.0.1 and no console errors', async () => {
     assert(outside.length === 0, `requests outside 127.0.0.1: ${outside.slice(0, 5).join(', ')}`);

@@ -1,0 +1,65 @@
+// What to do about an error, keyed by the core's stable error code (`describe().errors`; the
+// worker passes `{code, message}`). The message is shown as it is and never read here: a
+// reworded message changes nothing. A code without its own entry gets its area's advice (the
+// part before the dot). Codes `page.*` are the page's own. No DOM here (the tests import it).
+
+/** Advice by code. */
+export const ADVICE = {
+  'mesh.empty': 'The file is empty: export the STL again from your CAD program.',
+  'mesh.truncated': 'The file was cut short (an interrupted download or copy?): export or copy the STL again.',
+  'mesh.face-count': 'The binary STL is damaged (its face count disagrees with its size): export it again.',
+  'mesh.syntax': 'The ASCII STL has a line that does not parse (the message says which): export it again, or as binary STL.',
+  'mesh.non-finite': 'The model has NaN or infinite coordinates: repair it in your CAD program and export again.',
+  'mesh.no-triangles': 'The file holds no triangles: export the part itself, not an empty sketch or assembly.',
+  'warp.bad-parameter': 'A warp parameter is outside its range: the message names it; change it and warp again.',
+  'warp.not-monotonic': 'The flat base blends into the warp too steeply: make the base range (z0 … z1) longer or lower the warp.',
+  'warp.inverse-failed': 'Part of the model lies where this warp is not defined: move the warp\'s centre or axis, or change its radius.',
+  'warp.base-not-supported': 'This warp cannot blend into a flat base: switch the flat base off.',
+  'register.no-object-extrusions': 'This G-code prints nothing of the model: slice the warped STL downloaded in step 3 (not the original) and open the slicer\'s output.',
+  'register.mismatch': 'The placement is always detected here: slice the warped STL downloaded in step 3, not the original model, with first layer height = layer height.',
+  'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
+  'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
+  'gcode.binary': 'Export plain-text G-code (PrusaSlicer: Printer settings → General → “Supports binary G-code” off).',
+  'job.format': 'The job file is from another warpslice version: warp the model again here.',
+  'job.parse': 'The job file is not a warpslice job: warp the model again.',
+  'job.hash': 'Use the job file of this exact warped STL; warp again if in doubt.',
+  'machine.axis-limit': 'The part needs more travel than an axis has: lower the warp, place the part elsewhere (“place”), or pick a machine with the range.',
+  'machine.unreachable-orientation': 'The machine cannot tilt the nozzle that far here: lower the warp or pick a warp this machine prints.',
+  'machine.mandrel-mismatch': 'Set the cylindrical warp\'s axis to the machine\'s mandrel axis.',
+  'machine.bad-json': 'The custom machine JSON does not parse: fix it or switch it off (the message says where).',
+  'machine.bad-spec': 'A parameter of the machine is unusable: fix the custom machine JSON (the message names it).',
+  'unwarp.axis-reset': 'The slicer resets X/Y/Z with G92 inside the print: remove G92 X/Y/Z from its start and layer-change G-code (G92 E0 is fine).',
+  'unwarp.inches': 'Set the slicer to millimetres (G21): inch units (G20) inside the print are not unwarped.',
+  'unwarp.bad-place': 'Give “place” as two numbers x,y in mm, or switch it off.',
+  'unwarp.option': 'An unwarp option is outside its range: the message names it; change it in step 4.',
+  'machine.unsupported-flavour': 'This firmware cannot drive this machine\'s axes: choose another firmware (flavour) in step 4, or the machine\'s default.',
+  'unwarp.relative-positioning': 'Set the slicer to absolute XYZ positioning (G90); relative extrusion (M83) is fine.',
+  'options.invalid': 'An option is outside its range: the message names it; change it and try again.',
+  'page.machine-json': 'The custom machine JSON is not a JSON object: fix it or switch “custom machine” off.',
+  'page.no-warp': 'The G-code is unwarped with the job of the warped model: open a model and warp it first (steps 1–2).',
+  'page.settings': 'This file is not warpslice settings: export the settings again from the page (“Export settings”).',
+  'page.worker-stopped': 'The background worker stopped (out of memory?): reload the page and try again.',
+};
+
+/** Advice by area, for a code without its own entry. */
+export const AREA_ADVICE = {
+  mesh: 'Check that the file is an STL exported from a CAD program (ASCII or binary) and not empty; re-export it if it was cut short.',
+  warp: 'Lower the warp strength or angle, or change the flat base; then press Warp again.',
+  register: 'Check that this G-code was sliced from the warped STL downloaded in step 3 with these settings (same layer height, first layer height = layer height).',
+  gcode: 'Check that this is the slicer\'s plain-text G-code of the warped STL.',
+  job: 'Use the job file written with this warped STL; warp again if in doubt.',
+  machine: 'Check the machine and its limits; lower the warp or place the part elsewhere.',
+  unwarp: 'Check that this G-code was sliced from the warped STL downloaded in step 3 with these settings (same layer height, first layer height = layer height), and that it is plain text.',
+  options: 'Check the options of steps 2 and 4.',
+};
+
+/**
+ * The advice for an error code: `{ key, text }`, `key` being the code or `area:<area>` for an
+ * area's advice; null for no code or an unknown area.
+ */
+export function adviceFor(code) {
+  if (typeof code !== 'string' || !code) return null;
+  if (ADVICE[code]) return { key: code, text: ADVICE[code] };
+  const area = code.split('.')[0];
+  return AREA_ADVICE[area] ? { key: `area:${area}`, text: AREA_ADVICE[area] } : null;
+}

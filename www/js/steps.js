@@ -1,0 +1,258 @@
+// The steps of the page, as the pipeline runs: 1 the model, 2 the machine and the warp,
+// 4 the G-code back (unwarp), 5 the result and its summary. Each step resets what depends on it.
+import { state } from './state.js';
+import { $, baseName, box3, info, setDownload } from './dom.js';
+import { call } from './worker-client.js';
+import { clearError, showError } from './errors.js';
+import { readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
+import { buildWarpParams, enforceLimits, showMachine } from './forms.js';
+import { currentMachine, machineViewArgument } from './machines.js';
+import { clearGroup, showModel, SURFACE_GRID } from './view.js';
+import { setViewMode, updateMachineFrameToggle } from './preview.js';
+
+const tp = state.tp;
+
+// Step 1: the model.
+export async function loadModel(bytes, name) {
+  clearError();
+  resetWarp();
+  state.stl = null;
+  state.modelReport = null;
+  state.stlName = name;
+  $('model-info').replaceChildren();
+  $('warp-button').disabled = true;
+  try {
+    const { report } = await call('inspect', { stl: bytes.buffer.slice(0) });
+    state.stl = bytes;
+    state.modelReport = { ...report, bbox: box3(report.bbox) };
+  } catch (e) {
+    showError(`Cannot read “${name}”`, e, 'mesh');
+    showModel();
+    return;
+  }
+  const r = state.modelReport;
+  const size = ['x', 'y', 'z'].map((k) => (r.bbox.max[k] - r.bbox.min[k]).toFixed(2)).join(' × ');
+  const defects = [];
+  for (const [k, label] of [['open_edges', 'open edges'], ['nonmanifold_edges', 'non-manifold edges'], ['degenerate', 'degenerate triangles'], ['zero_normals', 'zero normals'], ['flipped_normals', 'flipped normals']]) {
+    if (r[k]) defects.push(`${r[k]} ${label}`);
+  }
+  info($('model-info'), [
+    ['file', name],
+    ['format', String(r.format)],
+    ['size', `${size} mm`],
+    ['triangles', r.triangles.toLocaleString('en')],
+    ['defects', defects.length ? defects.join(', ') : 'none'],
+    ...(r.warnings?.length ? [['warnings', r.warnings.join('; ')]] : []),
+  ]);
+  $('model-info').dataset.triangles = String(r.triangles);
+  $('warp-button').disabled = false;
+  setViewMode('model');
+  showModel();
+  await doWarp();
+}
+
+
+// Step 2: the machine and the warp.
+export function resetWarp() {
+  state.warped = null;
+  setDownload('warped-download', null);
+  setDownload('job-download', null);
+  $('warp-info').replaceChildren();
+  $('gcode-input').disabled = true;
+  resetResult();
+  showWarnings();
+}
+
+export function resetResult() {
+  state.result = null;
+  tp.data = null;
+  tp.built = null;
+  clearGroup(state.view.pathGroup);
+  setDownload('result-download', null);
+  setDownload('summary-download', null);
+  $('summary').replaceChildren();
+  $('progress').value = 0;
+  $('progress-text').textContent = '';
+  $('sliders').hidden = true;
+  $('canvas-wrap').removeAttribute('data-drawn');
+  updateMachineFrameToggle();
+}
+
+export async function doWarp() {
+  if (!state.stl) return;
+  enforceLimits();
+  saveHash();
+  clearError();
+  const seq = ++state.warpSeq;
+  resetWarp();
+  $('warp-button').disabled = true;
+  $('warp-info').textContent = 'warping…';
+  try {
+    const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: SURFACE_GRID });
+    if (seq !== state.warpSeq) return;
+    out.report.warped_bbox = box3(out.report.warped_bbox);
+    state.warped = out;
+    const r = out.report;
+    const wb = r.warped_bbox;
+    const dl = document.createElement('dl');
+    dl.className = 'info';
+    info(dl, [
+      ['warped size', ['x', 'y', 'z'].map((k) => (wb.max[k] - wb.min[k]).toFixed(2)).join(' × ') + ' mm'],
+      ['triangles out', r.triangles_out.toLocaleString('en')],
+      ['largest tilt', `${r.largest_tilt_deg.toFixed(2)}°`],
+      ['anchor slab', r.anchor != null ? `${r.anchor} mm (first layer, dropped by unwarp)` : 'none (flat bottom)'],
+    ]);
+    $('warp-info').replaceChildren(dl);
+    $('warp-info').dataset.largestTilt = String(r.largest_tilt_deg);
+    const name = baseName(state.stlName);
+    setDownload('warped-download', new Blob([out.stl], { type: 'model/stl' }), `${name}.warped.stl`);
+    setDownload('job-download', new Blob([out.job], { type: 'application/json' }), `${name}.warped.job.json`);
+    $('gcode-input').disabled = false;
+  } catch (e) {
+    if (seq !== state.warpSeq) return;
+    $('warp-info').textContent = '';
+    if (!e.cancelled) showError('Cannot warp this model', e, 'warp');
+  } finally {
+    if (seq === state.warpSeq) $('warp-button').disabled = !state.stl;
+  }
+  showWarnings();
+  showModel();
+}
+
+/** The warp against the machine: its tilt limit or fixed tilt, a 3-axis machine's vertical nozzle. */
+export function showWarnings() {
+  const ul = $('warnings');
+  ul.replaceChildren();
+  const m = currentMachine();
+  const w = state.warped;
+  if (!m || !w) return;
+  const add = (text, ok = false) => {
+    const li = document.createElement('li');
+    li.textContent = text;
+    if (ok) li.className = 'ok';
+    ul.append(li);
+  };
+  const tilt = w.report.largest_tilt_deg;
+  if (m.max_tilt_deg != null && tilt > m.max_tilt_deg + 1e-6) add(`The layers need up to ${tilt.toFixed(1)}° of tilt; ${m.name} reaches ${m.max_tilt_deg}°: lower the warp.`);
+  if (m.fixed_tilt_deg != null && Math.abs(tilt - m.fixed_tilt_deg) > 0.5 && tilt > 0) add(`${m.name} holds the nozzle at ${m.fixed_tilt_deg}°; these layers need ${tilt.toFixed(1)}°.`);
+  if (!m.axes.some((a) => a.rotary) && tilt > 0) add(`3-axis: the nozzle stays vertical while the layers slope up to ${tilt.toFixed(1)}°; make sure the nozzle cone clears that slope.`);
+  if (!ul.children.length) add(`Within ${m.name}'s tilt limits (largest tilt ${tilt.toFixed(1)}°); the axis ranges are checked when unwarping.`, true);
+}
+
+/** A machine or custom machine JSON was chosen: its info, the warps it prints, its limits. */
+export function onMachineChange() {
+  if (showMachine()) buildWarpParams();
+  else enforceLimits();
+  showWarnings();
+  updateMachineFrameToggle();
+}
+
+/** Re-warps 400 ms after the last change of the form. */
+export function scheduleWarp() {
+  enforceLimits();
+  saveHash();
+  clearTimeout(state.warpTimer);
+  if (state.stl) state.warpTimer = setTimeout(doWarp, 400);
+}
+
+// Step 4: the G-code back.
+export async function doUnwarp(file) {
+  if (!state.warped) {
+    showError('Warp a model first', { code: 'page.no-warp', message: 'The G-code is unwarped with the job of the warped model (steps 1–2).' });
+    return;
+  }
+  clearError();
+  resetResult();
+  saveHash();
+  state.busy = true;
+  $('cancel').disabled = false;
+  $('gcode-input').disabled = true;
+  const prog = $('progress');
+  const text = $('progress-text');
+  prog.removeAttribute('data-done');
+  prog.removeAttribute('data-worker-bytes');
+  text.textContent = 'reading…';
+  const t0 = performance.now();
+  try {
+    const m = currentMachine();
+    const options = unwarpOptions();
+    const machineFrame = m.moving_bed ? { machine: machineViewArgument(), name: m.name } : null;
+    const out = await call('unwarp', { file, job: state.warped.job, options, machineFrame }, [], (ev) => {
+      if (ev.type === 'progress') {
+        prog.value = ev.done / ev.total;
+        prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
+        text.textContent = `${ev.phase === 'scan' ? 'finding the part' : 'unwarping'} ${Math.round((100 * ev.done) / ev.total)} %`;
+      }
+    });
+    prog.value = 1;
+    const secs = (performance.now() - t0) / 1000;
+    text.textContent = `done in ${secs.toFixed(1)} s`;
+    prog.dataset.done = '1';
+    prog.dataset.ms = String(Math.round(performance.now() - t0));
+    state.result = out;
+    const name = baseName(file.name);
+    setDownload('result-download', out.blob, `${name}.${m.name}.gcode`);
+    const summary = makeSummary(out, file);
+    setDownload('summary-download', new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
+    info($('summary'), Object.entries(summary.display));
+    tp.data = out.preview;
+    tp.built = null;
+    tp.firstBuild = true;
+    updateMachineFrameToggle();
+    const tv = performance.now();
+    setViewMode('toolpath');
+    $('sliders').hidden = false;
+    prog.dataset.viewMs = String(Math.round(performance.now() - tv));
+    prog.dataset.afterMs = String(Math.round(performance.now() - t0) - Number(prog.dataset.ms));
+  } catch (e) {
+    prog.value = 0;
+    if (e.cancelled) {
+      text.textContent = 'cancelled';
+    } else {
+      text.textContent = 'failed';
+      setViewMode('model');
+      showError(`Cannot unwarp “${file.name}”`, e, 'unwarp');
+    }
+  } finally {
+    state.busy = false;
+    $('cancel').disabled = true;
+    $('gcode-input').disabled = !state.warped;
+  }
+}
+
+export function makeSummary(out, file) {
+  const r = out.report;
+  const d = out.preview;
+  // Print length: the sum of extruding segment lengths in the (possibly decimated) preview.
+  let printLen = 0;
+  for (let i = 1; i < d.count; i++) {
+    if (d.flags[i] & 0x80 || d.layer[i] !== d.layer[i - 1]) continue;
+    printLen += Math.hypot(d.pos[i * 3] - d.pos[i * 3 - 3], d.pos[i * 3 + 1] - d.pos[i * 3 - 2], d.pos[i * 3 + 2] - d.pos[i * 3 - 1]);
+  }
+  const s = readSettings();
+  return {
+    machine: s.machine,
+    machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',
+    warp: JSON.parse(state.warped.job).warp,
+    gcode_in: file.name,
+    bytes_in: file.size,
+    bytes_out: out.bytes,
+    report: r,
+    print_length_mm: d.stride === 1 ? printLen : null,
+    worst_interpolation_error_mm: r.machine ? r.machine.worst_position_mm : null,
+    display: {
+      machine: r.machine ? `${r.machine.machine}, ${r.machine.flavour}, feed ${r.machine.feed}` : `${s.machine} (3-axis)`,
+      warp: `${s.warp.kind}`,
+      lines: `${r.lines_in.toLocaleString('en')} in → ${r.lines_out.toLocaleString('en')} out`,
+      E: `${r.e_in.toFixed(1)} mm in → ${r.e_out.toFixed(1)} mm out (anchor ${r.e_anchor.toFixed(1)}, skirt ${r.e_skirt.toFixed(1)} ${r.skirt})`,
+      'print length': d.stride === 1 ? `${(printLen / 1000).toFixed(2)} m` : `preview decimated 1:${d.stride}`,
+      'largest tilt': `${r.largest_tilt_deg.toFixed(2)}°`,
+      'worst interpolation error': r.machine
+        ? `${r.machine.worst_position_mm.toFixed(4)} mm, ${r.machine.worst_angle_deg.toFixed(3)}°`
+        : 'none (3-axis: straight moves)',
+      placement: `offset ${r.translation.map((v) => v.toFixed(2)).join(', ')} mm, residual ${r.residual.toExponential(2)}`,
+      'output size': `${(out.bytes / 1e6).toFixed(2)} MB`,
+    },
+  };
+}
+
