@@ -311,31 +311,21 @@ pub fn calibrate_simulate(
     use crate::calibrate::{patterns, simulate};
     let b = calibrate_machine(believed)?;
     let t = if truth.trim().is_empty() {
-        let d: simulate::Deviation = parse_or_default("deviation", deviation_json)?;
-        simulate::deviate(&b, &d).map_err(js)?
+        None
     } else {
-        calibrate_machine(truth)?
+        Some(calibrate_machine(truth)?)
     };
-    let pair = simulate::Pair::new(&b, &t).map_err(js)?;
-    let (rep, title) = if toolpath_csv.trim().is_empty() {
+    let d: simulate::Deviation = parse_or_default("deviation", deviation_json)?;
+    let input = if toolpath_csv.trim().is_empty() {
         let kind: patterns::TestKind = test_kind.parse().map_err(js)?;
-        let tp = patterns::test_print(&b, kind, &patterns::PrintOptions::default()).map_err(js)?;
-        let (axes, tips): (Vec<Vec<f64>>, Vec<glam::DVec3>) = tp
-            .moves
-            .iter()
-            .filter_map(|m| m.tip.map(|p| (m.axes.clone(), p)))
-            .unzip();
-        (
-            simulate::simulate_axes(&pair, &axes, &tips).map_err(js)?,
-            format!("{} test", kind.name()),
-        )
+        simulate::SimInput::TestPrint(kind)
     } else {
-        let poses = simulate::parse_poses(toolpath_csv).map_err(js)?;
-        (
-            simulate::simulate(&pair, &poses).map_err(js)?,
-            "toolpath".to_string(),
-        )
+        simulate::SimInput::Toolpath {
+            csv: toolpath_csv,
+            name: "toolpath",
+        }
     };
+    let (rep, title) = simulate::run(&b, t.as_ref(), &d, input).map_err(js)?;
     let svg = simulate::svg(&rep, &title, exaggerate);
     sim_result(&rep, svg)
 }

@@ -397,3 +397,55 @@ pub fn fig_3_1(radius: f64, a_rot_z_deg: f64) -> Result<f64, CalibError> {
     )?;
     Ok(r.max_error_mm)
 }
+
+/// What to simulate: the poses of a toolpath (CSV text `x,y,z,nx,ny,nz`, see [`parse_poses`]),
+/// or the path of one of the §6.2 test prints made by the believed machine.
+#[derive(Clone, Copy, Debug)]
+pub enum SimInput<'a> {
+    /// A toolpath as CSV text, and its name for the figure's title.
+    Toolpath {
+        /// The CSV text.
+        csv: &'a str,
+        /// Its name (a file path).
+        name: &'a str,
+    },
+    /// A test print (§6.2).
+    TestPrint(super::patterns::TestKind),
+}
+
+/// The whole simulation as the CLI and the web page run it: the true machine is `truth`, or
+/// the believed one with `deviation` ([`deviate`]); returns the report and the figure's title.
+pub fn run(
+    believed: &MachineSpec,
+    truth: Option<&MachineSpec>,
+    deviation: &Deviation,
+    input: SimInput<'_>,
+) -> Result<(SimReport, String), CalibError> {
+    let t = match truth {
+        Some(t) => t.clone(),
+        None => deviate(believed, deviation)?,
+    };
+    let pair = Pair::new(believed, &t)?;
+    match input {
+        SimInput::Toolpath { csv, name } => {
+            let poses = parse_poses(csv)?;
+            Ok((simulate(&pair, &poses)?, name.to_string()))
+        }
+        SimInput::TestPrint(kind) => {
+            let tp = super::patterns::test_print(
+                believed,
+                kind,
+                &super::patterns::PrintOptions::default(),
+            )?;
+            let (axes, tips): (Vec<Vec<f64>>, Vec<DVec3>) = tp
+                .moves
+                .iter()
+                .filter_map(|m| m.tip.map(|p| (m.axes.clone(), p)))
+                .unzip();
+            Ok((
+                simulate_axes(&pair, &axes, &tips)?,
+                format!("{} test", kind.name()),
+            ))
+        }
+    }
+}

@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use glam::DVec3;
 use warpslice::calibrate::patterns::{self, PrintOptions, TestKind};
 use warpslice::calibrate::probes::{self, ProbeInput};
-use warpslice::calibrate::simulate::{self, Deviation, Pair};
+use warpslice::calibrate::simulate::{self, Deviation, SimInput};
 use warpslice::calibrate::{self as cal, OriginOptions};
 
 use crate::args::{machine_spec as machine, pair, vec3};
@@ -411,52 +411,38 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
             exaggerate,
         } => {
             let b = machine(&believed)?;
-            let t = match truth {
-                Some(t) => machine(&t)?,
-                None => simulate::deviate(
-                    &b,
-                    &Deviation {
-                        a_offset: d.a_offset.unwrap_or(DVec3::ZERO),
-                        a_rot_z_deg: d.a_rot_z,
-                        a_rot_y_deg: d.a_rot_y,
-                        b_offset: d.b_offset.unwrap_or(DVec3::ZERO),
-                        b_rot_x_deg: d.b_rot_x,
-                        b_rot_y_deg: d.b_rot_y,
-                        z_wobble_mm: 0.0,
-                    },
-                )
-                .map_err(|e| e.to_string())?,
+            let t = truth.as_deref().map(machine).transpose()?;
+            let deviation = Deviation {
+                a_offset: d.a_offset.unwrap_or(DVec3::ZERO),
+                a_rot_z_deg: d.a_rot_z,
+                a_rot_y_deg: d.a_rot_y,
+                b_offset: d.b_offset.unwrap_or(DVec3::ZERO),
+                b_rot_x_deg: d.b_rot_x,
+                b_rot_y_deg: d.b_rot_y,
+                z_wobble_mm: 0.0,
             };
-            let pair = Pair::new(&b, &t).map_err(|e| e.to_string())?;
-            let (report, title) = match (toolpath, test) {
+            let (csv_text, name);
+            let input = match (&toolpath, test) {
                 (Some(path), None) => {
-                    let poses = simulate::parse_poses(&read_text(&path)?)
-                        .map_err(|e| format!("{}: {e}", path.display()))?;
-                    (
-                        simulate::simulate(&pair, &poses).map_err(|e| e.to_string())?,
-                        path.display().to_string(),
-                    )
+                    csv_text = read_text(path)?;
+                    name = path.display().to_string();
+                    SimInput::Toolpath {
+                        csv: &csv_text,
+                        name: &name,
+                    }
                 }
                 (None, Some(kind)) => {
-                    let kind: TestKind =
-                        kind.parse().map_err(|e: cal::CalibError| e.to_string())?;
-                    let tp = patterns::test_print(&b, kind, &PrintOptions::default())
-                        .map_err(|e| e.to_string())?;
-                    let (axes, tips): (Vec<Vec<f64>>, Vec<DVec3>) = tp
-                        .moves
-                        .iter()
-                        .filter_map(|m| m.tip.map(|t| (m.axes.clone(), t)))
-                        .unzip();
-                    (
-                        simulate::simulate_axes(&pair, &axes, &tips).map_err(|e| e.to_string())?,
-                        format!("{} test", kind.name()),
-                    )
+                    SimInput::TestPrint(kind.parse().map_err(|e: cal::CalibError| e.to_string())?)
                 }
                 _ => return Err("give either --toolpath FILE or --test KIND".to_string()),
             };
+            let (report, title) =
+                simulate::run(&b, t.as_ref(), &deviation, input).map_err(|e| match &toolpath {
+                    Some(path) => format!("{}: {e}", path.display()),
+                    None => e.to_string(),
+                })?;
             let text = report.to_text();
-            print!("{}", text.lines().next().unwrap_or_default());
-            say!();
+            say!("{}", text.lines().next().unwrap_or_default());
             if let Some(path) = csv {
                 let body: String = text.lines().skip(1).map(|l| format!("{l}\n")).collect();
                 write(&path, body.as_bytes())?;
