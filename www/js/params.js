@@ -75,6 +75,7 @@ export function paramRow(p, group, idBase, value) {
   } else if (optionalSwitch) {
     const on = el('input', { type: 'checkbox', id: `${idBase}-on`, checked: v != null, 'data-testid': `${p.key.replace(/\./g, '-')}-on` });
     on.dataset.switch = '1';
+    on.addEventListener('change', () => syncSwitch(row));
     const span = el('span', { className: 'values' });
     inputs.forEach((inp, k) => span.append(...(k ? [' , ', inp] : [inp])));
     row.append(el('label', { className: 'check', htmlFor: `${idBase}-on` }, on, ` ${labelText(p)}`), span, help);
@@ -83,7 +84,21 @@ export function paramRow(p, group, idBase, value) {
     inputs.forEach((inp, k) => span.append(...(k ? [' , ', inp] : [inp])));
     row.append(el('label', { htmlFor: ids[0], textContent: labelText(p) }), span, help);
   }
+  syncSwitch(row);
   return row;
+}
+
+/**
+ * An optional row's inputs follow its switch: disabled while it is off; switched on with
+ * nothing typed, they show the numbers that will be sent (0).
+ */
+function syncSwitch(row) {
+  const sw = row.querySelector('[data-switch]');
+  if (!sw) return;
+  for (const inp of rowInputs(row)) {
+    inp.disabled = !sw.checked;
+    if (sw.checked && inp.value === '') inp.value = '0';
+  }
 }
 
 function rowInputs(row) {
@@ -118,11 +133,10 @@ export function writeRow(row, p, v) {
   const inputs = rowInputs(row);
   if (v == null) {
     if (p.type === 'choice') inputs[0].value = '';
-    return;
-  }
-  if (p.type === 'bool') inputs[0].checked = v;
+  } else if (p.type === 'bool') inputs[0].checked = v;
   else if (ARITY[p.type]) inputs.forEach((inp, k) => (inp.value = String(v[k])));
   else inputs[0].value = String(v);
+  syncSwitch(row);
 }
 
 /**

@@ -4,10 +4,11 @@
 //     <warp option key>: value, …,                       // base, max_edge, tolerance, layer_height, anchor
 //     unwarp: { <unwarp option key, dotted = nested>: value, … } }   // the core's UnwarpOptions
 // Every key comes from the schema; a value that is not valid for its Param is ignored.
+import { state } from './state.js';
 import { $ } from './dom.js';
 import { getPath, readRow, setPath, validValue, writeRow } from './params.js';
 import { buildWarpParams, enforceLimits, rows, showMachine, warpSchema } from './forms.js';
-import { customOn, machineArgument, presetMachine } from './machines.js';
+import { currentMachine, customOn, machineArgument, presetMachine } from './machines.js';
 
 /** The form as a settings object. */
 export function readSettings() {
@@ -75,6 +76,34 @@ export function unwarpOptions() {
   const machine = machineArgument();
   if (machine !== undefined) o.machine = machine;
   return o;
+}
+
+/**
+ * The CLI's arguments for the form (`warpslice warp MODEL <warp> -o OUT`, `warpslice unwarp
+ * GCODE --job JOB <unwarp> -o OUT`): every value that differs from its default, by the
+ * Param's flag; a custom machine is `--machine <its name>.json`.
+ */
+export function cliArgs() {
+  const s = readSettings();
+  const add = (out, p, v) => {
+    if (v == null || !p.flag || JSON.stringify(v) === JSON.stringify(p.default)) return;
+    if (p.type === 'bool') {
+      if (v) out.push(p.flag);
+    } else out.push(p.flag, Array.isArray(v) ? v.join(',') : String(v));
+  };
+  const warp = ['--warp', s.warp.kind];
+  for (const p of warpSchema(s.warp.kind).params) add(warp, p, s.warp[p.key]);
+  for (const p of state.schema.warp_options) add(warp, p, getPath(s, p.key));
+  const unwarp = [];
+  for (const p of state.schema.unwarp_options) add(unwarp, p, getPath(s.unwarp, p.key));
+  const machine = machineArgument();
+  if (machine !== undefined) unwarp.push('--machine', typeof machine === 'string' ? machine : `${currentMachine().name}.json`);
+  return { warp, unwarp };
+}
+
+/** A command line as text (arguments with spaces or quotes quoted). */
+export function commandLine(args) {
+  return args.map((a) => (/^[\w@%+=:,./-]+$/.test(a) ? a : `'${a.replace(/'/g, `'\\''`)}'`)).join(' ');
 }
 
 export function saveHash() {

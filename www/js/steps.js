@@ -4,7 +4,7 @@ import { state } from './state.js';
 import { $, baseName, box3, info, setDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
-import { readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
+import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
 import { buildWarpParams, enforceLimits, showMachine } from './forms.js';
 import { currentMachine, machineViewArgument } from './machines.js';
 import { clearGroup, showModel, SURFACE_GRID } from './view.js';
@@ -88,6 +88,7 @@ export async function doWarp() {
   $('warp-button').disabled = true;
   $('warp-info').textContent = 'warping…';
   try {
+    const cli = ['warpslice', 'warp', state.stlName, ...cliArgs().warp, '-o', `${baseName(state.stlName)}.warped.stl`];
     const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: SURFACE_GRID });
     if (seq !== state.warpSeq) return;
     out.report.warped_bbox = box3(out.report.warped_bbox);
@@ -101,6 +102,7 @@ export async function doWarp() {
       ['triangles out', r.triangles_out.toLocaleString('en')],
       ['largest tilt', `${r.largest_tilt_deg.toFixed(2)}°`],
       ['anchor slab', r.anchor != null ? `${r.anchor} mm (first layer, dropped by unwarp)` : 'none (flat bottom)'],
+      ['command line', commandLine(cli)],
     ]);
     $('warp-info').replaceChildren(dl);
     $('warp-info').dataset.largestTilt = String(r.largest_tilt_deg);
@@ -230,8 +232,16 @@ export function makeSummary(out, file) {
     printLen += Math.hypot(d.pos[i * 3] - d.pos[i * 3 - 3], d.pos[i * 3 + 1] - d.pos[i * 3 - 2], d.pos[i * 3 + 2] - d.pos[i * 3 - 1]);
   }
   const s = readSettings();
+  const base = baseName(state.stlName);
+  const m = currentMachine();
+  const cli = cliArgs();
+  const cliWarp = ['warpslice', 'warp', state.stlName, ...cli.warp, '-o', `${base}.warped.stl`];
+  const cliUnwarp = ['warpslice', 'unwarp', file.name, '--job', `${base}.warped.job.json`, ...cli.unwarp, '-o', `${baseName(file.name)}.${m.name}.gcode`];
   return {
     machine: s.machine,
+    machine_json: m.custom ? m.spec : undefined,
+    settings: s,
+    cli: { warp: cliWarp, unwarp: cliUnwarp },
     machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',
     warp: JSON.parse(state.warped.job).warp,
     gcode_in: file.name,
@@ -252,6 +262,7 @@ export function makeSummary(out, file) {
         : 'none (3-axis: straight moves)',
       placement: `offset ${r.translation.map((v) => v.toFixed(2)).join(', ')} mm, residual ${r.residual.toExponential(2)}`,
       'output size': `${(out.bytes / 1e6).toFixed(2)} MB`,
+      'command line': `${commandLine(cliWarp)}; (slice); ${commandLine(cliUnwarp)}`,
     },
   };
 }

@@ -13,7 +13,7 @@ import { chromium } from 'playwright-core';
 import { execFileSync, spawnSync } from 'node:child_process';
 import { existsSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
+import { basename, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
@@ -204,6 +204,20 @@ async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
   const out = await download('result-download', join(dir, 'B.out.gcode'));
   const cli = readFileSync(join(dir, 'C.out.gcode'));
   assert(out.equals(cli), `${label}: browser G-code (${out.length} B, ${sha(out)}) is not byte-identical to the CLI's (${cli.length} B, ${sha(cli)}) for unwarp ${unwarpArgs.join(' ')}`);
+  // The page's own command lines (summary) are the ones just run, up to file names.
+  const summary = JSON.parse(await download('summary-download', join(dir, 'summary.json')));
+  const flags = (args) => {
+    const m = {};
+    for (let i = 0; i < args.length; i++) {
+      if (!args[i].startsWith('--')) continue;
+      const v = args[i + 1] !== undefined && !args[i + 1].startsWith('--') ? args[++i] : true;
+      m[args[i - (v === true ? 0 : 1)]] = typeof v === 'string' && v.includes('/') ? basename(v) : v;
+    }
+    return JSON.stringify(Object.entries(m).sort());
+  };
+  const pageWarp = summary.cli.warp.slice(3, -2), pageUnwarp = summary.cli.unwarp.slice(5, -2);
+  assert(flags(pageWarp) === flags(warpArgs), `${label}: the page's warp command line ${pageWarp.join(' ')} is the CLI's ${warpArgs.join(' ')}`);
+  assert(flags(pageUnwarp) === flags(unwarpArgs), `${label}: the page's unwarp command line ${pageUnwarp.join(' ')} is the CLI's ${unwarpArgs.join(' ')}`);
   return { dir, out };
 }
 
@@ -658,14 +672,22 @@ try {
     checkRows('unwarp options', await formRows('#unwarp-options'), schema.unwarp_options);
     // Every flag of the CLI is a field of the page: --warp is the warp select, --machine the
     // machine select and the custom machine JSON, --job and -o are the page's own steps.
-    const pageFlags = new Set([...schema.warps.flatMap((w) => w.params), ...schema.warp_options, ...schema.unwarp_options].map((p) => p.flag));
+    const pageFlags = {
+      warp: [...schema.warps.flatMap((w) => w.params), ...schema.warp_options].map((p) => p.flag),
+      unwarp: schema.unwarp_options.map((p) => p.flag),
+    };
     for (const sub of ['warp', 'unwarp']) {
-      for (const f of cliFlags(sub)) {
+      const flags = cliFlags(sub);
+      for (const f of flags) {
         if (['--warp', '--machine', '--job', '--output', '--help'].includes(f)) continue;
-        assert(pageFlags.has(f), `warpslice ${sub} ${f} has a field in the page`);
+        assert(pageFlags[sub].includes(f), `warpslice ${sub} ${f} has a field in the page`);
       }
+      // and the other way round: every field of the page is a flag of the CLI
+      for (const f of pageFlags[sub]) assert(flags.includes(f), `the page's ${f} is a flag of warpslice ${sub}`);
     }
-    const warpValues = /--warp <WARP>.*\[possible values: ([^\]]+)\]/.exec(sh(CLI, ['warp', '--help']))[1].split(', ');
+    const warpHelp = /--warp <\w+>[\s\S]*?\[possible values: ([^\]]+)\]/.exec(sh(CLI, ['warp', '--help']));
+    assert(warpHelp, 'warpslice warp --help lists the possible warps');
+    const warpValues = warpHelp[1].split(', ');
     assert(JSON.stringify(warpValues) === JSON.stringify(warps), `the CLI's warps ${warpValues} are the page's ${warps}`);
     await tid('machine-select').selectOption('cartesian');
     await tid('warp-select').selectOption('conic');
@@ -674,17 +696,24 @@ try {
   await test('cylindrical and spherical warps through the page: byte-identical to the CLI (prusa-slicer)', async () => {
     const p = join(TMP, 'cylinder-curved-warps.stl');
     writeFileSync(p, wasm.example_stl('cylinder'));
-    // The axis / centre are given: the core's JSON requires them (the CLI derives them from the radius).
-    for (const [warp, key, flag, at] of [['cylindrical', 'axis', '--axis-yz', [0, -20]], ['spherical', 'center', '--sphere-center', [0, 0, -20]]]) {
-      await pageVsCli(`${warp}-cylinder`, p, async () => {
+    // The axis / centre left empty (the core puts it under the part), then given.
+    for (const [warp, key, flag, at] of [['cylindrical', 'axis', '--axis-yz', null], ['spherical', 'center', '--sphere-center', null], ['cylindrical', 'axis', '--axis-yz', [0, -25]]]) {
+      await pageVsCli(`${warp}-${at ? 'given' : 'empty'}`, p, async () => {
         await tid('machine-select').selectOption('cartesian');
         await tid('warp-select').selectOption(warp);
         await setInput(`#p-${warp}-radius`, 20);
-        await tid(`${key}-on`).check();
-        for (const [k, v] of at.entries()) await setInput(`#p-${warp}-${key}-${'xyz'[k]}`, v);
-      }, ['--warp', warp, '--radius', '20', flag, at.join(',')]);
-      const job = JSON.parse(readFileSync(join(TMP, `${warp}-cylinder`, 'W.job.json')));
+        await tid(`${key}-on`).setChecked(!!at);
+        for (const [k, v] of (at ?? []).entries()) await setInput(`#p-${warp}-${key}-${'xyz'[k]}`, v);
+      }, ['--warp', warp, '--radius', '20', ...(at ? [flag, at.join(',')] : [])]);
+      // The feature legend names the core's features (describe().features).
+      await tid('color-mode').selectOption('feature');
+      const legend = await page.locator('#legend > div').allInnerTexts();
+      const names = schema.features.map((f) => f.replace(/-/g, ' '));
+      assert(legend.length > 1 && legend.every((t) => t.trim() === 'travel' || names.includes(t.trim())), `legend ${legend} names features of ${names}`);
+      assert(legend.some((t) => t.trim() === 'outer wall'), `prusa-slicer's outer walls are in the legend: ${legend}`);
+      const job = JSON.parse(readFileSync(join(TMP, `${warp}-${at ? 'given' : 'empty'}`, 'W.job.json')));
       assert(job.warp.spec.kind === warp && job.warp.spec.radius === 20, `the job is the ${warp} warp of radius 20: ${JSON.stringify(job.warp.spec)}`);
+      if (at) assert(JSON.stringify(job.warp.spec[key]) === JSON.stringify(at), `the job's ${key} is the one given: ${JSON.stringify(job.warp.spec)}`);
     }
   });
 
@@ -694,7 +723,7 @@ try {
     const custom = { ...pax.spec, name: 'pax-custom', axis_names: ['X', 'Y', 'Z', 'U', 'V'], max_tilt_deg: 20 };
     const dir = join(TMP, 'custom-machine');
     mkdirSync(dir, { recursive: true });
-    const file = join(dir, 'pax-custom.json');
+    const file = join(dir, 'pax-custom.json'); // the page's command line names it <machine name>.json
     writeFileSync(file, JSON.stringify(custom, null, 2));
     const p = join(dir, 'cylinder.stl');
     writeFileSync(p, wasm.example_stl('cylinder'));
