@@ -77,7 +77,8 @@ export function showMachine() {
   const bad = m.customError ? `${m.customError} (until it is fixed: the preset) — ` : '';
   const custom = m.custom ? `custom machine “${m.name}” (${m.spec.kind}; capabilities of the preset ${m.like ?? '—'}, limits checked when unwarping)` : `${m.name} (${m.kind})`;
   const notes = (m.notes ?? []).map((n) => n.replace(/\.$/, '')).join('; ');
-  $('machine-info').textContent = `${bad}${custom} — ${m.summary ? `${m.summary.replace(/\.$/, '')}; ` : ''}axes ${axesText(m)}${notes ? `; ${notes}` : ''}. ` +
+  const summary = m.summary && !notes.startsWith(m.summary) ? `${m.summary.replace(/\.$/, '')}; ` : '';
+  $('machine-info').textContent = `${bad}${custom} — ${summary}axes ${axesText(m)}${notes ? `; ${notes}` : ''}. ` +
     `Output: ${m.name === 'cartesian' && !m.custom ? '3-axis G-code' : `the machine's G-code (${m.flavour})`}.`;
   const sel = $('warp-select');
   for (const o of sel.options) o.disabled = !m.warps.includes(o.value);

@@ -67,7 +67,7 @@ export function paramRow(p, group, idBase, value) {
   inputs[0].dataset.param = p.key;
   inputs[0].setAttribute('data-testid', testid);
   for (const inp of inputs) inp.setAttribute('aria-describedby', helpId);
-  const help = el('small', { id: helpId, textContent: `${p.help ?? ''}${p.flag ? ` (${p.flag})` : ''}` });
+  const help = el('small', { id: helpId }, p.help ?? '', ...(p.flag ? [' (', el('code', { className: 'flag', textContent: p.flag }), ')'] : []));
   // An optional value (default null) is switched on by a checkbox; off = not sent.
   const optionalSwitch = p.optional && p.type !== 'choice' && p.type !== 'bool';
   if (p.type === 'bool') {

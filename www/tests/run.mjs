@@ -90,9 +90,9 @@ if (process.env.WARPSLICE_CLI) {
 // The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
 const wasm = await import(join(WWW, 'pkg', 'warpslice.js'));
 await wasm.default({ module_or_path: readFileSync(join(WWW, 'pkg', 'warpslice_bg.wasm')) });
-const presetNames = JSON.parse(wasm.machine_presets()).map((p) => p.name);
 // The core's self-description, which the page's forms and advice are built from.
 const schema = JSON.parse(wasm.describe());
+const presetNames = schema.machines.map((p) => p.name);
 
 // --- browser --------------------------------------------------------------------------------------
 const { server, url } = await startServer(WWW, 0);
@@ -811,6 +811,51 @@ try {
     await page.goto(url);
     await page.waitForSelector('body[data-ready="1"]');
     assert((await tid('warp-select').inputValue()) === 'conic' && !(await tid('machine-custom').isChecked()), 'a page without a hash starts from the defaults');
+  });
+
+  await test('custom moving-bed machine (open5x-ab JSON, A limit 80°): placed at 0,0 it matches the CLI, and the machine-coordinates view is drawn for it', async () => {
+    const ab = schema.machines.find((m) => m.name === 'open5x-ab');
+    assert(ab && ab.moving_bed, 'open5x-ab is a moving-bed preset');
+    const custom = { ...ab.spec, name: 'ab-custom', a_limit_deg: 80 };
+    const dir = join(TMP, 'custom-ab');
+    mkdirSync(dir, { recursive: true });
+    const file = join(dir, 'ab-custom.json');
+    writeFileSync(file, JSON.stringify(custom));
+    const p = join(dir, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    await pageVsCli('custom-ab', p, async () => {
+      await tid('machine-select').selectOption('open5x-ab');
+      await page.locator('#machine-custom-box').evaluate((d) => (d.open = true));
+      await tid('machine-json').fill(JSON.stringify(custom));
+      await tid('machine-json').dispatchEvent('change');
+      await tid('warp-select').selectOption('conic');
+      await setInput('#p-conic-angle', 30);
+      await tid('place-on').check();
+      await setInput('#p-place-x', 0);
+      await setInput('#p-place-y', 0);
+    }, ['--warp', 'conic'], ['--machine', file, '--place', '0,0']);
+    assert((await tid('machine-info').innerText()).includes('ab-custom'), 'the machine info names the custom machine');
+    assert(await tid('machine-frame').isEnabled(), 'the machine-coordinates toggle is on offer for the custom moving-bed machine');
+    await tid('machine-frame').check();
+    await page.waitForTimeout(200);
+    const vp = page.locator('#canvas-wrap');
+    assert((await vp.getAttribute('data-frame')) === 'machine' && (await vp.getAttribute('data-bed')), 'the preview is drawn in machine coordinates with the bed placed');
+    await screenshot('custom-ab-machine-frame');
+    await tid('machine-frame').uncheck();
+    await tid('machine-custom').uncheck();
+    await tid('place-on').uncheck();
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+  });
+
+  await test('the service worker caches every module of the page', async () => {
+    const sw = readFileSync(join(WWW, 'sw.js'), 'utf8');
+    const mods = readdirSync(join(WWW, 'js')).filter((f) => f.endsWith('.js'));
+    assert(mods.length > 5, `the page's modules: ${mods}`);
+    for (const f of [...mods.map((m) => `./js/${m}`), './worker.js', './index.html', './style.css']) assert(sw.includes(`'${f}'`), `sw.js caches ${f}`);
+    for (const [, f] of sw.matchAll(/'\.\/(js\/[\w-]+\.js)'/g)) assert(existsSync(join(WWW, f)), `sw.js lists ${f}, which exists`);
+    const main = await page.evaluate(() => document.querySelector('script[type="module"]').getAttribute('src'));
+    assert(main === './js/main.js', `index.html loads the entry module (${main})`);
   });
 
   await test('error advice is keyed by the core\'s error code: three codes, each with its own advice, unchanged when the message is reworded', async () => {
