@@ -318,7 +318,9 @@ impl Core {
             Kind::Flat => {
                 self.report.e_skirt += m.e;
                 let (end, n1) = self.map_point(kind, m.to);
-                let e = m.e * self.opts.flow.at(end.z);
+                // the ramp's height is the slicer's (above the bed): the z-offset lifts the
+                // nozzle, it does not change how much is extruded
+                let e = m.e * self.opts.flow.at(m.to.z);
                 // a skirt found by geometry (no ;TYPE:) is named as such in the toolpath
                 let feature = if m.feature.is_object() {
                     Feature::Skirt

@@ -102,7 +102,7 @@ pub const PARAMS: &[Param] = &[
         .range(Some(0.0), None, (true, false))
         .step(0.1)
         .default(ParamDefault::Number(DEFAULT_MAX_SEGMENT))
-        .help("longest extruding segment after unwarping"),
+        .help("longest object extrusion segment after unwarping (skirt and brim stay as sliced)"),
     Param::number("flow.factor", "--flow", "Flow")
         .range(Some(0.0), None, (true, false))
         .step(0.01)
