@@ -28,7 +28,7 @@ fn batch_output_is_bit_identical_to_native() {
     }
 }
 
-/// Produced natively by `print_expected`.
+/// Produced natively (the assertion prints what to paste here when the output changes).
 const EXPECTED: &[(&str, &str)] = &[
     ("fullcontrol-prusa-b", "100,120,5,0\n124.55527562230206,93.25,5.392232762841857,15.192995933226873\n26.13047814942287,35,57.85927910529725,-17.5484006137923\n"),
     ("open5x-ab", "100,120,5,0,0\n146.12208922341753,2.3799760411518287,6.59418342383269,-22.986391395138504,-39.8055710922652\n45.8530260724415,-44.473665961010276,48.42099788303082,18.434948822922014,-71.56505117707799\n"),
@@ -37,27 +37,6 @@ const EXPECTED: &[(&str, &str)] = &[
     ("rotbot", "100,120,5,-90\n112.5,93.25,7,-140.19442890773482\n40,35,60,-288.434948822922\n"),
 ("lathe-a", "100,120.10412149464312,87.61405596961119\n112.5,93.51236549248448,85.70702797087252\n40,69.46221994724903,30.25643716352927\n"),
 ];
-
-/// Prints the EXPECTED table (run natively with `--ignored --nocapture` to regenerate).
-#[cfg(not(target_arch = "wasm32"))]
-#[test]
-#[ignore]
-fn print_expected() {
-    for name in [
-        "fullcontrol-prusa-b",
-        "open5x-ab",
-        "ratrig-vcore3-3z",
-        "pax-5axis",
-        "rotbot",
-        "lathe-a",
-    ] {
-        let m = preset(name).and_then(|s| s.build()).unwrap();
-        println!(
-            "    ({name:?}, {:?}),",
-            batch::inverse_csv(m.as_ref(), INPUT).unwrap()
-        );
-    }
-}
 
 /// The cylindrical and spherical warps (seed 002) obey the warp laws (round trip, Jacobian,
 /// tool axis) natively and under wasm, on a grid away from the axis / centre.

@@ -7,6 +7,9 @@
 
 use std::path::PathBuf;
 
+#[path = "common/skip.rs"]
+mod skip;
+
 use warpslice::mesh::{read_stl, MeshError, MeshReport, StlFormat};
 
 /// Bounding boxes in INDEX.txt are printed with two decimals.
@@ -118,8 +121,9 @@ fn mismatches(e: &Entry, r: &MeshReport) -> Vec<String> {
 #[test]
 fn corpus_accept_models_match_index() {
     let Some(dir) = corpus_dir() else {
-        println!(
-            "SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared"
+        skip::skip_or_fail(
+            "the corpus",
+            "no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared",
         );
         return;
     };
@@ -146,8 +150,9 @@ fn corpus_accept_models_match_index() {
 #[test]
 fn corpus_broken_models_are_refused_by_name_or_reported() {
     let Some(dir) = corpus_dir() else {
-        println!(
-            "SKIPPED: no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared"
+        skip::skip_or_fail(
+            "the corpus",
+            "no ../shared/corpus/stl/INDEX.txt next to the crate and no /work/shared",
         );
         return;
     };

@@ -96,16 +96,16 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     } = mx;
     let (models, warps) = (&models[..], &warps[..]);
     if models.is_empty() {
-        println!("SKIPPED {tag}: no models (../shared/corpus/stl/INDEX.txt not found next to the repository)");
+        common::skip::skip_or_fail(
+            tag,
+            "no models (../shared/corpus/stl/INDEX.txt not found next to the repository)",
+        );
         return;
     }
     if let Err(e) = slicer::available(kind) {
         let n = models.len() * warps.len();
-        if std::env::var("WARPSLICE_ALLOW_SKIP").as_deref() == Ok("1") {
-            println!("SKIPPED {n} cases of {kind:?}: {e}");
-            return;
-        }
-        panic!("{kind:?} is needed for this test: {e}");
+        common::skip::skip_or_fail(&format!("{n} cases of {kind:?}"), &e.to_string());
+        return;
     }
     let dir = tmpdir(tag);
     let nw = warps.len();

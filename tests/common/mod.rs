@@ -4,6 +4,7 @@
 
 pub mod inside;
 pub mod machine;
+pub mod skip;
 
 use std::path::PathBuf;
 
