@@ -10,7 +10,7 @@
 #   slicers  PrusaSlicer, Slic3r, CuraEngine (Debian packages) and Cura's definitions (CURA_RES)
 #   wasm     wasm32-unknown-unknown target, wasm-pack, wasm-bindgen-cli (version from Cargo.lock)
 #   web      node/npm, chromium and chromium-driver (for the browser tests)
-#   all      core slicers wasm, plus web once www/package.json exists
+#   all      core slicers wasm, g++ (the fuzz tier), plus web once www/package.json exists
 #
 # Needs Debian/Ubuntu (apt-get) and root or sudo for the system packages; everything else goes
 # to ~/.cargo/bin. Environment: CURA_RES (use this Cura resources folder instead of installing),
@@ -247,6 +247,8 @@ ws_setup() {
     all)
       ws_rust
       ws_clippy
+      # the fuzz targets (fuzz/, libfuzzer-sys) build libFuzzer with a C++ compiler
+      ws_apt_install g++:g++
       ws_apt_install prusa-slicer:prusa-slicer slic3r:slic3r cura-engine:CuraEngine
       ws_cura_definitions
       ws_wasm_target

@@ -3,12 +3,14 @@
 # Exits non-zero if any tier fails.
 #
 #   bash scripts/test.sh            # all tiers
-#   bash scripts/test.sh native     # only the named tiers: fmt clippy native wasm web
+#   bash scripts/test.sh native     # only the named tiers: fmt clippy native fuzz wasm web
 #
 # Tiers:
 #   fmt     cargo fmt --check                            (the house format, rustfmt.toml)
 #   clippy  cargo clippy --all-targets -- -D warnings    (any finding fails the run)
 #   native  cargo test --release    (unit, property, integration incl. the real slicers)
+#   fuzz    the fuzz targets (fuzz/: stl_read, gcode_read) build on stable (running them needs
+#           nightly: `cargo +nightly fuzz run stl_read`)
 #   wasm    wasm-pack test --node   (the crate compiled to wasm32, run under node)
 #   web     browser tests of www/   (once www/package.json exists)
 # CARGO_TARGET_DIR is honoured by every tier.
@@ -16,7 +18,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 ROOT=$(pwd)
 
-ALL_TIERS=(fmt clippy native wasm web)
+ALL_TIERS=(fmt clippy native fuzz wasm web)
 TIERS=("$@")
 [[ ${#TIERS[@]} == 0 ]] && TIERS=("${ALL_TIERS[@]}")
 for t in "${TIERS[@]}"; do
@@ -87,6 +89,11 @@ tier_native() {
     fi
   fi
   timed native cargo test --release
+}
+
+tier_fuzz() {
+  header fuzz "cargo build --manifest-path fuzz/Cargo.toml"
+  timed fuzz cargo build --manifest-path fuzz/Cargo.toml --bins
 }
 
 tier_wasm() {
