@@ -345,42 +345,14 @@ pub fn stl_report(stl: &[u8]) -> Result<JsValue, JsValue> {
     to_js(&report)
 }
 
-/// Every shipped machine preset as JSON: `[{ name, kind, flavour, spec, axes: [{ name, rotary,
-/// min, max }], workspace_max_tilt_deg }]`; `spec` is the preset's JSON object, unbounded limits
-/// are `null`. Pass a `name` (or a `spec`, edited) as `"machine"` in the unwarp options.
+/// Every shipped machine preset as JSON: `describe().machines` (name, kind, flavour, axes,
+/// capabilities, spec; see [`crate::describe::MachineInfo`]).
 #[wasm_bindgen]
 pub fn machine_presets() -> Result<String, JsValue> {
-    let finite = |v: f64| {
-        if v.is_finite() {
-            serde_json::json!(v)
-        } else {
-            serde_json::Value::Null
-        }
-    };
-    let mut list = Vec::new();
-    for name in crate::machine::preset_names() {
-        let spec = crate::machine::preset(name).map_err(js)?;
-        let machine = spec.build().map_err(js)?;
-        let axes: Vec<serde_json::Value> = machine
-            .limits()
-            .iter()
-            .map(|l| serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": finite(l.min), "max": finite(l.max) }))
-            .collect();
-        let spec_value = serde_json::to_value(&spec).map_err(|e| bad_options(&e.to_string()))?;
-        list.push(serde_json::json!({
-            "name": name,
-            "kind": spec_value.get("kind").cloned().unwrap_or(serde_json::Value::Null),
-            "flavour": spec.flavour.unwrap_or_default().name(),
-            "spec": spec_value,
-            "axes": axes,
-            "workspace_max_tilt_deg": finite(machine.workspace().max_tilt_deg),
-        }));
-    }
-    serde_json::to_string(&list).map_err(|e| bad_options(&e.to_string()))
+    let d = crate::describe::describe().map_err(js)?;
+    serde_json::to_string(&d.machines).map_err(|e| bad_options(&e.to_string()))
 }
 
-/// Layer surfaces of a job for display (see [`crate::surfaces`]): 5 numbers per sample, x y z
-/// (model frame, mm), tilt from +Z (degrees), layer index.
 #[wasm_bindgen]
 pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>, JsValue> {
     let job = Job::from_json(job_json).map_err(js)?;

@@ -11,7 +11,7 @@ use warpslice::calibrate::simulate::{self, Deviation, SimInput};
 use warpslice::calibrate::{self as cal, OriginOptions};
 
 use crate::args::{machine_spec as machine, pair, vec3};
-use crate::out::{read_text, say, write};
+use crate::out::{put, read_text, say, write};
 
 /// Calibration of A/B rotary tables (seed 004): origin, probe formulas, test prints, simulation.
 #[derive(Subcommand)]
@@ -339,7 +339,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
                     serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
                 );
             } else {
-                print!("{}", report.to_text());
+                put(&report.to_text());
             }
             if let Some(out) = output {
                 write(&out, spec.to_json().as_bytes())?;
@@ -348,7 +348,7 @@ pub fn run(cmd: CalibrateCommand) -> Result<(), String> {
         }
         CalibrateCommand::Probe { probe } => {
             let out = probes::evaluate(&probe_input(probe)?).map_err(|e| e.to_string())?;
-            print!("{}", out.to_text());
+            put(&out.to_text());
         }
         CalibrateCommand::TestPrint {
             kind,

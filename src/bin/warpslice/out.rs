@@ -13,6 +13,12 @@ macro_rules! say {
 }
 pub(crate) use say;
 
+/// Text that already ends its lines, to stdout (ignoring a closed pipe, like [`say!`]).
+pub fn put(text: &str) {
+    use std::io::Write as _;
+    let _ = std::io::stdout().write_all(text.as_bytes());
+}
+
 /// Read a text file, naming it in the error.
 pub fn read_text(path: &Path) -> Result<String, String> {
     std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
