@@ -353,6 +353,8 @@ pub fn machine_presets() -> Result<String, JsValue> {
     serde_json::to_string(&d.machines).map_err(|e| bad_options(&e.to_string()))
 }
 
+/// Layer surfaces of a job for display (see [`crate::surfaces`]): 5 numbers per sample, x y z
+/// (model frame, mm), tilt from +Z (degrees), layer index.
 #[wasm_bindgen]
 pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>, JsValue> {
     let job = Job::from_json(job_json).map_err(js)?;
