@@ -79,7 +79,7 @@ export function showMachine() {
   const notes = (m.notes ?? []).map((n) => n.replace(/\.$/, '')).join('; ');
   const summary = m.summary && !notes.startsWith(m.summary) ? `${m.summary.replace(/\.$/, '')}; ` : '';
   $('machine-info').textContent = `${bad}${custom} — ${summary}axes ${axesText(m)}${notes ? `; ${notes}` : ''}. ` +
-    `Output: ${m.name === 'cartesian' && !m.custom ? '3-axis G-code' : `the machine's G-code (${m.flavour})`}.`;
+    `Output: ${m.name === 'cartesian' && !m.custom ? '3-axis G-code' : `the machine's G-code (${(m.custom && m.spec.flavour) || m.flavour})`}.`;
   const sel = $('warp-select');
   for (const o of sel.options) o.disabled = !m.warps.includes(o.value);
   if (sel.selectedOptions[0]?.disabled) {

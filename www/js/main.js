@@ -53,7 +53,6 @@ function tabs() {
   });
 }
 
-
 async function main() {
   initView();
   tabs();
