@@ -7,7 +7,7 @@
 #
 # Tiers:
 #   fmt     cargo fmt --check                            (the house format, rustfmt.toml)
-#   clippy  cargo clippy --all-targets -- -D warnings    (any finding fails the run)
+#   clippy  cargo clippy --all-targets -- -D warnings    (native and wasm32; any finding fails)
 #   native  cargo test --release    (unit, property, integration incl. the real slicers)
 #   fuzz    the fuzz targets (fuzz/: stl_read, gcode_read) build on stable (running them needs
 #           nightly: `cargo +nightly fuzz run stl_read`)
@@ -70,9 +70,14 @@ tier_fmt() {
   timed fmt cargo fmt --check
 }
 
+clippy_both() {
+  cargo clippy --all-targets -- -D warnings &&
+    cargo clippy --target wasm32-unknown-unknown --all-targets -- -D warnings
+}
+
 tier_clippy() {
-  header clippy "cargo clippy --all-targets -- -D warnings"
-  timed clippy cargo clippy --all-targets -- -D warnings
+  header clippy "cargo clippy --all-targets -- -D warnings (native, then wasm32: src/wasm.rs)"
+  timed clippy clippy_both
 }
 
 tier_native() {
