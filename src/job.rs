@@ -63,6 +63,14 @@ pub enum JobError {
         /// The format this warpslice reads ([`JOB_FORMAT`]).
         expected: u32,
     },
+    /// The warped STL given with the job is not the one written with it (its header names
+    /// another job, or none).
+    StlMismatch {
+        /// What the STL's header says.
+        header: String,
+        /// This job's hash.
+        job: String,
+    },
     /// The hash does not match the content (the file was edited or damaged).
     Hash {
         /// The `hash` the job file holds (16 hex digits).
@@ -80,6 +88,10 @@ impl std::fmt::Display for JobError {
                 f,
                 "the job file has format {found}, this warpslice reads format {expected}: warp the model again"
             ),
+            JobError::StlMismatch { header, job } => write!(
+                f,
+                "the warped STL is not the one written with this job (its header says '{header}', the job is {job}): give the .stl that `warp` wrote next to this job file"
+            ),
             JobError::Hash { found, computed } => write!(
                 f,
                 "the job file's hash {found} does not match its content ({computed}): it was edited or damaged; warp the model again"
@@ -94,6 +106,7 @@ crate::error_codes!(JobError, ERROR_CODES, "job" {
     Parse => "job.parse", "the job file is not valid JSON of a job";
     Format => "job.format", "the job file's format is not the one this version reads";
     Hash => "job.hash", "the job file was edited or damaged";
+    StlMismatch => "job.stl-mismatch", "the warped STL given is not this job's";
 } wraps {});
 
 impl Job {

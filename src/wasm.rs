@@ -103,6 +103,7 @@ pub fn example_stl(name: &str) -> Result<Vec<u8>, JsValue> {
 #[wasm_bindgen]
 pub struct UnwarpStream {
     inner: Unwarper,
+    job: Job,
 }
 
 #[wasm_bindgen]
@@ -114,7 +115,16 @@ impl UnwarpStream {
         let settings: UnwarpSettings = parse("unwarp options", options_json)?;
         Ok(UnwarpStream {
             inner: pipeline::unwarper(&job, &settings).map_err(js)?,
+            job,
         })
+    }
+    /// Register to the bead against the job's warped STL (the bytes `warp` returned; checked
+    /// to be this job's). Call before `endScan`; the CLI's `unwarp --stl`.
+    #[wasm_bindgen(js_name = setWarpedStl)]
+    pub fn set_warped_stl(&mut self, stl: &[u8]) -> Result<(), JsValue> {
+        let mesh = pipeline::warped_mesh(&self.job, stl).map_err(js)?;
+        self.inner.set_warped_mesh(mesh);
+        Ok(())
     }
     /// Pass 1: a chunk of the G-code.
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), JsValue> {

@@ -1,6 +1,7 @@
 //! The CLI's warp and unwarp flags are the core's parameter schema (`describe`): every
 //! parameter appears as its flag with its default, a flag of another warp is refused, and a
 //! parameter left out takes the schema's default in the job the CLI writes.
+#![cfg(not(target_arch = "wasm32"))] // native only: files, processes and the real slicers
 
 use std::process::Command;
 

@@ -81,14 +81,20 @@ pub fn warp_file(
     Ok(out)
 }
 
-/// Unwarp the G-code file `gcode` (sliced from `job`'s warped STL) into `output`.
+/// Unwarp the G-code file `gcode` (sliced from `job`'s warped STL) into `output`; with the
+/// warped STL `stl`, registered to the bead against it.
 pub fn unwarp_file(
     gcode: &Path,
     job: &Job,
     settings: &UnwarpSettings,
+    stl: Option<&Path>,
     output: &Path,
     observer: &mut dyn Observer,
 ) -> Result<UnwarpReport, Error> {
+    let stl_bytes = match stl {
+        Some(p) => Some(std::fs::read(p).map_err(io(p))?),
+        None => None,
+    };
     let len = std::fs::metadata(gcode).map_err(io(gcode))?.len();
     let file = std::fs::File::create(output).map_err(io(output))?;
     let mut out = std::io::BufWriter::new(file);
@@ -98,6 +104,7 @@ pub fn unwarp_file(
         unwarp_stream(
             job,
             settings,
+            stl_bytes.as_deref(),
             &gcode.display().to_string(),
             || std::fs::File::open(gcode),
             &mut out,
@@ -150,5 +157,12 @@ pub fn run(
     observer.finish();
     let report = sliced?;
     observer.sliced(&files.warped, &files.sliced, &report);
-    unwarp_file(&files.sliced, &w.job, settings, output, observer)
+    unwarp_file(
+        &files.sliced,
+        &w.job,
+        settings,
+        Some(&files.warped),
+        output,
+        observer,
+    )
 }

@@ -4,8 +4,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::Error;
-use crate::job::Job;
+use crate::job::{Job, JobError};
 use crate::machine::{MachineOptions, MachineSpec};
+use crate::mesh::Mesh;
 use crate::unwarp::{UnwarpOptions, UnwarpOutput, Unwarper};
 
 /// The unwarp step's settings as the CLI and the web page give them: the unwarp's own options
@@ -54,6 +55,37 @@ pub fn unwarper(job: &Job, settings: &UnwarpSettings) -> Result<Unwarper, Error>
     Ok(Unwarper::new(job, &settings.unwarp, emitter)?)
 }
 
+/// The warped mesh of `job` from its STL bytes, checked to be this job's by the STL's header
+/// (`warpslice job <hash> …`, written by [`super::warp_model`]).
+pub fn warped_mesh(job: &Job, stl: &[u8]) -> Result<Mesh, Error> {
+    let header: String = String::from_utf8_lossy(&stl[..stl.len().min(80)])
+        .trim_end_matches('\0')
+        .trim()
+        .to_string();
+    if !header.contains(&format!("warpslice job {}", job.hash)) {
+        return Err(JobError::StlMismatch {
+            header,
+            job: job.hash.clone(),
+        }
+        .into());
+    }
+    Ok(crate::mesh::read_stl(stl)?.0)
+}
+
+/// [`unwarper`], registered to the bead against the warped STL when it is given
+/// ([`Unwarper::set_warped_mesh`]).
+pub fn unwarper_with_stl(
+    job: &Job,
+    settings: &UnwarpSettings,
+    stl: Option<&[u8]>,
+) -> Result<Unwarper, Error> {
+    let mut u = unwarper(job, settings)?;
+    if let Some(stl) = stl {
+        u.set_warped_mesh(warped_mesh(job, stl)?);
+    }
+    Ok(u)
+}
+
 /// One-shot unwarp of a whole G-code in memory (see [`crate::unwarp`]).
 pub fn unwarp(gcode: &[u8], job: &Job, settings: &UnwarpSettings) -> Result<UnwarpOutput, Error> {
     let emitter = settings.output.emitter()?;
@@ -72,10 +104,11 @@ pub const STREAM_CHUNK: usize = 1 << 20;
 /// a fresh reader from the start, `out` takes the output as it is produced, `progress` is told
 /// the bytes read (both passes count, so the total is twice the input's size). Memory stays
 /// bounded by the chunk, the height grid and the longest line, whatever the file's size.
-/// `name` names the source in I/O errors.
+/// `name` names the source in I/O errors; `stl`, the job's warped STL, registers to the bead.
 pub fn unwarp_stream<R: std::io::Read>(
     job: &Job,
     settings: &UnwarpSettings,
+    stl: Option<&[u8]>,
     name: &str,
     mut open: impl FnMut() -> std::io::Result<R>,
     out: &mut dyn std::io::Write,
@@ -89,7 +122,7 @@ pub fn unwarp_stream<R: std::io::Read>(
         what: "output".to_string(),
         message: e.to_string(),
     };
-    let mut u = unwarper(job, settings)?;
+    let mut u = unwarper_with_stl(job, settings, stl)?;
     let mut buf = vec![0u8; STREAM_CHUNK];
     let mut f = open().map_err(io)?;
     loop {

@@ -7,6 +7,7 @@ use super::{travel, UnwarpError, UnwarpOptions, UnwarpReport};
 use crate::emit::Emitter;
 use crate::gcode::{ReadOptions, Reader};
 use crate::job::Job;
+use crate::mesh::Mesh;
 use crate::register::{Registration, Scanner};
 use crate::toolpath::ToolPoint;
 
@@ -22,6 +23,8 @@ pub struct Unwarper {
     /// The emitter, until pass 2 starts.
     emitter: Option<Box<dyn Emitter>>,
     finished: bool,
+    /// The warped mesh of this job, for the fine registration.
+    warped_mesh: Option<Mesh>,
 }
 
 impl Unwarper {
@@ -43,7 +46,15 @@ impl Unwarper {
             reader: Reader::new(ReadOptions::default()),
             core: None,
             finished: false,
+            warped_mesh: None,
         })
+    }
+
+    /// Register against the warped mesh of this job (its STL, as written by the warp step),
+    /// to the bead instead of by bounding boxes: see [`crate::register::refine`]. Call before
+    /// [`Unwarper::end_scan`].
+    pub fn set_warped_mesh(&mut self, mesh: Mesh) {
+        self.warped_mesh = Some(mesh);
     }
 
     /// Pass 1: feed a chunk.
@@ -62,7 +73,9 @@ impl Unwarper {
             .scanner
             .take()
             .ok_or(UnwarpError::Order { expected: "scan" })?;
-        let reg = scanner.finish(&self.job, self.opts.offset)?;
+        let reg =
+            scanner.finish_with_mesh(&self.job, self.opts.offset, self.warped_mesh.as_ref())?;
+        self.warped_mesh = None;
         let mut params = self.job.warp.clone();
         let warp = params.build(&self.job.model_bbox)?;
         let [dx, dy, _] = reg.translation;
@@ -101,6 +114,7 @@ impl Unwarper {
             report: UnwarpReport {
                 translation: reg.translation,
                 residual: reg.residual,
+                fit: reg.fit,
                 model_to_output: model_to_output.to_array(),
                 skirt: if self.opts.drop_skirt {
                     "dropped".into()

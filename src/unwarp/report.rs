@@ -11,6 +11,9 @@ pub struct UnwarpReport {
     pub translation: [f64; 3],
     /// Residual of the bounding-box match, mm ([`crate::register`]; not checked with `--offset`).
     pub residual: f64,
+    /// The fine registration against the warped mesh, when it was given.
+    #[serde(default)]
+    pub fit: Option<crate::register::FitReport>,
     /// Translation from model-frame coordinates to the output's X Y Z.
     pub model_to_output: [f64; 3],
     /// Lines of the slicer's G-code read (the last line number).

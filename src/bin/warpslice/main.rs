@@ -61,6 +61,10 @@ mod cli {
             /// The job file written by `warp`.
             #[arg(long)]
             job: PathBuf,
+            /// The warped STL written with the job: registers the G-code to the bead against
+            /// its cross-sections (without it, by bounding boxes).
+            #[arg(long)]
+            stl: Option<PathBuf>,
             #[command(flatten)]
             unwarp: UnwarpArgs<false>,
             /// The unwarped G-code to write.
@@ -220,6 +224,12 @@ mod cli {
             r.translation[2],
             r.residual
         );
+        if let Some(f) = &r.fit {
+            say!(
+                "fine registration: walls {:.3} mm inside the surface, RMS {:.4} mm over {} matches in {} layers (moved {:.3} mm from the bounding-box match)",
+                f.bead_inset_mm, f.rms_mm, f.matched, f.layers, f.moved_mm
+            );
+        }
         say!(
             "lines: {} in, {} out; {} moves split into {} segments",
             r.lines_in,
@@ -260,12 +270,20 @@ mod cli {
                 gcode,
                 job,
                 unwarp,
+                stl,
                 output,
             } => {
                 let job = files::read_job(&job).map_err(|e| files::in_file(&job, &e))?;
                 let settings = unwarp.settings;
-                files::unwarp_file(&gcode, &job, &settings, &output, &mut Steps { bar: None })
-                    .map_err(|e| files::in_file(&gcode, &e))?;
+                files::unwarp_file(
+                    &gcode,
+                    &job,
+                    &settings,
+                    stl.as_deref(),
+                    &output,
+                    &mut Steps { bar: None },
+                )
+                .map_err(|e| files::in_file(&gcode, &e))?;
             }
             Command::Run {
                 model,

@@ -21,6 +21,11 @@
 //! and end G-code (heating, homing, purge line, park) outside it passes through verbatim.
 //! `;WARPSLICE_BEGIN` / `;WARPSLICE_END` lines override that rule.
 //!
+//! **Fine registration.** With the warped mesh at hand ([`Scanner::finish_with_mesh`]), the
+//! bounding-box translation is the start of a fit of the printed walls to the mesh's
+//! cross-sections ([`refine`]), accurate to a few hundredths of a millimetre and blind to
+//! features the slicer did not print; its bead inset and RMS are reported ([`FitReport`]).
+//!
 //! This is pass 1 of the two-pass streaming unwarp; pass 2 is [`crate::unwarp`].
 
 use glam::DVec3;
@@ -28,8 +33,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::gcode::{Command, GcodeError, Line, ReadOptions, Reader, State};
 use crate::job::Job;
-use crate::mesh::Aabb;
+use crate::mesh::{Aabb, Mesh};
+
+pub mod refine;
+pub mod sample;
+
 use crate::tolerance::MAX_REGISTRATION_RESIDUAL;
+use sample::Sample;
 
 /// Smallest gap between a skirt loop and everything else on the first layer, mm (Slic3r's
 /// default skirt distance is 6 mm, PrusaSlicer's 2 mm; a brim touches the object and is not
@@ -60,6 +70,15 @@ pub enum RegisterError {
     },
     /// The G-code cannot be read.
     Gcode(GcodeError),
+    /// The fine registration cannot pin the placement (too little printed near the surface).
+    Undetermined {
+        /// Cut samples matched to a printed wall.
+        matched: usize,
+        /// Matches needed.
+        needed: usize,
+        /// Why.
+        reason: &'static str,
+    },
 }
 
 impl From<GcodeError> for RegisterError {
@@ -89,6 +108,10 @@ impl std::fmt::Display for RegisterError {
                  set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3})"
             ),
             RegisterError::Gcode(e) => e.fmt(f),
+            RegisterError::Undetermined { matched, needed, reason } => write!(
+                f,
+                "the placement cannot be found to the bead from the printed walls: {reason} ({matched} matches, {needed} needed). Slice the warped STL of this job with its outer walls printed, or give the placement with --offset dx,dy"
+            ),
         }
     }
 }
@@ -106,6 +129,7 @@ crate::error_codes!(RegisterError, ERROR_CODES, "register" {
     NoExtrusions => "register.no-object-extrusions", "the G-code prints nothing of the model";
     Mismatch => "register.mismatch", "the G-code's object does not match the warped mesh";
     AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
+    Undetermined => "register.undetermined", "the printed walls do not pin the placement";
 } wraps { Gcode });
 
 /// A run of consecutive extruding moves on the first layer (Slic3r skirt detection).
@@ -141,6 +165,24 @@ pub struct Registration {
     pub first_layer: u32,
     /// Lines in the file.
     pub lines: u64,
+    /// The fine registration, when the warped mesh was given.
+    #[serde(default)]
+    pub fit: Option<FitReport>,
+}
+
+/// What the fine registration found ([`refine`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FitReport {
+    /// How far the printed outer walls sit inside the surface, mm (≈ half a line width).
+    pub bead_inset_mm: f64,
+    /// RMS of the walls' offsets from that inset, mm.
+    pub rms_mm: f64,
+    /// Cut samples matched to a printed wall.
+    pub matched: usize,
+    /// Layers used.
+    pub layers: usize,
+    /// How far the fit moved the bounding-box placement, mm.
+    pub moved_mm: f64,
 }
 
 impl Registration {
@@ -224,6 +266,10 @@ pub struct Scanner {
     untyped: Acc,
     typed_acc: Acc,
     lines: u64,
+    /// Object extrusions by layer, for the fine registration.
+    sample: Sample,
+    /// The first `;TYPE:` line.
+    first_typed: Option<u64>,
 }
 
 impl Scanner {
@@ -237,13 +283,18 @@ impl Scanner {
             untyped: Acc::default(),
             typed_acc: Acc::default(),
             lines: 0,
+            sample: Sample::new(),
+            first_typed: None,
         }
     }
 
     fn line(&mut self, line: &Line<'_>, _state: &State) {
         self.lines = line.number;
         match line.command {
-            Command::FeatureType(_) => self.typed = true,
+            Command::FeatureType(_) => {
+                self.typed = true;
+                self.first_typed.get_or_insert(line.number);
+            }
             Command::RegionMarker { begin } => {
                 let slot = if begin { 0 } else { 1 };
                 if self.markers[slot].is_none() {
@@ -254,6 +305,15 @@ impl Scanner {
         }
         for m in line.moves {
             if m.is_extrusion() {
+                if m.feature.is_object() {
+                    self.sample.push(
+                        m.layer,
+                        m.to.z,
+                        m.from.truncate(),
+                        m.to.truncate(),
+                        line.number,
+                    );
+                }
                 self.untyped.extrusion(line.number, m);
                 if self.typed {
                     self.typed_acc.extrusion(line.number, m);
@@ -278,9 +338,20 @@ impl Scanner {
 
     /// End of pass 1: classify the first layer, match bounding boxes, check the residual.
     pub fn finish(
+        self,
+        job: &Job,
+        offset: Option<[f64; 2]>,
+    ) -> Result<Registration, RegisterError> {
+        self.finish_with_mesh(job, offset, None)
+    }
+
+    /// [`Scanner::finish`], then (without `offset`, with the warped `mesh` of this job) the
+    /// fine registration ([`refine`]).
+    pub fn finish_with_mesh(
         mut self,
         job: &Job,
         offset: Option<[f64; 2]>,
+        mesh: Option<&Mesh>,
     ) -> Result<Registration, RegisterError> {
         let mut reader = std::mem::replace(&mut self.reader, Reader::new(ReadOptions::default()));
         reader.finish::<RegisterError>(&mut |l, s| {
@@ -325,14 +396,45 @@ impl Scanner {
         if bbox.is_empty() {
             return Err(RegisterError::NoExtrusions);
         }
-        let mesh = job.warped_bbox;
-        let (dx, dy) = match offset {
+        let mesh_bbox = job.warped_bbox;
+        let (mut dx, mut dy) = match offset {
             Some([x, y]) => (x, y),
             None => {
-                let (gc, mc) = (bbox.center(), mesh.center());
+                let (gc, mc) = (bbox.center(), mesh_bbox.center());
                 (gc.x - mc.x, gc.y - mc.y)
             }
         };
+        let mut fit = None;
+        if let (None, Some(mesh)) = (offset, mesh) {
+            let first = if self.typed {
+                self.first_typed.unwrap_or(0)
+            } else {
+                0
+            };
+            self.sample.retain_lines(first, &skirt);
+            // the box's centres matched, or its sides (a feature the slicer did not print
+            // shrinks the printed box on one side)
+            let inset = 0.2;
+            let g = bbox;
+            let m = mesh_bbox;
+            let xs = [dx, g.min.x - m.min.x - inset, g.max.x - m.max.x + inset];
+            let ys = [dy, g.min.y - m.min.y - inset, g.max.y - m.max.y + inset];
+            let starts: Vec<[f64; 2]> = xs
+                .iter()
+                .flat_map(|&x| ys.iter().map(move |&y| [x, y]))
+                .collect();
+            let f = refine::refine(mesh, &self.sample, job.layer_height, &starts)?;
+            let moved = (f.translation[0] - dx).hypot(f.translation[1] - dy);
+            [dx, dy] = f.translation;
+            fit = Some(FitReport {
+                bead_inset_mm: f.inset,
+                rms_mm: f.rms,
+                matched: f.matched,
+                layers: f.layers,
+                moved_mm: moved,
+            });
+        }
+        let mesh = mesh_bbox;
         let (gs, ms) = (bbox.size(), mesh.size());
         let shifted_min = bbox.min - DVec3::new(dx, dy, 0.0);
         let shifted_max = bbox.max - DVec3::new(dx, dy, 0.0);
@@ -345,7 +447,9 @@ impl Scanner {
         ]
         .into_iter()
         .fold(0.0, f64::max);
-        if offset.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
+        // with a fit, the walls matched the mesh (a box that differs is a feature the slicer
+        // did not print); without one, the boxes must agree
+        if offset.is_none() && fit.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
             return Err(RegisterError::Mismatch {
                 residual,
                 gcode_size: gs.to_array(),
@@ -363,6 +467,7 @@ impl Scanner {
             first_layer_z,
             first_layer: acc.first_layer.unwrap_or(0),
             lines: self.lines,
+            fit,
         })
     }
 }
