@@ -141,6 +141,9 @@ async function unwarpFile(msg) {
   const t0 = performance.now();
   const stream = new ws.UnwarpStream(job, JSON.stringify(options));
   try {
+    // Register to the bead: the printed walls against the warped STL's cross-sections (the
+    // CLI's `unwarp --stl`); the page always has the STL the job was written with.
+    if (msg.warpedStl) stream.setWarpedStl(new Uint8Array(msg.warpedStl));
     for (let off = 0; off < total; off += CHUNK) {
       stream.scan(await readSlice(file, off, off + CHUNK));
       post('scan', Math.min(total, off + CHUNK));

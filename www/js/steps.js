@@ -179,7 +179,7 @@ export async function doUnwarp(file) {
     const m = currentMachine();
     const options = unwarpOptions();
     const machineFrame = m.moving_bed ? { machine: machineViewArgument(), name: m.name } : null;
-    const out = await call('unwarp', { file, job: state.warped.job, options, machineFrame }, [], (ev) => {
+    const out = await call('unwarp', { file, job: state.warped.job, warpedStl: state.warped.stl, options, machineFrame }, [], (ev) => {
       if (ev.type === 'progress') {
         prog.value = ev.done / ev.total;
         prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
@@ -236,7 +236,7 @@ export function makeSummary(out, file) {
   const m = currentMachine();
   const cli = cliArgs();
   const cliWarp = ['warpslice', 'warp', state.stlName, ...cli.warp, '-o', `${base}.warped.stl`];
-  const cliUnwarp = ['warpslice', 'unwarp', file.name, '--job', `${base}.warped.job.json`, ...cli.unwarp, '-o', `${baseName(file.name)}.${m.name}.gcode`];
+  const cliUnwarp = ['warpslice', 'unwarp', file.name, '--job', `${base}.warped.job.json`, '--stl', `${base}.warped.stl`, ...cli.unwarp, '-o', `${baseName(file.name)}.${m.name}.gcode`];
   return {
     machine: s.machine,
     machine_json: m.custom ? m.spec : undefined,

@@ -171,7 +171,8 @@ async function roundTrip(label, stlPath, angle) {
   assert(sha(wStl) === sha(cStl), `${label}: warped STL differs from the CLI's (${wStl.length} vs ${cStl.length} bytes)`);
   assert(JSON.stringify(JSON.parse(wJob)) === JSON.stringify(JSON.parse(readFileSync(join(dir, 'C.job.json')))), `${label}: job differs from the CLI's`);
   slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
-  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '-o', join(dir, 'C.out.gcode')]);
+  // The page registers to the bead with the warped STL it holds: the CLI's --stl.
+  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '--stl', join(dir, 'C.stl'), '-o', join(dir, 'C.out.gcode')]);
   await unwarpInBrowser(join(dir, 'W.gcode'));
   await screenshot(`${label}-toolpath`);
   const out = await download('result-download', join(dir, 'B.out.gcode'));
@@ -199,7 +200,7 @@ async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
   assert(wStl.equals(cStl), `${label}: warped STL (${wStl.length} B, ${sha(wStl)}) differs from the CLI's (${cStl.length} B, ${sha(cStl)}) for ${warpArgs.join(' ')}`);
   assert(JSON.stringify(JSON.parse(wJob)) === JSON.stringify(JSON.parse(readFileSync(join(dir, 'C.job.json')))), `${label}: job differs from the CLI's`);
   slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
-  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), ...unwarpArgs, '-o', join(dir, 'C.out.gcode')]);
+  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '--stl', join(dir, 'C.stl'), ...unwarpArgs, '-o', join(dir, 'C.out.gcode')]);
   await unwarpInBrowser(join(dir, 'W.gcode'));
   await screenshot(`${label}-toolpath`);
   const out = await download('result-download', join(dir, 'B.out.gcode'));
@@ -216,7 +217,8 @@ async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
     }
     return JSON.stringify(Object.entries(m).sort());
   };
-  const pageWarp = summary.cli.warp.slice(3, -2), pageUnwarp = summary.cli.unwarp.slice(5, -2);
+  assert(summary.cli.unwarp[5] === '--stl', `${label}: the page's unwarp command line gives the warped STL: ${summary.cli.unwarp.join(' ')}`);
+  const pageWarp = summary.cli.warp.slice(3, -2), pageUnwarp = summary.cli.unwarp.slice(7, -2);
   assert(flags(pageWarp) === flags(warpArgs), `${label}: the page's warp command line ${pageWarp.join(' ')} is the CLI's ${warpArgs.join(' ')}`);
   assert(flags(pageUnwarp) === flags(unwarpArgs), `${label}: the page's unwarp command line ${pageUnwarp.join(' ')} is the CLI's ${unwarpArgs.join(' ')}`);
   return { dir, out };
@@ -375,7 +377,7 @@ try {
       }
       let cliError = null;
       try {
-        sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
+        sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '--stl', join(dir, 'W.stl'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
       } catch (e) {
         cliError = String(e.stderr ?? e);
       }
@@ -686,7 +688,8 @@ try {
     for (const sub of ['warp', 'unwarp']) {
       const flags = cliFlags(sub);
       for (const f of flags) {
-        if (['--warp', '--machine', '--job', '--output', '--help'].includes(f)) continue;
+        // the page's own: the job and the warped STL of step 2 (always given), the output
+        if (['--warp', '--machine', '--job', '--stl', '--output', '--help'].includes(f)) continue;
         assert(pageFlags[sub].includes(f), `warpslice ${sub} ${f} has a field in the page`);
       }
       // and the other way round: every field of the page is a flag of the CLI
@@ -698,6 +701,38 @@ try {
     assert(JSON.stringify(warpValues) === JSON.stringify(warps), `the CLI's warps ${warpValues} are the page's ${warps}`);
     await tid('machine-select').selectOption('cartesian');
     await tid('warp-select').selectOption('conic');
+  });
+
+  await test('every machine of the schema: the warps it prints are the ones offered, its tilt limit caps the tilt and a fixed tilt is fixed', async () => {
+    const p2 = await context.newPage(); // no model: changing the machine warps nothing
+    try {
+      await p2.goto(url);
+      await p2.waitForSelector('body[data-ready="1"]');
+      for (const m of schema.machines) {
+        await p2.locator('[data-testid="machine-select"]').selectOption(m.name);
+        const offered = await p2.locator('[data-testid="warp-select"] option:not([disabled])').evaluateAll((os) => os.map((o) => o.value));
+        assert(JSON.stringify(offered) === JSON.stringify(schema.warps.map((w) => w.name).filter((w) => m.warps.includes(w))), `${m.name}: warps offered ${offered} ≠ its warps ${m.warps}`);
+        assert((await p2.locator('[data-testid="machine-info"]').innerText()).includes(m.name), `${m.name}: named in the machine info`);
+        for (const w of schema.warps.filter((x) => m.warps.includes(x.name))) {
+          await p2.locator('[data-testid="warp-select"]').selectOption(w.name);
+          for (const prm of w.params.filter((q) => q.unit === 'deg')) {
+            const input = p2.locator(`#p-${w.name}-${prm.key}`);
+            const cap = m.max_tilt_deg != null && (prm.max == null || m.max_tilt_deg < prm.max) ? m.max_tilt_deg : prm.max;
+            assert((await input.getAttribute('max')) === (cap == null ? '' : String(cap)), `${m.name} ${w.name} ${prm.key}: max ${await input.getAttribute('max')} ≠ ${cap}`);
+            if (m.fixed_tilt_deg != null) {
+              assert((await input.inputValue()) === String(m.fixed_tilt_deg) && (await input.getAttribute('readonly')) !== null, `${m.name}: ${w.name} ${prm.key} fixed at ${m.fixed_tilt_deg}°`);
+            } else {
+              await input.fill(String((cap ?? 1000) + 5));
+              await input.dispatchEvent('change');
+              const v = Number(await input.inputValue());
+              assert(cap == null || v <= cap, `${m.name}: ${w.name} ${prm.key} clamped to ${cap} (${v})`);
+            }
+          }
+        }
+      }
+    } finally {
+      await p2.close();
+    }
   });
 
   await test('cylindrical and spherical warps through the page: byte-identical to the CLI (prusa-slicer)', async () => {
@@ -767,7 +802,7 @@ try {
     slice(join(dir, 'W30.stl'), join(dir, 'W30.gcode'));
     let cliError = null;
     try {
-      sh(CLI, ['unwarp', join(dir, 'W30.gcode'), '--job', join(dir, 'W30.job.json'), '--machine', file, '-o', join(dir, 'C30.out.gcode')]);
+      sh(CLI, ['unwarp', join(dir, 'W30.gcode'), '--job', join(dir, 'W30.job.json'), '--stl', join(dir, 'W30.stl'), '--machine', file, '-o', join(dir, 'C30.out.gcode')]);
     } catch (e) {
       cliError = String(e.stderr ?? e);
     }
@@ -880,7 +915,7 @@ try {
     await download('job-download', join(dir, 'W.job.json'));
     slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
     // The slicer's placement, so that a G-code with G91 in the middle gets past registration.
-    const run = spawnSync(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '-o', join(dir, 'C.out.gcode')], { encoding: 'utf8' });
+    const run = spawnSync(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '--stl', join(dir, 'W.stl'), '-o', join(dir, 'C.out.gcode')], { encoding: 'utf8' });
     const placed = /registration: translation (\S+) (\S+)/.exec(run.stdout + run.stderr);
     assert(run.status === 0 && placed, `the CLI unwarps the clean G-code: ${run.stderr}`);
     const lines = readFileSync(join(dir, 'W.gcode'), 'utf8').split('\n');
