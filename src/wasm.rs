@@ -392,6 +392,16 @@ pub fn machine_view(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsValue> 
     crate::machine::view::head_frames(m.as_ref(), points).map_err(js)
 }
 
+/// What one machine (a preset name or a machine JSON, e.g. a user's custom machine) says of
+/// itself, as JSON: the same shape as an entry of `describe().machines` (axes, limits,
+/// capabilities, warps it can print, spec).
+#[wasm_bindgen]
+pub fn describe_machine(machine: &str) -> Result<String, JsValue> {
+    let spec = crate::machine::MachineSpec::from_name_or_json(machine).map_err(js)?;
+    let info = crate::describe::machine_info(&spec.name, &spec).map_err(js)?;
+    serde_json::to_string(&info).map_err(|e| bad_options(&e.to_string()))
+}
+
 /// Everything the core says of itself, as JSON (see [`crate::describe`]): warps and their
 /// parameters, the options of both steps, the machines and their capabilities, feature names,
 /// error codes. The page builds its forms and advice from it.

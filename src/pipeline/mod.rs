@@ -17,7 +17,8 @@ mod unwarp_step;
 mod warp_step;
 
 pub use unwarp_step::{
-    unwarp, unwarp_stream, unwarper, unwarper_with_stl, warped_mesh, UnwarpSettings, STREAM_CHUNK,
+    unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl, warped_mesh,
+    UnwarpSettings, STREAM_CHUNK,
 };
 pub use warp_step::{
     input_to_model, warp_model, AnchorMode, WarpOptions, WarpOutput, WarpReport, WARP_OPTION_PARAMS,

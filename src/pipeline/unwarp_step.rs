@@ -88,13 +88,27 @@ pub fn unwarper_with_stl(
 
 /// One-shot unwarp of a whole G-code in memory (see [`crate::unwarp`]).
 pub fn unwarp(gcode: &[u8], job: &Job, settings: &UnwarpSettings) -> Result<UnwarpOutput, Error> {
-    let emitter = settings.output.emitter()?;
-    Ok(crate::unwarp::unwarp(
-        gcode,
-        job,
-        &settings.unwarp,
-        emitter,
-    )?)
+    unwarp_with_stl(gcode, job, settings, None)
+}
+
+/// [`unwarp`], registered to the bead against the job's warped STL when it is given.
+pub fn unwarp_with_stl(
+    gcode: &[u8],
+    job: &Job,
+    settings: &UnwarpSettings,
+    stl: Option<&[u8]>,
+) -> Result<UnwarpOutput, Error> {
+    let mut u = unwarper_with_stl(job, settings, stl)?;
+    u.scan(gcode)?;
+    let registration = u.end_scan()?;
+    u.push(gcode)?;
+    let report = u.finish()?;
+    Ok(UnwarpOutput {
+        gcode: u.take_output(),
+        report,
+        registration,
+        toolpath: u.take_toolpath(),
+    })
 }
 
 /// Read size of [`unwarp_stream`], bytes.

@@ -38,6 +38,14 @@ pub const MAX_LAYERS: usize = 32;
 pub const HUBER_MM: f64 = 0.05;
 /// Matches whose residual is further than this from the median are dropped, mm.
 pub const OUTLIER_MM: f64 = 0.25;
+/// Largest |cos| between a matched extrusion's direction and the surface normal: a wall's
+/// bead runs along the surface (cos ≈ 0); above this it crosses it.
+pub const WALL_ALIGNMENT: f64 = 0.5;
+/// After the first iterations, matches further than this many robust standard deviations
+/// (1.4826 × the median absolute deviation) from the median are dropped too, but never
+/// closer than [`HUBER_MM`].
+pub const OUTLIER_SIGMAS: f64 = 3.0;
+
 /// Fewest matches for a determined fit.
 pub const MIN_MATCHES: usize = 40;
 /// Smallest eigenvalue of the normals' mean outer product Σ n nᵀ / N: below it one direction
@@ -178,7 +186,7 @@ fn fit_from(data: &[LayerData], start: [f64; 2], iterations: usize) -> Result<Fi
     let mut t = DVec2::from_array(start);
     let mut c: Option<f64> = None;
     let mut last = (0usize, 0.0f64);
-    for _ in 0..iterations {
+    for it in 0..iterations {
         // match: residual without c, normal
         let mut m: Vec<(f64, DVec2)> = Vec::new();
         for (cut, tree) in data {
@@ -188,6 +196,12 @@ fn fit_from(data: &[LayerData], start: [f64; 2], iterations: usize) -> Result<Fi
                     continue;
                 };
                 if line.distance_2(&q) > MATCH_RADIUS * MATCH_RADIUS {
+                    continue;
+                }
+                // a wall runs along the surface: an extrusion crossing it (an infill end, a
+                // thin feature's single line seen end-on) is no wall
+                let dir = DVec2::from_array(line.to) - DVec2::from_array(line.from);
+                if dir.length() > 0.0 && dir.normalize().dot(n).abs() > WALL_ALIGNMENT {
                     continue;
                 }
                 let e = DVec2::from_array(line.nearest_point(&q));
@@ -205,9 +219,19 @@ fn fit_from(data: &[LayerData], start: [f64; 2], iterations: usize) -> Result<Fi
         rs.sort_by(f64::total_cmp);
         let median = rs[rs.len() / 2];
         let c0 = *c.get_or_insert(median);
+        let mut dev: Vec<f64> = rs.iter().map(|r| (r - median).abs()).collect();
+        dev.sort_by(f64::total_cmp);
+        let sigma = 1.4826 * dev[dev.len() / 2];
+        // the start may be off by the bounding box's error: first every match (Huber weights
+        // only), then the fixed band, then the robust scale of what is left
+        let limit = match it {
+            0 => MATCH_RADIUS,
+            1 => OUTLIER_MM,
+            _ => (OUTLIER_SIGMAS * sigma).clamp(HUBER_MM, OUTLIER_MM),
+        };
         let kept: Vec<_> = m
             .into_iter()
-            .filter(|(r, _)| (r - median).abs() <= OUTLIER_MM)
+            .filter(|(r, _)| (r - median).abs() <= limit)
             .collect();
         // normal equations for (tx, ty, c): r = d − c with d = n·(b + t − e), J = (n, −1)
         let mut a = DMat3::ZERO;
