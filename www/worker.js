@@ -31,6 +31,9 @@ self.onmessage = async (ev) => {
     await ready;
     if (msg.op === 'init') {
       self.postMessage({ id: msg.id, type: 'done', schema: JSON.parse(ws.describe()) });
+    } else if (msg.op === 'describe-machine') {
+      // A machine (preset name or machine JSON) as the core reads it: one `describe().machines` entry.
+      self.postMessage({ id: msg.id, type: 'done', machine: JSON.parse(ws.describe_machine(msg.machine)) });
     } else if (msg.op === 'example') {
       const stl = ws.example_stl(msg.name);
       self.postMessage({ id: msg.id, type: 'done', stl }, [stl.buffer]);

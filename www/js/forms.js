@@ -74,12 +74,14 @@ export function enforceLimits() {
 /** Machine info line, and the warps this machine cannot print disabled (the first it can picked). */
 export function showMachine() {
   const m = currentMachine();
-  const bad = m.customError ? `${m.customError} (until it is fixed: the preset) — ` : '';
-  const custom = m.custom ? `custom machine “${m.name}” (${m.spec.kind}; capabilities of the preset ${m.like ?? '—'}, limits checked when unwarping)` : `${m.name} (${m.kind})`;
+  const standIn = m.standIn === 'last' ? `the last custom machine it accepted, “${m.name}”` : 'the preset';
+  const bad = m.customError ? `custom machine JSON refused: ${m.customError.message} (until it is fixed: ${standIn}) — `
+    : m.customPending ? `checking the custom machine JSON… (meanwhile: ${standIn}) — ` : '';
+  const custom = m.custom ? `custom machine “${m.name}” (${m.kind}; its own axes, limits and warps, from the core)` : `${m.name} (${m.kind})`;
   const notes = (m.notes ?? []).map((n) => n.replace(/\.$/, '')).join('; ');
   const summary = m.summary && !notes.startsWith(m.summary) ? `${m.summary.replace(/\.$/, '')}; ` : '';
   $('machine-info').textContent = `${bad}${custom} — ${summary}axes ${axesText(m)}${notes ? `; ${notes}` : ''}. ` +
-    `Output: ${m.name === 'cartesian' && !m.custom ? '3-axis G-code' : `the machine's G-code (${(m.custom && m.spec.flavour) || m.flavour})`}.`;
+    `Output: ${m.name === 'cartesian' && !m.custom ? '3-axis G-code' : `the machine's G-code (${m.flavour})`}.`;
   const sel = $('warp-select');
   for (const o of sel.options) o.disabled = !m.warps.includes(o.value);
   if (sel.selectedOptions[0]?.disabled) {

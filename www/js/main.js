@@ -9,8 +9,8 @@ import { $ } from './dom.js';
 import { call, cancelWorker } from './worker-client.js';
 import { showError } from './errors.js';
 import { buildForms, buildWarpParams, enforceLimits, seedCustomJson } from './forms.js';
-import { applySettings, readSettings, saveHash, settingsFromHash } from './settings.js';
-import { doUnwarp, doWarp, loadModel, onMachineChange, scheduleWarp } from './steps.js';
+import { loadSettings, readSettings, saveHash, settingsFromHash } from './settings.js';
+import { doUnwarp, doWarp, loadModel, onMachineChange, refreshCustom, scheduleWarp } from './steps.js';
 import { initView, showModel } from './view.js';
 import { buildToolpath, onLayerChange, setViewMode } from './preview.js';
 
@@ -60,8 +60,9 @@ async function main() {
   state.schema = init.schema;
   $('version').textContent = `v${init.schema.version}`;
   buildForms();
-  applySettings(settingsFromHash() ?? {});
+  await loadSettings(settingsFromHash() ?? {});
   onMachineChange();
+  await refreshCustom();
 
   dropZone($('model-drop'), $('model-input'), async (f) => loadModel(new Uint8Array(await f.arrayBuffer()), f.name));
   dropZone($('gcode-drop'), $('gcode-input'), (f) => doUnwarp(f));
@@ -89,15 +90,22 @@ async function main() {
     enforceLimits();
     saveHash();
   });
+  // The custom machine JSON: the core describes it (refreshCustom), at once when it is switched
+  // on or left, 300 ms after the last keystroke while it is typed.
   $('machine-custom').addEventListener('change', () => {
     if ($('machine-custom').checked) seedCustomJson();
     onMachineChange();
     scheduleWarp();
+    refreshCustom();
+  });
+  $('machine-json').addEventListener('input', () => {
+    if ($('machine-custom').checked) refreshCustom(300);
   });
   $('machine-json').addEventListener('change', () => {
     $('machine-custom').checked = $('machine-json').value.trim() !== '';
     onMachineChange();
     saveHash();
+    refreshCustom();
   });
   $('warp-button').addEventListener('click', doWarp);
   $('show-warped').addEventListener('change', showModel);
@@ -124,9 +132,10 @@ async function main() {
     e.target.value = '';
     if (!f) return;
     try {
-      applySettings(JSON.parse(await f.text()));
+      await loadSettings(JSON.parse(await f.text()));
       onMachineChange();
       scheduleWarp();
+      await refreshCustom();
     } catch (err) {
       showError('Cannot read these settings', { code: 'page.settings', message: err.message });
     }
@@ -141,12 +150,13 @@ async function main() {
     }
     setTimeout(() => ($('settings-link').textContent = 'Copy link to these settings'), 2000);
   });
-  window.addEventListener('hashchange', () => {
+  window.addEventListener('hashchange', async () => {
     const s = settingsFromHash();
     if (s) {
-      applySettings(s);
+      await loadSettings(s);
       onMachineChange();
       scheduleWarp();
+      await refreshCustom();
     }
   });
   document.body.dataset.ready = '1';

@@ -8,7 +8,7 @@ import { state } from './state.js';
 import { $ } from './dom.js';
 import { getPath, readRow, setPath, validValue, writeRow } from './params.js';
 import { buildWarpParams, enforceLimits, rows, showMachine, warpSchema } from './forms.js';
-import { currentMachine, customOn, machineArgument, presetMachine } from './machines.js';
+import { customOn, describeCustom, machineArgument, presetMachine } from './machines.js';
 
 /** The form as a settings object. */
 export function readSettings() {
@@ -44,6 +44,15 @@ export function applySettings(s) {
     if (v !== undefined) writeRow(row, p, v);
   }
   enforceLimits();
+}
+
+/**
+ * Shows a settings object in the form like `applySettings`, its custom machine JSON described by
+ * the core first (so that the warp the settings name is offered when that machine prints it).
+ */
+export async function loadSettings(s) {
+  if (s && typeof s === 'object' && typeof s.machine_json === 'string' && s.machine_json.trim() !== '') await describeCustom(s.machine_json);
+  applySettings(s);
 }
 
 /**
@@ -97,7 +106,7 @@ export function cliArgs() {
   const unwarp = [];
   for (const p of state.schema.unwarp_options) add(unwarp, p, getPath(s.unwarp, p.key));
   const machine = machineArgument();
-  if (machine !== undefined) unwarp.push('--machine', typeof machine === 'string' ? machine : `${currentMachine().name}.json`);
+  if (machine !== undefined) unwarp.push('--machine', typeof machine === 'string' ? machine : `${String(machine.name ?? 'custom')}.json`);
   return { warp, unwarp };
 }
 

@@ -18,6 +18,15 @@ export const state = {
   warpSeq: 0,
   /** The debounce timer of a scheduled re-warp. */
   warpTimer: 0,
+  /**
+   * The custom machine as the core describes it (`describe_machine` in the worker), keyed by the
+   * JSON text asked about: `text` the newest text answered, `machine` its `describe().machines`-
+   * shaped entry or null, `error` `{code, message}` when the core refused it; `valid` the last
+   * text the core accepted `{text, machine}` (the form keeps it while a newer text is refused);
+   * `seq` the newest request (older answers are dropped), `pending` its promise, `timer` the
+   * debounce of an edit.
+   */
+  custom: { text: null, machine: null, error: null, valid: null, seq: 0, pending: null, timer: 0 },
   /** The worker and its pending requests (`worker-client.js`). */
   rpc: { worker: null, nextId: 1, pending: new Map() },
   /** three.js handles (`view.js`): renderer, scene, camera, controls, groups, `dirty`. */

@@ -6,7 +6,7 @@ import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
 import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
 import { buildWarpParams, enforceLimits, showMachine } from './forms.js';
-import { currentMachine, machineViewArgument } from './machines.js';
+import { currentMachine, customOn, customSpec, customText, describeCustom, forgetCustom, machineViewArgument } from './machines.js';
 import { clearGroup, showModel, SURFACE_GRID } from './view.js';
 import { setViewMode, updateMachineFrameToggle } from './preview.js';
 
@@ -149,6 +149,39 @@ export function onMachineChange() {
   updateMachineFrameToggle();
 }
 
+/**
+ * The custom machine JSON was switched on or off, edited (`delay` ms of quiet first, while
+ * typing) or loaded from settings: asks the core what machine it is (`describe_machine`) and
+ * shows it (its warps, its tilt limits in the form, the warnings), or shows the core's refusal
+ * with the advice for its code; the form then goes on with the last custom machine the core
+ * accepted, or the selected preset. Re-warps when the machine changed the warp (a tilt clamped,
+ * a warp it does not print). Resolves once the answer is shown (or dropped for a newer one).
+ */
+export async function refreshCustom(delay = 0) {
+  const c = state.custom;
+  clearTimeout(c.timer);
+  c.timer = 0;
+  if (!customOn()) {
+    forgetCustom();
+    clearError('custom-machine');
+    return;
+  }
+  if (delay > 0) {
+    c.timer = setTimeout(() => refreshCustom(0), delay);
+    return;
+  }
+  const text = customText();
+  const answered = c.text === text && !c.pending;
+  if (!answered && !(await describeCustom(text))) return;
+  if (!customOn() || customText() !== text) return; // changed meanwhile: its own refresh follows
+  const before = JSON.stringify(readSettings().warp);
+  onMachineChange();
+  if (c.error) showError('The core refuses this custom machine JSON', c.error, 'machine', 'custom-machine');
+  else clearError('custom-machine');
+  if (JSON.stringify(readSettings().warp) !== before) scheduleWarp();
+  else saveHash();
+}
+
 /** Re-warps 400 ms after the last change of the form. */
 export function scheduleWarp() {
   enforceLimits();
@@ -176,6 +209,8 @@ export async function doUnwarp(file) {
   text.textContent = 'reading…';
   const t0 = performance.now();
   try {
+    // The machine of this unwarp as the core describes the JSON sent (an edit may be unanswered).
+    if (customOn() && (state.custom.text !== customText() || state.custom.pending || state.custom.timer)) await refreshCustom();
     const m = currentMachine();
     const options = unwarpOptions();
     const machineFrame = m.moving_bed ? { machine: machineViewArgument(), name: m.name } : null;
@@ -239,7 +274,7 @@ export function makeSummary(out, file) {
   const cliUnwarp = ['warpslice', 'unwarp', file.name, '--job', `${base}.warped.job.json`, '--stl', `${base}.warped.stl`, ...cli.unwarp, '-o', `${baseName(file.name)}.${m.name}.gcode`];
   return {
     machine: s.machine,
-    machine_json: m.custom ? m.spec : undefined,
+    machine_json: customOn() ? customSpec() : undefined,
     settings: s,
     cli: { warp: cliWarp, unwarp: cliUnwarp },
     machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',

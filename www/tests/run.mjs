@@ -224,6 +224,33 @@ async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
   return { dir, out };
 }
 
+/**
+ * The form of page `pg` for the machine in use there, `m` (a `describe().machines` entry): the
+ * warps it prints are the ones offered, its tilt limit caps every degree parameter (the layer
+ * tilt; a value past it is clamped to it) and a fixed tilt is fixed.
+ */
+async function machineForm(pg, m) {
+  const offered = await pg.locator('[data-testid="warp-select"] option:not([disabled])').evaluateAll((os) => os.map((o) => o.value));
+  assert(JSON.stringify(offered) === JSON.stringify(schema.warps.map((w) => w.name).filter((w) => m.warps.includes(w))), `${m.name}: warps offered ${offered} ≠ its warps ${m.warps}`);
+  assert((await pg.locator('[data-testid="machine-info"]').innerText()).includes(m.name), `${m.name}: named in the machine info`);
+  for (const w of schema.warps.filter((x) => m.warps.includes(x.name))) {
+    await pg.locator('[data-testid="warp-select"]').selectOption(w.name);
+    for (const prm of w.params.filter((q) => q.unit === 'deg')) {
+      const input = pg.locator(`#p-${w.name}-${prm.key}`);
+      const cap = m.max_tilt_deg != null && (prm.max == null || m.max_tilt_deg < prm.max) ? m.max_tilt_deg : prm.max;
+      assert((await input.getAttribute('max')) === (cap == null ? '' : String(cap)), `${m.name} ${w.name} ${prm.key}: max ${await input.getAttribute('max')} ≠ ${cap}`);
+      if (m.fixed_tilt_deg != null) {
+        assert((await input.inputValue()) === String(m.fixed_tilt_deg) && (await input.getAttribute('readonly')) !== null, `${m.name}: ${w.name} ${prm.key} fixed at ${m.fixed_tilt_deg}°`);
+      } else {
+        await input.fill(String((cap ?? 1000) + 5));
+        await input.dispatchEvent('change');
+        const v = Number(await input.inputValue());
+        assert(cap == null || v <= cap, `${m.name}: ${w.name} ${prm.key} clamped to ${cap} (${v})`);
+      }
+    }
+  }
+}
+
 /** Types `value` into the input `selector` and fires its change event. */
 async function setInput(selector, value) {
   await page.locator(selector).fill(String(value));
@@ -710,25 +737,7 @@ try {
       await p2.waitForSelector('body[data-ready="1"]');
       for (const m of schema.machines) {
         await p2.locator('[data-testid="machine-select"]').selectOption(m.name);
-        const offered = await p2.locator('[data-testid="warp-select"] option:not([disabled])').evaluateAll((os) => os.map((o) => o.value));
-        assert(JSON.stringify(offered) === JSON.stringify(schema.warps.map((w) => w.name).filter((w) => m.warps.includes(w))), `${m.name}: warps offered ${offered} ≠ its warps ${m.warps}`);
-        assert((await p2.locator('[data-testid="machine-info"]').innerText()).includes(m.name), `${m.name}: named in the machine info`);
-        for (const w of schema.warps.filter((x) => m.warps.includes(x.name))) {
-          await p2.locator('[data-testid="warp-select"]').selectOption(w.name);
-          for (const prm of w.params.filter((q) => q.unit === 'deg')) {
-            const input = p2.locator(`#p-${w.name}-${prm.key}`);
-            const cap = m.max_tilt_deg != null && (prm.max == null || m.max_tilt_deg < prm.max) ? m.max_tilt_deg : prm.max;
-            assert((await input.getAttribute('max')) === (cap == null ? '' : String(cap)), `${m.name} ${w.name} ${prm.key}: max ${await input.getAttribute('max')} ≠ ${cap}`);
-            if (m.fixed_tilt_deg != null) {
-              assert((await input.inputValue()) === String(m.fixed_tilt_deg) && (await input.getAttribute('readonly')) !== null, `${m.name}: ${w.name} ${prm.key} fixed at ${m.fixed_tilt_deg}°`);
-            } else {
-              await input.fill(String((cap ?? 1000) + 5));
-              await input.dispatchEvent('change');
-              const v = Number(await input.inputValue());
-              assert(cap == null || v <= cap, `${m.name}: ${w.name} ${prm.key} clamped to ${cap} (${v})`);
-            }
-          }
-        }
+        await machineForm(p2, m);
       }
     } finally {
       await p2.close();
@@ -794,9 +803,16 @@ try {
     const text = out.toString();
     assert(/^G1 .*\bU-?\d/m.test(text) && /^G1 .*\bV-?\d/m.test(text) && !/^G1 .*\bB-?\d/m.test(text), 'the output drives the custom machine\'s U and V axes');
     assert(/^G93/m.test(text), 'inverse-time feed (G93) from the feed option');
-    // The custom limit (20°) holds: conic 30° fails in the page as on the CLI.
+    // The custom limit (20°) holds. The form caps the layer tilt at it (the core's description of
+    // this JSON, not the preset's 90°): conic 30° is clamped to 20°. A warp past 20° without a
+    // tilt parameter (tilted, strength 0.6: 31°) fails in the page as on the CLI.
     await setInput('#p-conic-angle', 30);
+    assert((await page.locator('#p-conic-angle').inputValue()) === '20', `conic 30° is capped at the custom machine's 20°: ${await page.locator('#p-conic-angle').inputValue()}`);
+    await tid('warp-select').selectOption('tilted');
+    await setInput('#p-tilted-strength', 0.6);
     await warpSettled();
+    const tilt30 = Number(await page.locator('#warp-info').getAttribute('data-largest-tilt'));
+    assert(tilt30 > 30, `the tilted warp tilts the layers past 30° (${tilt30})`);
     await download('warped-download', join(dir, 'W30.stl'));
     await download('job-download', join(dir, 'W30.job.json'));
     slice(join(dir, 'W30.stl'), join(dir, 'W30.gcode'));
@@ -812,6 +828,7 @@ try {
     assert(err.code === 'machine.axis-limit', `the page refuses it with the code machine.axis-limit: ${JSON.stringify(err)}`);
     await screenshot('custom-machine-limit');
     await tid('machine-custom').uncheck();
+    await tid('warp-select').selectOption('conic');
     await tid('flow-ramp-on').uncheck();
     await page.locator('#p-feed').selectOption('xyz');
     await page.locator('#p-flavour').selectOption('');
@@ -886,6 +903,74 @@ try {
     await tid('machine-frame').uncheck();
     await tid('machine-custom').uncheck();
     await tid('place-on').uncheck();
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+  });
+
+  await test('custom machine JSON described by the core: pax-5axis with max_tilt_deg 20 caps the tilt and warns at 20° (not the preset\'s 90°); a JSON the core refuses shows its code\'s advice and the form keeps the last valid machine', async () => {
+    const { ADVICE } = await import(join(WWW, 'js', 'advice.js'));
+    const pax = schema.machines.find((m) => m.name === 'pax-5axis');
+    const lowered = JSON.stringify({ ...pax.spec, max_tilt_deg: 20 }, null, 2);
+    // What the core says of this JSON (node, same wasm): the page's form must follow it.
+    const want = JSON.parse(wasm.describe_machine(lowered));
+    assert(want.max_tilt_deg === 20 && pax.max_tilt_deg !== 20 && want.name === 'pax-5axis', `the core describes the lowered JSON with its own limit: ${want.max_tilt_deg} (preset ${pax.max_tilt_deg})`);
+    const refused = JSON.stringify({ ...pax.spec, max_tilt_deg: 20, nozzle_colour: 'red' }, null, 2); // an unknown field
+    let code = null;
+    try {
+      wasm.describe_machine(refused);
+    } catch (e) {
+      code = e.code;
+    }
+    assert(code && code.startsWith('machine.') && ADVICE[code], `the core refuses an unknown field with a machine.* code the page has advice for: ${code}`);
+    const dir = join(TMP, 'custom-described');
+    mkdirSync(dir, { recursive: true });
+    writeFileSync(join(dir, 'cylinder.stl'), wasm.example_stl('cylinder'));
+    await tid('model-input').setInputFiles(join(dir, 'cylinder.stl'));
+    await warpSettled();
+    await tid('machine-select').selectOption('pax-5axis');
+    await tid('warp-select').selectOption('conic');
+    await page.locator('#machine-custom-box').evaluate((d) => (d.open = true));
+    await tid('machine-json').fill(lowered);
+    await tid('machine-json').dispatchEvent('change');
+    await page.waitForFunction(() => document.querySelector('#p-conic-angle')?.getAttribute('max') === '20', null, { timeout: 30000 }).catch(async () => {
+      throw new Error(`the conic angle is not capped at 20 (max ${await page.locator('#p-conic-angle').getAttribute('max')}; ${await tid('machine-info').innerText()})`);
+    });
+    // The limits: every degree parameter of every warp it prints capped at 20 (the test of every preset's form).
+    await machineForm(page, want);
+    assert((await tid('machine-info').innerText()).includes('tilt up to 20°'), `the machine info is the core's for this JSON: ${await tid('machine-info').innerText()}`);
+    // The warnings: conic 30° is clamped to 20° and within the limit; a tilted warp of 31° is past it.
+    await tid('warp-select').selectOption('conic');
+    await setInput('#p-conic-angle', 30);
+    assert((await page.locator('#p-conic-angle').inputValue()) === '20', `conic 30° capped at 20: ${await page.locator('#p-conic-angle').inputValue()}`);
+    await warpSettled();
+    const within = await tid('warnings').innerText();
+    assert(/Within pax-5axis's tilt limits/.test(within) && Math.abs(Number(await page.locator('#warp-info').getAttribute('data-largest-tilt')) - 20) < 1e-6, `conic 20° is within the custom machine's limits: ${within}`);
+    await tid('warp-select').selectOption('tilted');
+    await setInput('#p-tilted-strength', 0.6);
+    await warpSettled();
+    const past = await tid('warnings').innerText();
+    assert(/need up to 31\.0° of tilt; pax-5axis reaches 20°/.test(past), `the tilt warning says 20°: ${past}`);
+    await screenshot('custom-described-20');
+    // A JSON the core refuses: its error and the advice for its code; the form keeps the last
+    // machine the core accepted (the cap stays at 20, not the preset's 90).
+    await tid('warp-select').selectOption('conic');
+    await tid('machine-json').fill(refused);
+    await tid('machine-json').dispatchEvent('change');
+    const err = await shownError();
+    assert(err.code === code && err.key === code && err.advice === `What to do: ${ADVICE[code]}`, `the error box shows ${code} with its advice: ${JSON.stringify(err)}`);
+    assert(err.message.includes('nozzle_colour'), `the core's message as it is: ${err.message}`);
+    assert((await page.locator('#p-conic-angle').getAttribute('max')) === '20', 'the form keeps the last valid custom machine (cap 20)');
+    assert(/refused/.test(await tid('machine-info').innerText()), `the machine info says the JSON is refused: ${await tid('machine-info').innerText()}`);
+    await setInput('#p-conic-angle', 15); // the form still works: a re-warp leaves the machine's error shown
+    await warpSettled();
+    assert((await tid('error').isVisible()) && (await tid('error').getAttribute('data-code')) === code, 'the refusal stays shown while the JSON is refused');
+    await screenshot('custom-described-refused');
+    // Fixed: the error goes; switched off: the preset again.
+    await tid('machine-json').fill(lowered);
+    await tid('machine-json').dispatchEvent('change');
+    await page.waitForSelector('[data-testid="error"][hidden]', { state: 'attached', timeout: 30000 });
+    await tid('machine-custom').uncheck();
+    assert((await page.locator('#p-conic-angle').getAttribute('max')) === String(pax.max_tilt_deg), 'switched off: the preset\'s limit');
     await tid('machine-select').selectOption('cartesian');
     await warpSettled();
   });
