@@ -98,17 +98,7 @@ pub fn unwarp_with_stl(
     settings: &UnwarpSettings,
     stl: Option<&[u8]>,
 ) -> Result<UnwarpOutput, Error> {
-    let mut u = unwarper_with_stl(job, settings, stl)?;
-    u.scan(gcode)?;
-    let registration = u.end_scan()?;
-    u.push(gcode)?;
-    let report = u.finish()?;
-    Ok(UnwarpOutput {
-        gcode: u.take_output(),
-        report,
-        registration,
-        toolpath: u.take_toolpath(),
-    })
+    Ok(unwarper_with_stl(job, settings, stl)?.run(gcode)?)
 }
 
 /// Read size of [`unwarp_stream`], bytes.

@@ -57,6 +57,20 @@ impl Unwarper {
         self.warped_mesh = Some(mesh);
     }
 
+    /// Both passes over a whole G-code in memory.
+    pub fn run(mut self, gcode: &[u8]) -> Result<super::UnwarpOutput, UnwarpError> {
+        self.scan(gcode)?;
+        let registration = self.end_scan()?;
+        self.push(gcode)?;
+        let report = self.finish()?;
+        Ok(super::UnwarpOutput {
+            gcode: self.take_output(),
+            report,
+            registration,
+            toolpath: self.take_toolpath(),
+        })
+    }
+
     /// Pass 1: feed a chunk.
     pub fn scan(&mut self, chunk: &[u8]) -> Result<(), UnwarpError> {
         match self.scanner.as_mut() {

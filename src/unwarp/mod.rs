@@ -69,15 +69,5 @@ pub fn unwarp(
     opts: &UnwarpOptions,
     emitter: Box<dyn Emitter>,
 ) -> Result<UnwarpOutput, UnwarpError> {
-    let mut u = Unwarper::new(job, opts, emitter)?;
-    u.scan(gcode)?;
-    let registration = u.end_scan()?;
-    u.push(gcode)?;
-    let report = u.finish()?;
-    Ok(UnwarpOutput {
-        gcode: u.take_output(),
-        report,
-        registration,
-        toolpath: u.take_toolpath(),
-    })
+    Unwarper::new(job, opts, emitter)?.run(gcode)
 }
