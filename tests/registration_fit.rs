@@ -72,3 +72,20 @@ fn one_wall_alone_is_undetermined() {
     let e = refine(&block(), &walls([true, false, false, false]), H, &[T]).unwrap_err();
     assert_eq!(e.code(), "register.undetermined", "{e}");
 }
+
+#[test]
+fn a_part_narrower_than_two_lines_is_undetermined() {
+    // a 20 × 0.4 mm wall printed as one line down its middle
+    let wall = cuboid(DVec3::new(-10.0, -0.2, 0.0), DVec3::new(10.0, 0.2, 10.0));
+    let t = DVec2::from_array(T);
+    let mut s = Sample::new();
+    for layer in 0..40u32 {
+        let z = H * (layer + 1) as f64;
+        let (a, b) = (DVec2::new(-9.8, 0.0) + t, DVec2::new(9.8, 0.0) + t);
+        s.push(layer, z, a, b, 100 + layer as u64);
+    }
+    // the line pins y only (its ends are no walls); a curved thin part (the corpus moon) pins
+    // both but is caught as narrower than two lines (tests/real_slicers.rs)
+    let e = refine(&wall, &s, H, &[T]).unwrap_err();
+    assert_eq!(e.code(), "register.undetermined", "{e}");
+}

@@ -46,6 +46,10 @@ pub const WALL_ALIGNMENT: f64 = 0.5;
 /// closer than [`HUBER_MM`].
 pub const OUTLIER_SIGMAS: f64 = 3.0;
 
+/// Two line widths in bead insets (an outer wall's centre sits half a line inside): a cut
+/// narrower than this many insets holds at most single lines.
+pub const TWO_LINES_IN_INSETS: f64 = 4.0;
+
 /// Fewest matches for a determined fit.
 pub const MIN_MATCHES: usize = 40;
 /// Smallest eigenvalue of the normals' mean outer product Σ n nᵀ / N: below it one direction
@@ -170,6 +174,29 @@ pub fn refine(
     let start = best.map_or(starts[0], |b| b.1);
     let data = layer_data(mesh, sample, h, MAX_LAYERS);
     let f = fit_from(&data, start, ITERATIONS)?;
+    // a part narrower than two lines is printed as single lines down its middle: both sides
+    // match the same bead and its ends are no walls, so nothing pins it to the bead (judged
+    // on the median layer: the top cuts of a warped part may be small islands)
+    let mut widths: Vec<f64> = data
+        .iter()
+        .map(|(cut, _)| {
+            let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+            for (b, _) in cut {
+                lo = lo.min(*b);
+                hi = hi.max(*b);
+            }
+            (hi - lo).min_element()
+        })
+        .collect();
+    widths.sort_by(f64::total_cmp);
+    let median_width = widths.get(widths.len() / 2).copied().unwrap_or(0.0);
+    if median_width < TWO_LINES_IN_INSETS * f.inset {
+        return Err(RegisterError::Undetermined {
+            matched: f.matched,
+            needed: MIN_MATCHES,
+            reason: "the part is narrower than two lines (it is printed as single lines down its middle)",
+        });
+    }
     let samples: usize = data.iter().map(|d| d.0.len()).sum();
     if (f.matched as f64) < MIN_MATCHED_FRACTION * samples as f64 {
         return Err(RegisterError::Undetermined {
