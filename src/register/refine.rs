@@ -176,8 +176,8 @@ pub fn refine(
     let f = fit_from(&data, start, ITERATIONS)?;
     // a part narrower than two lines is printed as single lines down its middle: both sides
     // match the same bead and its ends are no walls, so nothing pins it to the bead (judged
-    // on the median layer: the top cuts of a warped part may be small islands)
-    let mut widths: Vec<f64> = data
+    // on the widest layer: the cuts of a warped part may be small islands on many layers)
+    let widths: Vec<f64> = data
         .iter()
         .map(|(cut, _)| {
             let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -188,9 +188,8 @@ pub fn refine(
             (hi - lo).min_element()
         })
         .collect();
-    widths.sort_by(f64::total_cmp);
-    let median_width = widths.get(widths.len() / 2).copied().unwrap_or(0.0);
-    if median_width < TWO_LINES_IN_INSETS * f.inset {
+    let widest = widths.iter().copied().fold(0.0, f64::max);
+    if widest < TWO_LINES_IN_INSETS * f.inset {
         return Err(RegisterError::Undetermined {
             matched: f.matched,
             needed: MIN_MATCHES,
