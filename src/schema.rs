@@ -41,6 +41,21 @@ pub enum ParamDefault {
     Triple([f64; 3]),
 }
 
+impl ParamDefault {
+    /// The default as a JSON value for an options object (`None`: no default).
+    pub fn to_json(self) -> Option<serde_json::Value> {
+        use serde_json::Value;
+        match self {
+            ParamDefault::None => None,
+            ParamDefault::Number(v) => Some(Value::from(v)),
+            ParamDefault::Text(t) => Some(Value::from(t)),
+            ParamDefault::Bool(b) => Some(Value::Bool(b)),
+            ParamDefault::Pair(v) => Some(Value::from(v.to_vec())),
+            ParamDefault::Triple(v) => Some(Value::from(v.to_vec())),
+        }
+    }
+}
+
 /// One parameter of a warp or a step.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Param {

@@ -67,15 +67,9 @@ pub fn fill_defaults(spec: &mut serde_json::Map<String, serde_json::Value>) {
         if spec.contains_key(p.key) {
             continue;
         }
-        let v = match p.default {
-            ParamDefault::None => continue,
-            ParamDefault::Number(v) => Value::from(v),
-            ParamDefault::Text(t) => Value::from(t),
-            ParamDefault::Bool(b) => Value::Bool(b),
-            ParamDefault::Pair(v) => Value::from(v.to_vec()),
-            ParamDefault::Triple(v) => Value::from(v.to_vec()),
-        };
-        spec.insert(p.key.to_string(), v);
+        if let Some(v) = p.default.to_json() {
+            spec.insert(p.key.to_string(), v);
+        }
     }
     let radius = spec.get("radius").and_then(Value::as_f64);
     match (kind.as_str(), radius) {

@@ -115,14 +115,7 @@ fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
         ParamType::Choice => m.get_one::<String>(id(p)).map(|v| Value::from(v.as_str())),
         ParamType::Bool => m.get_flag(id(p)).then_some(Value::Bool(true)),
     };
-    given.or_else(|| match p.default {
-        ParamDefault::None => None,
-        ParamDefault::Number(v) => Some(Value::from(v)),
-        ParamDefault::Text(t) => Some(Value::from(t)),
-        ParamDefault::Bool(b) => Some(Value::Bool(b)),
-        ParamDefault::Pair(v) => Some(Value::from(v.to_vec())),
-        ParamDefault::Triple(v) => Some(Value::from(v.to_vec())),
-    })
+    given.or_else(|| p.default.to_json())
 }
 
 /// Put `v` at the (dotted) key `key` of `obj`.
