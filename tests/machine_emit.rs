@@ -182,7 +182,7 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
             rep.worst_angle_deg
         ));
     }
-    let meas = check(m.as_ref(), &out.toolpath, &lines, SAMPLES)
+    let meas = check(&spec, &out.toolpath, &lines, SAMPLES)
         .map_err(|e| format!("{e} [emitter report {rep:?}]"))?;
     // every move left beyond the bound is tagged in the file and counted in the report
     if meas.discontinuities as u64 != rep.depth_limited

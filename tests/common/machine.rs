@@ -1,7 +1,10 @@
 //! The machine checks shared by the end-to-end tests (tests/machine_emit.rs, with one real
 //! slicer file per machine, and tests/real_slicers.rs, the core matrix on every preset): parse a
 //! machine G-code with the machine's axis letters (the crate's reader tracks X Y Z E only) and
-//! walk it against the core toolpath with the machine's forward kinematics:
+//! walk it against the core toolpath with the tests' own forward kinematics of the machine file
+//! ([`fk`]: closed forms from the seeds and docs/machines.md, sharing no code with
+//! `warpslice::machine`, so a kinematic formula wrong the same way in the crate's inverse and
+//! forward is caught):
 //! - every toolpath point is reached: walking the output in order, the forward kinematics of a
 //!   line lands on each toolpath tip within 0.01 mm and (where the machine realises the axis
 //!   without a branch choice) on its realised tool axis within 0.1°; every line in between lies
@@ -10,9 +13,13 @@
 //!   0.02 mm / 0.1° of the intended path (linear tip, slerp tool axis, realised by the machine).
 
 use glam::DVec3;
-use warpslice::machine::tessellate::slerp;
-use warpslice::machine::Machine;
+use warpslice::machine::MachineSpec;
 use warpslice::toolpath::ToolPoint;
+
+#[path = "fk.rs"]
+pub mod fk;
+
+use fk::Fk;
 
 /// Tip tolerance of the forward check, mm (issue: 0.01).
 pub const TIP_TOL: f64 = 0.01;
@@ -128,6 +135,22 @@ pub fn deg(a: DVec3, b: DVec3) -> f64 {
     a.angle_between(b).to_degrees()
 }
 
+/// The unit vector a fraction `s` of the way from unit `a` to unit `b` along their great circle
+/// (the intended tool axis between two toolpath points, docs/machines.md "slerp").
+pub fn slerp(a: DVec3, b: DVec3, s: f64) -> DVec3 {
+    let w = a.angle_between(b);
+    let v = if w < 1e-9 || w > std::f64::consts::PI - 1e-9 {
+        a.lerp(b, s)
+    } else {
+        (a * ((1.0 - s) * w).sin() + b * (s * w).sin()) / w.sin()
+    };
+    if v.length() > 1e-12 {
+        v.normalize()
+    } else {
+        a
+    }
+}
+
 #[derive(Default, Debug)]
 pub struct Measured {
     pub points: usize,
@@ -142,13 +165,15 @@ pub struct Measured {
     pub worst_detail: String,
 }
 
-/// The checks of the module documentation.
+/// The checks of the module documentation, for the machine `spec` (its parameters only: the
+/// kinematics are [`fk`]'s).
 pub fn check(
-    m: &dyn Machine,
+    spec: &MachineSpec,
     toolpath: &[ToolPoint],
     lines: &[AxisLine],
     samples: usize,
 ) -> Result<Measured, String> {
+    let m = Fk::from_spec(spec)?;
     let mut r = Measured {
         lines: lines.len(),
         ..Measured::default()
@@ -169,11 +194,11 @@ pub fn check(
                     tp.p
                 ));
             };
-            let (p, n) = m.forward(&line.axes).map_err(|e| e.to_string())?;
+            let (p, n) = m.forward(&line.axes)?;
             li += 1;
             let dtip = (p - tp.p).length();
-            let free = m.branch_freedom(tp.p, tp.n) > 0.0;
-            let axis_err = deg(n, m.realised_axis(tp.p, tp.n));
+            let free = m.free(tp.p, tp.n);
+            let axis_err = deg(n, m.realised(tp.p, tp.n, None));
             // the emitter's last piece of a move lands on the point: tip and (realisable) axis
             let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
             if line.rotate_around && !is_end {
@@ -223,8 +248,8 @@ pub fn check(
         }
         if b.reorient {
             // in place: tip fixed, axis slerp between the realised axes of the two lines
-            let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
-            let (_, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+            let (pa, na) = m.forward(&a.axes)?;
+            let (_, nb) = m.forward(&b.axes)?;
             for i in 1..samples {
                 let u = i as f64 / samples as f64;
                 let axes: Vec<f64> = a
@@ -233,23 +258,18 @@ pub fn check(
                     .zip(&b.axes)
                     .map(|(x, y)| x + (y - x) * u)
                     .collect();
-                let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
-                let exact = m
-                    .forward(
-                        &m.inverse(pa, slerp(na, nb, u), Some(&a.axes))
-                            .map_err(|e| e.to_string())?,
-                    )
-                    .map_err(|e| e.to_string())?;
+                let (fp, fn_) = m.forward(&axes)?;
+                let exact = m.realised(pa, slerp(na, nb, u), Some(&a.axes));
                 r.worst_interp_mm = r.worst_interp_mm.max((fp - pa).length());
-                r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact.1));
+                r.worst_interp_deg = r.worst_interp_deg.max(deg(fn_, exact));
             }
             continue;
         }
         // the intended path: the toolpath segment the two lines belong to (tip linear, axis
         // slerp) when the matching placed both on it; else the straight tip path between the
         // two lines' tips and the slerp of their realised axes
-        let (pa, na) = m.forward(&a.axes).map_err(|e| e.to_string())?;
-        let (pb, nb) = m.forward(&b.axes).map_err(|e| e.to_string())?;
+        let (pa, na) = m.forward(&a.axes)?;
+        let (pb, nb) = m.forward(&b.axes)?;
         let seg = owner[w].and_then(|(k, s1)| {
             let s0 = match owner[w - 1] {
                 Some((k0, s)) if k0 == k => s,
@@ -257,12 +277,8 @@ pub fn check(
                 _ => return None,
             };
             let (t0, t1) = (pts[k.saturating_sub(1)], pts[k]);
-            let realised = |s: f64| {
-                m.inverse(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes))
-                    .and_then(|x| m.forward(&x))
-                    .map(|f| f.1)
-                    .unwrap_or(DVec3::ZERO)
-            };
+            let realised =
+                |s: f64| m.realised(t0.p.lerp(t1.p, s), slerp(t0.n, t1.n, s), Some(&a.axes));
             let on = (t0.p.lerp(t1.p, s0) - pa).length() < 0.005
                 && (t0.p.lerp(t1.p, s1) - pb).length() < 0.005
                 && deg(realised(s0), na) < AXIS_TOL_DEG
@@ -280,7 +296,7 @@ pub fn check(
                 .zip(&b.axes)
                 .map(|(x, y)| x + (y - x) * u)
                 .collect();
-            let (fp, fn_) = m.forward(&axes).map_err(|e| e.to_string())?;
+            let (fp, fn_) = m.forward(&axes)?;
             let (ip, inn) = match seg {
                 Some((t0, t1, s0, s1)) => {
                     let s = s0 + (s1 - s0) * u;
@@ -288,12 +304,9 @@ pub fn check(
                 }
                 None => (pa.lerp(pb, u), slerp(na, nb, u)),
             };
-            let exact = m
-                .forward(
-                    &m.inverse(ip, inn, Some(&a.axes))
-                        .map_err(|e| e.to_string())?,
-                )
-                .map_err(|e| e.to_string())?;
+            // the machine puts the tip on the intended point and realises its share of the
+            // intended axis
+            let exact = (ip, m.realised(ip, inn, Some(&a.axes)));
             let dp = (fp - exact.0).length();
             let da = deg(fn_, exact.1);
             if da > r.worst_interp_deg {
