@@ -167,7 +167,7 @@ impl ThreeZ {
         let (r1, r2) = (z[0] - z[1], z[0] - z[2]);
         let u_xy = DVec2::new(r1 * l2.y - r2 * l1.y, l1.x * r2 - l2.x * r1) / det;
         let uz2 = 1.0 - u_xy.length_squared();
-        if !(uz2 > 0.0) {
+        if uz2.is_nan() || uz2 <= 0.0 {
             return Err(format!(
                 "three-z: the Z axes {z:?} admit no bed pose (|u_xy| = {})",
                 u_xy.length()

@@ -139,7 +139,7 @@ pub fn deg(a: DVec3, b: DVec3) -> f64 {
 /// (the intended tool axis between two toolpath points, docs/machines.md "slerp").
 pub fn slerp(a: DVec3, b: DVec3, s: f64) -> DVec3 {
     let w = a.angle_between(b);
-    let v = if w < 1e-9 || w > std::f64::consts::PI - 1e-9 {
+    let v = if !(1e-9..=std::f64::consts::PI - 1e-9).contains(&w) {
         a.lerp(b, s)
     } else {
         (a * ((1.0 - s) * w).sin() + b * (s * w).sin()) / w.sin()
