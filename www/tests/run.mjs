@@ -9,6 +9,8 @@
 //
 // Serves www/ on 127.0.0.1, drives the page, slices the downloaded warped STL with prusa-slicer,
 // and checks the browser's output is byte-identical to the CLI's for the same settings.
+// The service worker registers only on https / localhost: its test (tests/offline.mjs) serves
+// on http://localhost in a browser of its own, then stops that server and works offline.
 // Screenshots go to artifacts/web/. Prints `N passed, N failed`; exits non-zero on failure.
 import { chromium } from 'playwright-core';
 import { execFileSync, spawnSync } from 'node:child_process';
@@ -18,6 +20,7 @@ import { basename, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
+import { offlineRoundTrip } from './offline.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -983,6 +986,10 @@ try {
     for (const [, f] of sw.matchAll(/'\.\/(js\/[\w-]+\.js)'/g)) assert(existsSync(join(WWW, f)), `sw.js lists ${f}, which exists`);
     const main = await page.evaluate(() => document.querySelector('script[type="module"]').getAttribute('src'));
     assert(main === './js/main.js', `index.html loads the entry module (${main})`);
+  });
+
+  await test('service worker: served on localhost it controls the page, and offline (server stopped) the page reloads from its cache and still warps and unwarps, byte-identical to the CLI', async () => {
+    await offlineRoundTrip({ www: WWW, cli: CLI, slice, exampleStl: wasm.example_stl('cylinder'), dir: join(TMP, 'offline'), shots: ART });
   });
 
   await test('error advice is keyed by the core\'s error code: three codes, each with its own advice, unchanged when the message is reworded', async () => {
