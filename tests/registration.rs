@@ -22,34 +22,6 @@ const REGISTRATION_TOLERANCE: f64 = 0.02;
 /// The slicers' bed centre, mm.
 const BED_CENTRE: [f64; 2] = [100.0, 100.0];
 
-/// A 20 × 20 × 8 mm block with three 0.2 mm fins, 8 mm long, on its +x side.
-fn finned_block() -> Vec<u8> {
-    use glam::DVec3;
-    use warpslice::mesh::{shapes::cuboid, Mesh};
-    let mut parts = vec![cuboid(
-        DVec3::new(-10.0, -10.0, 0.0),
-        DVec3::new(10.0, 10.0, 8.0),
-    )];
-    for k in 0..3 {
-        let y = -6.0 + 6.0 * k as f64;
-        parts.push(cuboid(
-            DVec3::new(9.9, y, 0.0),
-            DVec3::new(18.0, y + 0.2, 8.0),
-        ));
-    }
-    let mut m = Mesh {
-        vertices: Vec::new(),
-        triangles: Vec::new(),
-    };
-    for p in parts {
-        let base = m.vertices.len() as u32;
-        m.vertices.extend(p.vertices);
-        m.triangles
-            .extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    warpslice::mesh::write_stl(&m, "finned block")
-}
-
 fn conic() -> WarpOptions {
     WarpOptions::new(WarpParams {
         spec: WarpSpec::Conic {
@@ -98,7 +70,7 @@ fn registration_is_within_two_hundredths_with_every_slicer() {
     let corpus = common::corpus_dir();
     let mut models: Vec<(String, std::path::PathBuf)> = Vec::new();
     let fins = dir("fins").join("fins.stl");
-    std::fs::write(&fins, finned_block()).unwrap();
+    std::fs::write(&fins, common::finned_block()).unwrap();
     models.push(("fins".into(), fins));
     match &corpus {
         Some(c) => {
@@ -143,7 +115,7 @@ fn without_the_mesh_a_part_missing_its_fins_is_refused_by_name() {
     }
     let d = dir("nomesh");
     let stl = d.join("fins.stl");
-    std::fs::write(&stl, finned_block()).unwrap();
+    std::fs::write(&stl, common::finned_block()).unwrap();
     let files = RunFiles::next_to(&d.join("part.gcode"));
     let w = files::warp_file(&stl, &conic(), &files.warped, &mut ()).unwrap();
     let slice = SliceOptions {

@@ -107,9 +107,9 @@ pub fn acceptance_warps() -> Vec<(&'static str, WarpParams)> {
     ]
 }
 
-/// The generated meshes of the matrix.
+/// The generated meshes of the matrix: the crate's examples and [`finned_block`].
 pub fn generated_models() -> Vec<(String, Vec<u8>)> {
-    warpslice::shapes::EXAMPLES
+    let mut v: Vec<(String, Vec<u8>)> = warpslice::shapes::EXAMPLES
         .iter()
         .map(|n| {
             (
@@ -117,8 +117,40 @@ pub fn generated_models() -> Vec<(String, Vec<u8>)> {
                 warpslice::mesh::write_stl(&warpslice::shapes::example(n).unwrap(), n),
             )
         })
-        .collect()
+        .collect();
+    v.push(("gen-fins".into(), finned_block()));
+    v
 }
+
+/// A 20 × 20 × 8 mm block with three 0.2 mm fins, 8 mm long, on its +x side: thinner than a
+/// line, so the slicers print them partly or not at all (issue 17).
+pub fn finned_block() -> Vec<u8> {
+    use glam::DVec3;
+    use warpslice::mesh::{shapes::cuboid, Mesh};
+    let mut parts = vec![cuboid(
+        DVec3::new(-10.0, -10.0, 0.0),
+        DVec3::new(10.0, 10.0, 8.0),
+    )];
+    for k in 0..3 {
+        let y = -6.0 + 6.0 * k as f64;
+        parts.push(cuboid(
+            DVec3::new(9.9, y, 0.0),
+            DVec3::new(18.0, y + 0.2, 8.0),
+        ));
+    }
+    let mut m = Mesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    for p in parts {
+        let base = m.vertices.len() as u32;
+        m.vertices.extend(p.vertices);
+        m.triangles
+            .extend(p.triangles.iter().map(|t| t.map(|i| i + base)));
+    }
+    warpslice::mesh::write_stl(&m, "finned block")
+}
+
 
 /// A line width as wide as any the three slicers use with a 0.4 mm nozzle at their defaults
 /// (PrusaSlicer 0.45, CuraEngine 0.4, Slic3r ≈ 0.48), mm.
