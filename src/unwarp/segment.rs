@@ -150,10 +150,23 @@ mod tests {
         // a tent of height 1: exact with its apex in the middle quarters, at most 4/3 in the
         // outer ones (one chord extension only)
         for apex in [0.01, 0.2, 0.25, 0.3, 0.49, 0.6, 0.75, 0.8, 0.99] {
-            let tent = |t: f64| if t < apex { t / apex } else { (1.0 - t) / (1.0 - apex) };
+            let tent = |t: f64| {
+                if t < apex {
+                    t / apex
+                } else {
+                    (1.0 - t) / (1.0 - apex)
+                }
+            };
             let b = concave_bound([0.25, 0.5, 0.75].map(tent));
-            let most = if apex > 0.25 && apex < 0.75 { 1.0 } else { 4.0 / 3.0 };
-            assert!(b >= 1.0 - 1e-12 && b <= most + 1e-12, "apex {apex}: bound {b}");
+            let most = if apex > 0.25 && apex < 0.75 {
+                1.0
+            } else {
+                4.0 / 3.0
+            };
+            assert!(
+                b >= 1.0 - 1e-12 && b <= most + 1e-12,
+                "apex {apex}: bound {b}"
+            );
         }
         let parabola = |t: f64| 4.0 * t * (1.0 - t);
         let b = concave_bound([0.25, 0.5, 0.75].map(parabola));
