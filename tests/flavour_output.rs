@@ -450,7 +450,6 @@ fn the_layer_surface_check_tells_a_wrong_warp() {
 
 /// Klipper has no G93: a Klipper file must not switch to inverse time (refuse, or write mm/min).
 #[test]
-#[ignore = "known bug: --flavour klipper --feed inverse-time writes G93, which Klipper does not implement (its G-Codes.md: G1 [X] [Y] [Z] [E] [F], no G93); src/machine/emit.rs should refuse it"]
 fn klipper_never_gets_inverse_time() {
     let part = part(
         "klipper-g93",
@@ -482,6 +481,33 @@ fn klipper_never_gets_inverse_time() {
         let e = String::from_utf8_lossy(&o.stderr);
         assert!(e.contains("klipper") && e.contains("inverse-time"), "{e}");
     }
+}
+
+/// Mainline Marlin 2.1 has no G93 either (its feature request is open): refused, by name.
+#[test]
+fn marlin_never_gets_inverse_time() {
+    let part = part(
+        "marlin-g93",
+        &["--warp", "conic", "--angle", "25", "--center", "-15,0"],
+    );
+    let e = part.unwarp_err(
+        "marlin-it.gcode",
+        &[
+            "--machine",
+            "pax-5axis",
+            "--flavour",
+            "marlin",
+            "--feed",
+            "inverse-time",
+        ],
+    );
+    assert!(e.contains("Marlin 2.1 has no G93"), "{e}");
+    // the same machine and feed for RepRapFirmware is written
+    let text = part.unwarp(
+        "rrf-it.gcode",
+        &["--machine", "pax-5axis", "--feed", "inverse-time"],
+    );
+    assert!(lines(&text).iter().any(|l| l.cmd == Some("G93")));
 }
 
 #[test]

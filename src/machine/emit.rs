@@ -109,7 +109,7 @@ impl MachineEmitter {
         let machine = spec.build()?;
         let limits = machine.limits().to_vec();
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
-        flavour.check(machine.name(), &limits)?;
+        flavour.check(machine.name(), &limits, feed)?;
         let offsets = machine.written_offsets();
         let d = offsets.iter().copied().fold(0.0, f64::max);
         let unlimited = limits

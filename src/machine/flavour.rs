@@ -52,13 +52,32 @@ impl Flavour {
         }
     }
 
-    /// Check that this firmware can drive `limits` (the machine's axes); the error says why not.
-    pub fn check(self, machine: &str, limits: &[AxisLimit]) -> Result<(), MachineError> {
+    /// Check that this firmware can drive `limits` (the machine's axes) with `feed`; the error
+    /// says why not.
+    ///
+    /// `G93` (inverse-time feed) exists only in RepRapFirmware (3.5.0 and later): Klipper's
+    /// G-code reference lists no G93, and mainline Marlin 2.1 has none (its feature request is
+    /// still open), so both read F as mm/min and the move would crawl or race.
+    pub fn check(
+        self,
+        machine: &str,
+        limits: &[AxisLimit],
+        feed: FeedMode,
+    ) -> Result<(), MachineError> {
         let refuse = |reason: String| MachineError::UnsupportedFlavour {
             machine: machine.to_string(),
             flavour: self.name().to_string(),
             reason,
         };
+        if feed == FeedMode::InverseTime && self != Flavour::RepRapFirmware {
+            return Err(refuse(format!(
+                "{} has no G93 (inverse-time feed): use --feed xyz or all-axes, or --flavour reprapfirmware (3.5.0 or later)",
+                match self {
+                    Flavour::Marlin => "Marlin 2.1",
+                    _ => "Klipper",
+                }
+            )));
+        }
         let names: Vec<&str> = limits.iter().map(|l| l.name.as_str()).collect();
         match self {
             Flavour::RepRapFirmware => Ok(()),
