@@ -4,7 +4,9 @@
 //! corpus model marked `accept` × the five warps, each case with one slicer and E mode in turn
 //! (so every slicer and E mode meets every model; the full product, `WARPSLICE_FULL_MATRIX=1`,
 //! passed all 480 cases but takes 26 min on this 2-core machine, over the suite's budget):
-//! warp → slice → unwarp, then checks a–e (tests/common). A warp that the acceptance requires to
+//! warp → slice → unwarp, then the independent checker of the written G-code
+//! (tests/common/check.rs: placement, layer surfaces on vertices and chords, segment length, E
+//! per class, travels, retractions, bed) and checks b and e of tests/common. A warp that the acceptance requires to
 //! be refused (the base blend on a model wider than its monotonicity limit) must be refused,
 //! naming the limit. Identical geometry in two corpus files (ASCII and binary copies) is sliced
 //! once per test (see [`SliceCache`]).
@@ -16,9 +18,10 @@
 //! cylindrical for the lathe, spherical for the 5-axis head). The machine's extrusions must be
 //! the core toolpath's (moved to where the preset places the part), and walking the machine
 //! G-code with the forward kinematics must give back every toolpath tip within 0.01 mm and its
-//! tool axis, where the machine can realise it, within 0.1° (tests/common/machine.rs). A preset
-//! may refuse a case only with a named limit error, and only when the core toolpath holds a pose
-//! its inverse kinematics cannot reach (checked here independently); every preset must print at
+//! tool axis, where the machine can realise it, within 0.1° (tests/common/machine.rs, with the
+//! tests' own forward kinematics, tests/common/fk.rs). A preset may refuse a case only with a
+//! named limit error, and only when the core toolpath holds a pose beyond the machine file's
+//! limits (computed in closed form by tests/common/fk.rs); every preset must print at
 //! least one case of every matrix test it meets. The interpolation bound, sampled 100 times per
 //! move, is checked on one real-slicer file per machine in tests/machine_emit.rs.
 //!

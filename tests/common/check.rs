@@ -142,8 +142,12 @@ impl Slab {
             if out.is_empty() {
                 continue;
             }
-            let lo = out.iter().fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p));
-            let hi = out.iter().fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p));
+            let lo = out
+                .iter()
+                .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p));
+            let hi = out
+                .iter()
+                .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p));
             polys.push((lo, hi, out));
         }
         Slab { polys }
@@ -211,7 +215,10 @@ impl Beads {
         let n = ((m.length() / STEP).ceil() as usize).max(1);
         for k in 0..=n {
             let p = m.at(k as f64 / n as f64);
-            self.cells.entry(Beads::key(p.truncate())).or_default().push(p);
+            self.cells
+                .entry(Beads::key(p.truncate()))
+                .or_default()
+                .push(p);
         }
     }
     /// The highest bead within [`NOZZLE_RADIUS`] of p (XY).
@@ -276,10 +283,7 @@ pub fn check(x: &Expect<'_>, input: &[u8], output: &[u8]) -> Result<Checked, Str
         Typed::Untyped => {
             m.to.z <= first_z + 1e-6
                 && slab.as_ref().is_some_and(|s| {
-                    s.farther_than(
-                        ((m.from + m.to) * 0.5).truncate() - x.placement,
-                        SKIRT_GAP,
-                    )
+                    s.farther_than(((m.from + m.to) * 0.5).truncate() - x.placement, SKIRT_GAP)
                 })
         }
     };
@@ -350,10 +354,14 @@ pub fn check(x: &Expect<'_>, input: &[u8], output: &[u8]) -> Result<Checked, Str
                 x.max_segment
             ));
         }
-        for (t, tol) in std::iter::once((1.0, VERTEX_TOLERANCE)).chain(
-            (1..=CHORD_SAMPLES)
-                .map(|k| (k as f64 / (CHORD_SAMPLES + 1) as f64, x.tolerance + CHORD_ROUNDING)),
-        ) {
+        for (t, tol) in
+            std::iter::once((1.0, VERTEX_TOLERANCE)).chain((1..=CHORD_SAMPLES).map(|k| {
+                (
+                    k as f64 / (CHORD_SAMPLES + 1) as f64,
+                    x.tolerance + CHORD_ROUNDING,
+                )
+            }))
+        {
             let p = m.at(t);
             match on_surface(p) {
                 None if t == 1.0 => c.clamped += 1,
@@ -431,7 +439,10 @@ pub fn check(x: &Expect<'_>, input: &[u8], output: &[u8]) -> Result<Checked, Str
             ));
         }
         let (a, b) = (out.moves[i].to, out.moves[j].from);
-        if !gap.iter().any(|m| m.moves() && m.from.truncate() != m.to.truncate()) {
+        if !gap
+            .iter()
+            .any(|m| m.moves() && m.from.truncate() != m.to.truncate())
+        {
             continue;
         }
         c.travels += 1;

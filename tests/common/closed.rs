@@ -79,11 +79,21 @@ impl Blend {
 
 #[derive(Clone, Copy, Debug)]
 enum Kind {
-    Shear { g: G, blend: Option<Blend> },
+    Shear {
+        g: G,
+        blend: Option<Blend>,
+    },
     /// Coaxial cylinders about the axis ∥ X through (0, ay, az), first radius r.
-    Cylindrical { r: f64, ay: f64, az: f64 },
+    Cylindrical {
+        r: f64,
+        ay: f64,
+        az: f64,
+    },
     /// Concentric spheres about c, first radius r.
-    Spherical { r: f64, c: DVec3 },
+    Spherical {
+        r: f64,
+        c: DVec3,
+    },
 }
 
 /// A job's warp in closed form.
@@ -220,8 +230,7 @@ impl Closed {
             Kind::Spherical { r, c } => {
                 let phi = DVec2::new(q.x, q.y).length() / r;
                 let lam = q.y.atan2(q.x);
-                c + (q.z + r)
-                    * DVec3::new(phi.sin() * lam.cos(), phi.sin() * lam.sin(), phi.cos())
+                c + (q.z + r) * DVec3::new(phi.sin() * lam.cos(), phi.sin() * lam.sin(), phi.cos())
             }
         }
     }

@@ -151,7 +151,6 @@ pub fn finned_block() -> Vec<u8> {
     warpslice::mesh::write_stl(&m, "finned block")
 }
 
-
 /// A line width as wide as any the three slicers use with a 0.4 mm nozzle at their defaults
 /// (PrusaSlicer 0.45, CuraEngine 0.4, Slic3r ≈ 0.48), mm.
 pub const LINE_WIDTH: f64 = 0.5;
