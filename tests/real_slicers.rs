@@ -314,6 +314,7 @@ fn run_case(
         clearance: defaults.travel_clearance,
     };
     let st = common::check_unwarp(&model, &w.job, &expect, &input, &out)?;
+    let core_e = common::written::read(&out.gcode)?.e_totals();
     for &name in &case.presets {
         let r = machine_case(
             name,
@@ -322,6 +323,7 @@ fn run_case(
             &w.job,
             &out.toolpath,
             out.report.model_to_output,
+            core_e,
         );
         let mut tally = machines.lock().unwrap();
         let t = tally.entry(name).or_default();
@@ -379,6 +381,7 @@ fn machine_case(
     job: &warpslice::job::Job,
     core: &[ToolPoint],
     core_m2o: [f64; 3],
+    core_e: (f64, f64),
 ) -> Result<Option<common::machine::Measured>, String> {
     let (spec, place) = machine_setup(name);
     // the machine file's kinematics and limits, in the tests' own closed forms
@@ -448,6 +451,17 @@ fn machine_case(
             "extrusion point {i} differs from the core's: {a:?} vs {b:?} (+ {shift})"
         ));
     }
+    // the written E (read with the tests' own reader: absolute or relative, G92 E, E shared
+    // across tessellated pieces) is the 3-axis file's: net and extruded, within the 5-decimal
+    // rounding
+    let e = common::written::read(&out.gcode)?.e_totals();
+    for (what, got, want) in [("net", e.0, core_e.0), ("extruded", e.1, core_e.1)] {
+        if (got - want).abs() > MACHINE_E_TOLERANCE * want.abs().max(1.0) {
+            return Err(format!(
+                "{what} E written {got:.5} mm, the 3-axis file's {want:.5} mm"
+            ));
+        }
+    }
     if name == "cartesian" {
         // the 3-axis output itself passed checks a–e
         return Ok(Some(common::machine::Measured {
@@ -459,6 +473,11 @@ fn machine_case(
     let (lines, _) = common::machine::parse(&text, &axis_names)?;
     common::machine::check(&spec, &out.toolpath, &lines, 0).map(Some)
 }
+
+/// A machine file's total E vs the 3-axis file's, relative: both write E with 5 decimals and
+/// carry the rounding (absolute E, or the relative remainder), so they agree to ~1e-5 mm per
+/// line; 1e-4 of the total catches any scaling or a lost piece.
+const MACHINE_E_TOLERANCE: f64 = 1e-4;
 
 /// Radius of the mandrel of the cylindrical warp cases (the lathe's axis is there), mm.
 const MANDREL_RADIUS: f64 = 20.0;

@@ -20,8 +20,9 @@
 //! - **Single-revolution rotary axis** (Slicer4RTN, `revolution: single`): when consecutive
 //!   points cross the ±180° seam the head must turn the long way. The emitter lifts the tip
 //!   by [`ROTATE_AROUND_LIFT_MM`] (1 mm, Slicer4RTN's "radius + 1 mm" clearance), travels to the
-//!   next point in the air while the axis turns around, and descends. The filament of that one
-//!   short move is not extruded; the report counts it (`e_skipped_mm`).
+//!   next point in the air while the axis turns around, and descends. The move is split at the
+//!   seam first ([`super::tessellate::SEAM_PIECE_MM`]), so only a piece shorter than 0.001 mm is
+//!   not extruded; the report counts its filament (`e_skipped_mm`).
 //! - **Unlimited rotary axes** (RotBot's slip ring, the mandrel, the polar C axis): at a layer
 //!   change an axis beyond ±180° is reset with `G92 <letter>` modulo 360° (seed 002:
 //!   "rot-revolv=0 resets at layer change the rotation angle to mod(360)").
@@ -242,17 +243,17 @@ impl MachineEmitter {
         &mut self,
         out: &mut Vec<u8>,
         from: &Pose,
-        to_axes: &[f64],
-        to: &ToolPoint,
+        to: &Pose,
         f: f64,
     ) -> Result<(), MachineError> {
         let lift = DVec3::Z * ROTATE_AROUND_LIFT_MM;
         let up0 = self
             .machine
             .inverse(from.p + lift, from.n, Some(&from.axes))?;
+        let to_axes = &to.axes[..];
         let up1 = self.machine.inverse(to.p + lift, to.n, Some(to_axes))?;
         let tag = ROTATE_AROUND_TAG;
-        let travel = to.f.max(f);
+        let travel = f;
         self.write_g1(
             out,
             &from.axes,
@@ -308,7 +309,12 @@ impl MachineEmitter {
         for m in &moves {
             if m.rotate_around {
                 self.report.e_skipped_mm += m.e;
-                self.rotate_around(out, &from, &m.axes, tp, m.f)?;
+                let to = Pose {
+                    axes: m.axes.clone(),
+                    p: m.p,
+                    n: m.n,
+                };
+                self.rotate_around(out, &from, &to, tp.f.max(m.f))?;
             } else {
                 let e = (!m.travel).then_some((m.e, relative));
                 let tag = if m.depth_limited {

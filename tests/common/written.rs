@@ -73,6 +73,14 @@ pub struct Written {
 }
 
 impl Written {
+    /// E over the whole file: (net, the sum of the positive steps), mm of filament. Every move
+    /// counts, whatever other axes it moves (a machine file's rotary-only pieces too).
+    pub fn e_totals(&self) -> (f64, f64) {
+        let net = self.moves.iter().map(|m| m.e).sum();
+        let pos = self.moves.iter().map(|m| m.e.max(0.0)).sum();
+        (net, pos)
+    }
+
     /// The extrusions (see [`Move::extrudes`]).
     pub fn extrusions(&self) -> impl Iterator<Item = &Move> {
         self.moves.iter().filter(|m| m.extrudes())
