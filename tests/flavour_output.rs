@@ -83,27 +83,9 @@ fn part(tag: &str, warp: &[&str]) -> Part {
 }
 
 impl Part {
-    /// `unwarp` with `extra` flags; the output text.
-    fn unwarp(&self, name: &str, extra: &[&str]) -> String {
-        let out = self.dir.join(name);
-        let mut args = vec![
-            "unwarp",
-            self.gcode.to_str().unwrap(),
-            "--job",
-            self.job_path.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            // where the synthetic slicer put the part (the warped bbox's centre, (0, 0) for
-            // these shears of the centred cube, on (100, 100)): no registration error in
-            // the layer-surface checks
-            "--offset",
-            "100,100",
-        ];
-        args.extend_from_slice(extra);
-        ok(&args);
-        std::fs::read_to_string(out).unwrap()
-    }
-    fn unwarp_err(&self, name: &str, extra: &[&str]) -> String {
+    /// `unwarp` of the part's G-code to `name` with `extra` flags: the output path and the
+    /// run's result.
+    fn run_unwarp(&self, name: &str, extra: &[&str]) -> (PathBuf, std::process::Output) {
         let out = self.dir.join(name);
         let mut args = vec![
             "unwarp",
@@ -115,7 +97,26 @@ impl Part {
         ];
         args.extend_from_slice(extra);
         let o = run(&args);
-        assert!(!o.status.success(), "warpslice {} accepted", args.join(" "));
+        (out, o)
+    }
+    /// `unwarp` with `extra` flags, placed where the synthetic slicer put the part (the warped
+    /// bbox's centre, (0, 0) for these shears of the centred cube, on (100, 100)): no
+    /// registration error in the layer-surface checks. The output text.
+    fn unwarp(&self, name: &str, extra: &[&str]) -> String {
+        let mut flags = vec!["--offset", "100,100"];
+        flags.extend_from_slice(extra);
+        let (out, o) = self.run_unwarp(name, &flags);
+        assert!(
+            o.status.success(),
+            "unwarp {flags:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        std::fs::read_to_string(out).unwrap()
+    }
+    /// `unwarp` that must be refused: its stderr.
+    fn unwarp_err(&self, name: &str, extra: &[&str]) -> String {
+        let (_, o) = self.run_unwarp(name, extra);
+        assert!(!o.status.success(), "unwarp {extra:?} accepted");
         String::from_utf8_lossy(&o.stderr).into_owned()
     }
 }
@@ -668,8 +669,8 @@ fn marlin_declares_exactly_the_letters_its_moves_use_and_moves_like_reprapfirmwa
     }
 }
 
-/// pax-5axis (pivot-to-tip 0, rot_offset −90°): X Y Z is the tip, n = (sin B cos φ,
-/// sin B sin φ, cos B) with φ = A + 90°. At every object extrusion vertex this must be the
+/// pax-5axis (pivot-to-tip 0, Slicer4RTN's convention with rot_offset −90°): X Y Z is the tip,
+/// n = (sin B cos φ, sin B sin φ, cos B) with φ = A − 180° + 90° = A − 90°. At every object extrusion vertex this must be the
 /// outward cone's axis ∇T_z/|∇T_z| = (tan α·(x − cx)/r, tan α·(y − cy)/r, 1)/|…|.
 fn pax_axes_are_the_cones(text: &str, stl_z_offset: f64) {
     let d = model_to_output(text);
@@ -686,7 +687,7 @@ fn pax_axes_are_the_cones(text: &str, stl_z_offset: f64) {
         ];
         worst_surface = worst_surface.max(off_cone(p, 25.0, [-15.0, 0.0], stl_z_offset));
         let (a, b) = (m.axes[&'A'].to_radians(), m.axes[&'B'].to_radians());
-        let phi = a + std::f64::consts::FRAC_PI_2;
+        let phi = a - std::f64::consts::FRAC_PI_2;
         let n = [b.sin() * phi.cos(), b.sin() * phi.sin(), b.cos()];
         let (dx, dy) = (p[0] + 15.0, p[1]);
         let r = (dx * dx + dy * dy).sqrt();
