@@ -96,7 +96,10 @@ pub fn unwarp_file(
         None => None,
     };
     let len = std::fs::metadata(gcode).map_err(io(gcode))?.len();
-    let file = std::fs::File::create(output).map_err(io(output))?;
+    // written beside the output and renamed when complete: a refused or failed unwarp leaves
+    // no (partial or empty) G-code under the output's name
+    let partial = std::path::PathBuf::from(format!("{}.partial", output.display()));
+    let file = std::fs::File::create(&partial).map_err(io(&partial))?;
     let mut out = std::io::BufWriter::new(file);
     observer.start("unwarping", 2 * len);
     let report = {
@@ -112,7 +115,17 @@ pub fn unwarp_file(
         )
     };
     observer.finish();
-    let report = report?;
+    let done = report.and_then(|r| {
+        out.into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .map_err(io(&partial))?;
+        std::fs::rename(&partial, output).map_err(io(output))?;
+        Ok(r)
+    });
+    let report = done.inspect_err(|_| {
+        let _ = std::fs::remove_file(&partial);
+    })?;
     observer.unwarped(&report, output);
     Ok(report)
 }
