@@ -751,3 +751,31 @@ fn base_blend_is_refused_by_the_warps_that_are_not_shears() {
         assert_eq!(e.code(), "warp.base-not-supported", "{e}");
     }
 }
+
+/// Found by the wasm error tests: a misspelt key of the warp spec (`"angel"`) was dropped
+/// silently and the default angle used. Unknown keys are refused everywhere in the warp options,
+/// naming the key.
+#[test]
+fn a_misspelt_warp_key_is_refused_by_name() {
+    use warpslice::pipeline::WarpOptions;
+    let good = r#"{"warp": {"spec": {"kind": "conic", "angle": 30}}}"#;
+    assert!(WarpOptions::from_json(good).is_ok());
+    for (bad, key) in [
+        (
+            r#"{"warp": {"spec": {"kind": "conic", "angel": 30}}}"#,
+            "angel",
+        ),
+        (
+            r#"{"warp": {"spec": {"kind": "conic", "angle": 30}, "bace": [0, 1]}}"#,
+            "bace",
+        ),
+        (
+            r#"{"warp": {"spec": {"kind": "conic", "angle": 30}}, "max_egde": 2}"#,
+            "max_egde",
+        ),
+    ] {
+        let e = WarpOptions::from_json(bad).unwrap_err();
+        assert!(e.to_string().contains(key), "{bad}: {e}");
+        assert_eq!(e.code(), "options.invalid");
+    }
+}

@@ -24,8 +24,9 @@ pub enum AnchorMode {
     Off,
 }
 
-/// Options of the warp step (CLI: `warpslice warp`).
+/// Options of the warp step (CLI: `warpslice warp`). Unknown keys are refused.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WarpOptions {
     /// The warp kind, its parameters and the optional flat base (`--warp` and its options).
     pub warp: WarpParams,

@@ -189,7 +189,7 @@ impl std::str::FromStr for Direction {
 /// A warp and its parameters, as the CLI, the job file and the web app give them.
 /// Lengths in mm, angles in degrees.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "lowercase")]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 #[non_exhaustive]
 pub enum WarpSpec {
     /// Seed 000 Eq. 1. `width` is the model's width in x (filled in from the mesh when 0).
@@ -511,7 +511,10 @@ crate::error_codes!(WarpError, ERROR_CODES, "warp" {
 } wraps {});
 
 /// Everything that defines a warp: the spec and the optional flat base `[z0, z1]` (mm).
+/// Unknown keys are refused (here and in the spec: a misspelt `"angel"` is an error, not the
+/// default angle).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WarpParams {
     /// The warp kind and its parameters.
     pub spec: WarpSpec,
