@@ -568,7 +568,7 @@ fn region_markers_and_bom() {
 
 #[test]
 fn steady_state_reuses_buffers_no_panics_on_odd_input() {
-    // Odd but valid-ish inputs must not fail or panic.
+    // Odd inputs must not panic; a failure is a named error.
     for g in [
         "",
         "\n",
@@ -589,7 +589,9 @@ fn steady_state_reuses_buffers_no_panics_on_odd_input() {
             r.is_ok()
                 || matches!(
                     r,
-                    Err(GcodeError::Checksum { .. } | GcodeError::BadNumber { .. })
+                    Err(GcodeError::Checksum { .. }
+                        | GcodeError::BadNumber { .. }
+                        | GcodeError::BadWord { .. })
                 ),
             "{g:?}"
         );
@@ -704,4 +706,33 @@ fn g28_homes_the_named_axes_even_without_values() {
     assert_eq!(r[1].state.position, DVec3::new(0.0, 6.0, 7.0));
     assert_eq!(r[3].state.position, DVec3::ZERO);
     assert_eq!(r[5].state.position, DVec3::new(5.0, 0.0, 0.0));
+}
+
+/// Issue 12 item 7: `E3.21325e0` was read as E0 (the `e0` taken as a second E word: 3.4× over-
+/// extrusion on the next move), `XNaN`/`Xinf` left X unmoved, `Enan` made an extrusion a travel.
+/// Each is a named error naming the line and the letter; G28's bare axes stay legal.
+#[test]
+fn exponents_nan_and_bare_motion_words_are_refused_by_line() {
+    use warpslice::error::Coded;
+    for (text, letter) in [
+        ("G1 X1 E3.21325e0\n", 'E'),
+        ("G1 X1 E1e-05\n", 'E'),
+        ("G1 XNaN Y2\n", 'X'),
+        ("G1 Xinf Y2\n", 'X'),
+        ("G1 X1 Y2 Enan\n", 'E'),
+        ("G1 X1 X2\n", 'X'),
+        ("G0 Z\n", 'Z'),
+        ("G92 E\n", 'E'),
+    ] {
+        let e = read_err(&format!("G90\nM83\n{text}"));
+        assert_eq!(e.code(), "gcode.bad-word", "{text:?}: {e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("line 3") && msg.contains(&format!("word {letter}")),
+            "{text:?}: {msg}"
+        );
+    }
+    // homing names bare axes; plain decimals in every spelling still read
+    let recs = read("G28 X Y\nG1 X.5 Y-1. Z+2 E0.1 F1200\n");
+    assert_eq!(moves(&recs).last().unwrap().to, DVec3::new(0.5, -1.0, 2.0));
 }

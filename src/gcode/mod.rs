@@ -127,6 +127,16 @@ pub enum GcodeError {
         /// The word that does not parse, as written (e.g. `X1.2.3`, `*abc`).
         word: String,
     },
+    /// A motion word without a number (`X`, `XNaN`, `Einf`) or given twice on one line
+    /// (`E3.2e0`: exponent notation is not G-code; firmwares read `e0` as a second E word).
+    BadWord {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The letter.
+        letter: char,
+        /// What is wrong with it.
+        why: &'static str,
+    },
     /// `*` checksum that does not match the line.
     Checksum {
         /// 1-based line number of the G-code.
@@ -162,6 +172,10 @@ impl std::fmt::Display for GcodeError {
             GcodeError::BadNumber { line, word } => {
                 write!(f, "G-code line {line}: cannot read the number in '{word}'")
             }
+            GcodeError::BadWord { line, letter, why } => write!(
+                f,
+                "G-code line {line}: the word {letter} {why}; write each word once, as a plain decimal number (no exponent, NaN or inf)"
+            ),
             GcodeError::Checksum { line, expected, found } => write!(
                 f,
                 "G-code line {line}: checksum *{found} does not match the line (expected *{expected})"
@@ -182,6 +196,7 @@ impl std::error::Error for GcodeError {}
 crate::error_codes!(GcodeError, ERROR_CODES, "gcode" {
     Binary => "gcode.binary", "binary G-code (.bgcode) instead of plain text";
     BadNumber => "gcode.bad-number", "a G-code word whose number does not parse";
+    BadWord => "gcode.bad-word", "a motion word without a number, or given twice on a line";
     Checksum => "gcode.checksum", "a line whose checksum does not match";
     BadArc => "gcode.bad-arc", "an arc (G2/G3) that cannot be expanded";
     LineTooLong => "gcode.line-too-long", "a line longer than the reader accepts";

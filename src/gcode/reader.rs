@@ -403,7 +403,7 @@ impl Core {
                 Command::Units { inch: s.inch }
             }
             (b'G', 28) => {
-                let w = read_words(&mut words, split.code, line)?;
+                let w = read_words(&mut words, split.code, line, true)?;
                 let any = w.axis_seen.contains(&true);
                 for (k, seen) in w.axis_seen.iter().enumerate() {
                     if *seen || !any {
@@ -419,7 +419,7 @@ impl Core {
                 Command::Positioning { relative }
             }
             (b'G', 92) => {
-                let w = read_words(&mut words, split.code, line)?;
+                let w = read_words(&mut words, split.code, line, false)?;
                 let u = if s.inch { MM_PER_INCH } else { 1.0 };
                 let mut xyz = false;
                 for (k, v) in w.axes.iter().enumerate() {
@@ -525,7 +525,7 @@ impl Core {
         text: &[u8],
         line: u64,
     ) -> Result<(Command, bool), GcodeError> {
-        let w = read_words(words, text, line)?;
+        let w = read_words(words, text, line, false)?;
         let s = &mut self.state;
         let u = if s.inch { MM_PER_INCH } else { 1.0 };
         let from = s.position;
@@ -658,15 +658,37 @@ fn spread_e(moves: &mut [Move], e: f64) {
     }
 }
 
-/// Read the remaining words of a G0–G3/G28/G92 line; other letters are ignored.
-fn read_words(words: &mut Words<'_>, text: &[u8], line: u64) -> Result<MoveWords, GcodeError> {
+/// Read the remaining words of a G0–G3/G28/G92 line; other letters are ignored. A motion word
+/// (X Y Z E F I J R) given twice, or without a number (only G28 names bare axes: `bare`), is a
+/// [`GcodeError::BadWord`]: `E3.2e0` would otherwise be read as E0, `XNaN` as no X.
+fn read_words(
+    words: &mut Words<'_>,
+    text: &[u8],
+    line: u64,
+    bare: bool,
+) -> Result<MoveWords, GcodeError> {
     let mut w = MoveWords::default();
+    let mut seen = 0u32;
     for r in words {
         let word = r.map_err(|BadWord { start, end }| GcodeError::BadNumber {
             line,
             word: String::from_utf8_lossy(&text[start..end.min(text.len())]).into_owned(),
         })?;
         let v = word.value;
+        if let Some(k) = b"XYZEFIJR".iter().position(|&c| c == word.letter) {
+            let bad = |why| GcodeError::BadWord {
+                line,
+                letter: word.letter as char,
+                why,
+            };
+            if seen & (1 << k) != 0 {
+                return Err(bad("is given twice"));
+            }
+            seen |= 1 << k;
+            if v.is_none() && !bare {
+                return Err(bad("has no number"));
+            }
+        }
         match word.letter {
             b'X' => {
                 w.axes[0] = v;

@@ -20,6 +20,7 @@ export const ADVICE = {
   'register.undetermined': 'The printed walls do not pin the part\'s placement (a part without walls in some direction?): give the slicer\'s placement (“Slicer placement dx,dy”) or slice with walls.',
   'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
   'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
+  'gcode.bad-word': 'A move word on the line named has no plain decimal number or appears twice (exponent notation such as 1e-05, NaN): a firmware would misread it. Export the G-code from the slicer again, or fix that line.',
   'gcode.binary': 'Export plain-text G-code (PrusaSlicer: Printer settings → General → “Supports binary G-code” off).',
   'job.format': 'The job file is from another warpslice version: warp the model again here.',
   'job.parse': 'The job file is not a warpslice job: warp the model again.',
