@@ -64,8 +64,10 @@ fn inverse_then_forward_round_trips_for_every_preset() {
 fn rotbot_unwraps_across_180_degrees_in_a_batch() {
     let m = preset("rotbot").and_then(|s| s.build()).unwrap();
     let mut input = String::new();
+    // tool-axis azimuths 60°…205°: RotBot's U = φ crosses 180°, and so does Slicer4RTN's
+    // A = φ + 180° − 90° (its seam, the nozzle opening looking forward, is at φ = 90°)
     for i in 0..30 {
-        let n = laws::axis(45.0, 150.0 + 5.0 * i as f64);
+        let n = laws::axis(45.0, 60.0 + 5.0 * i as f64);
         input.push_str(&format!("0,0,1,{},{},{}\n", n.x, n.y, n.z));
     }
     let out = batch::inverse_csv(m.as_ref(), &input).unwrap();

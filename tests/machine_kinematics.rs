@@ -62,25 +62,26 @@ fn b_head_collision_clip_of_seed_000() {
 #[test]
 fn rtn_rotation_offset_and_misalignment() {
     let m = preset("rtn-slicer4rtn").and_then(|s| s.build()).unwrap();
-    // Tool axis leaning to +X (azimuth 0°) ⇒ A = 0° + rot_offset = −90°.
+    // Slicer4RTN's convention (issue 16): A = φ + 180° + rot_offset. Tool axis leaning to +X
+    // (azimuth 0°) ⇒ A = 0° + 180° − 90° = 90°.
     let a = m
         .inverse(DVec3::new(1.0, 2.0, 3.0), laws::axis(45.0, 0.0), None)
         .unwrap();
-    close(&a, &[1.0, 2.0, 3.0, -90.0]);
-    // Leaning to −Y (azimuth −90°, the front) ⇒ A = −180° (wrapped to 180°).
+    close(&a, &[1.0, 2.0, 3.0, 90.0]);
+    // Leaning to −Y (azimuth −90°: the nozzle body in front) ⇒ A = 0°.
     let a = m
         .inverse(DVec3::ZERO, laws::axis(45.0, -90.0), None)
         .unwrap();
-    assert!((a[3].abs() - 180.0).abs() < 1e-9);
+    assert!(a[3].abs() < 1e-9, "{a:?}");
     // RotBot misalignment: tip = XYZ + R_z(φ)(e_par, e_perp, 0); at φ = 90° the offset
-    // (0.3, −0.2) turns into (0.2, 0.3).
+    // (0.3, −0.2) turns into (0.2, 0.3); RotBot's convention U = φ + rot_offset (0).
     let r = build(
-        r#"{"kind":"rtn","revolution":"unlimited","axis_names":["X","Y","Z","U"],"e_parallel_mm":0.3,"e_perpendicular_mm":-0.2}"#,
+        r#"{"kind":"rtn","revolution":"unlimited","axis_names":["X","Y","Z","U"],"rot_convention":"rotbot","rot_offset_deg":0,"e_parallel_mm":0.3,"e_perpendicular_mm":-0.2}"#,
     );
     let a = r
         .inverse(DVec3::new(10.0, 10.0, 1.0), laws::axis(45.0, 90.0), None)
         .unwrap();
-    close(&a, &[10.0 - 0.2, 10.0 - 0.3, 1.0, 0.0]);
+    close(&a, &[10.0 - 0.2, 10.0 - 0.3, 1.0, 90.0]);
     assert_eq!(r.axis_names(), vec!["X", "Y", "Z", "U"]);
 }
 
@@ -107,11 +108,12 @@ fn pax_branch_keeps_a_through_the_vertical() {
     let n = laws::axis(30.0, 0.0);
     let a = m.inverse(p, n, None).unwrap();
     let q = p + n * 35.0 - DVec3::Z * 35.0;
-    close(&a, &[q.x, q.y, q.z, -90.0, 30.0]);
+    // A = φ + 180° + rot_offset = 90° (Slicer4RTN's convention, the default).
+    close(&a, &[q.x, q.y, q.z, 90.0, 30.0]);
     // Through the vertical to azimuth 180°: A stays, B goes negative.
     let a2 = m.inverse(p, laws::axis(10.0, 180.0), Some(&a)).unwrap();
     assert!(
-        (a2[3] + 90.0).abs() < 1e-9 && (a2[4] + 10.0).abs() < 1e-9,
+        (a2[3] - 90.0).abs() < 1e-9 && (a2[4] + 10.0).abs() < 1e-9,
         "{a2:?}"
     );
 }

@@ -2,9 +2,13 @@
 //! plus tilt B of the nozzle. Axes X Y Z A B.
 //!
 //! ## Convention
-//! The tool axis (tip → nozzle) is
-//! `n(A, B) = (sin B cos φ, sin B sin φ, cos B)` with `φ = A − rot_offset` (Slicer4RTN's
-//! `--rot-offset`, 0° here unless set). B is signed: `(A, B)` and `(A + 180°, −B)` give the same
+//! The tool axis (tip → nozzle body) is
+//! `n(A, B) = (sin B cos φ, sin B sin φ, cos B)` with `A = φ + c + rot_offset`, the rotation
+//! convention of the rotating tilted nozzle ([`super::rtn::RotConvention`]): with the default
+//! `"slicer4rtn"` (c = 180°) and Slicer4RTN's default `rot_offset = −90°` this is Slicer4RTN
+//! 0.6.0's `--axis=5` output (A = azimuth of the point about the cone centre + 90°, B = the cone
+//! angle, on an outside cone): A = 0° with B > 0 leans the nozzle body to the front (−Y).
+//! B is signed: `(A, B)` and `(A + 180°, −B)` give the same
 //! axis; the branch nearest the previous A is taken so A stays continuous through the vertical
 //! (A is unwrapped, unlimited). Without a previous pose B ≥ 0 and A ∈ (−180°, 180°].
 //! Vertical n: B = 0, A held.
@@ -15,6 +19,7 @@
 use glam::DVec3;
 
 use super::angles::{nearer_half_turn, tilt, wrap180};
+use super::rtn::RotConvention;
 use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
     UNLIMITED,
@@ -27,7 +32,9 @@ use crate::num;
 pub struct PaxParams {
     /// Pivot-to-tip distance L, mm (0 when the tip lies on both rotation axes).
     pub pivot_to_tip_mm: f64,
-    /// Added to the azimuth to give A, degrees.
+    /// Which formula gives A (see [`RotConvention`]).
+    pub rot_convention: RotConvention,
+    /// Slicer4RTN's `--rot-offset`: `A = φ + c + rot_offset`, degrees.
     pub rot_offset_deg: f64,
     /// Largest |B|, degrees.
     pub max_tilt_deg: f64,
@@ -37,7 +44,8 @@ impl Default for PaxParams {
     fn default() -> Self {
         PaxParams {
             pivot_to_tip_mm: 0.0,
-            rot_offset_deg: 0.0,
+            rot_convention: RotConvention::Slicer4rtn,
+            rot_offset_deg: -90.0,
             max_tilt_deg: 90.0,
         }
     }
@@ -63,8 +71,13 @@ impl Pax {
         Ok(Pax { axis_set, params })
     }
 
+    /// `c + rot_offset`: A = φ + this, degrees.
+    fn a_offset(&self) -> f64 {
+        self.params.rot_convention.base_deg() + self.params.rot_offset_deg
+    }
+
     fn axis_of(&self, a: f64, b: f64) -> DVec3 {
-        let phi = num::rad(a - self.params.rot_offset_deg);
+        let phi = num::rad(a - self.a_offset());
         let b = num::rad(b);
         DVec3::new(
             num::sin(b) * num::cos(phi),
@@ -108,7 +121,7 @@ impl Machine for Pax {
             // Straight up (B = 0) or straight down (B = 180°, refused by the limit).
             (prev_a.unwrap_or(0.0), t)
         } else {
-            let a1 = num::deg(num::atan2(n.y, n.x)) + self.params.rot_offset_deg;
+            let a1 = num::deg(num::atan2(n.y, n.x)) + self.a_offset();
             match prev_a {
                 None => (wrap180(a1), t),
                 Some(pa) => {

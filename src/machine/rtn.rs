@@ -3,9 +3,23 @@
 //!
 //! ## Convention
 //! The nozzle has a fixed tilt α (45°) from vertical and turns about the vertical line through
-//! its tip. φ is the azimuth of the tool axis (tip → nozzle) in XY, measured counter-clockwise
-//! from +X; the rotation value is `R = φ + rot_offset` (Slicer4RTN `--rot-offset`, −90° by
-//! default: its 0° points to the front). Only the azimuth of a requested axis is realised:
+//! its tip. φ is the azimuth of the tool axis (tip → nozzle body) in XY, measured
+//! counter-clockwise from +X: on an outward cone it is the azimuth of the point about the cone's
+//! centre, on an inward cone that + 180°. The nozzle opening faces the other way, φ + 180°.
+//! The rotation value is
+//!
+//! `R = φ + c + rot_offset`, with `c` set by `rot_convention`:
+//! - `"slicer4rtn"` (the default): `c = 180°`, so `R − rot_offset` is the azimuth the nozzle
+//!   opening faces. This is Slicer4RTN 0.6.0's formula (`atan2` of the point about the cone
+//!   centre, + 180° for its inside mode, + 180° + `--rot-offset`); with its default
+//!   `rot_offset = −90°`, R = 0° puts the nozzle body in front (−Y) and R = ±180° has the
+//!   opening looking forward, as seed 002 describes its RTN.
+//! - `"rotbot"`: `c = 0°`, so `R − rot_offset` is the azimuth of the tool axis. This is RotBot's
+//!   back-transformation (ZHAW Transform scripts: U = atan2(y, x) of the point for outward
+//!   cones, 180° more for inward ones) with `rot_offset = 0`. It is also the formula of
+//!   warpslice's files before `rot_convention` existed.
+//!
+//! Only the azimuth of a requested axis is realised:
 //! `realised n = (sin α cos φ, sin α sin φ, cos α)`; with `|n_xy| = 0` (planar moves) φ is held
 //! from the previous point (0 without one).
 //!
@@ -40,13 +54,37 @@ pub enum Revolution {
     Unlimited,
 }
 
+/// Which reference's formula turns the tool axis' azimuth φ into a rotation value
+/// (JSON `"rot_convention"`, shared by the `rtn` and `pax` kinds): `R = φ + c + rot_offset`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RotConvention {
+    /// Slicer4RTN 0.6.0: `c = 180°` (`R − rot_offset` is the azimuth the nozzle opening faces).
+    #[default]
+    Slicer4rtn,
+    /// RotBot's Transform scripts: `c = 0°` (`R − rot_offset` is the azimuth of the tool axis).
+    Rotbot,
+}
+
+impl RotConvention {
+    /// The constant `c` of `R = φ + c + rot_offset`, degrees.
+    pub fn base_deg(self) -> f64 {
+        match self {
+            RotConvention::Slicer4rtn => 180.0,
+            RotConvention::Rotbot => 0.0,
+        }
+    }
+}
+
 /// Parameters of [`Rtn`] (JSON `"kind": "rtn"`).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct RtnParams {
     /// Fixed nozzle tilt α from vertical, degrees.
     pub tilt_deg: f64,
-    /// Added to the azimuth to give the rotation value, degrees.
+    /// Which formula gives the rotation value (see the module documentation).
+    pub rot_convention: RotConvention,
+    /// Slicer4RTN's `--rot-offset` (or RotBot's, 0): `R = φ + c + rot_offset`, degrees.
     pub rot_offset_deg: f64,
     /// Single or unlimited revolutions.
     pub revolution: Revolution,
@@ -60,6 +98,7 @@ impl Default for RtnParams {
     fn default() -> Self {
         RtnParams {
             tilt_deg: 45.0,
+            rot_convention: RotConvention::Slicer4rtn,
             rot_offset_deg: -90.0,
             revolution: Revolution::Single,
             e_parallel_mm: 0.0,
@@ -101,6 +140,16 @@ impl Rtn {
     /// nozzle and rotates around, Slicer4RTN's move at radius + 1 mm).
     pub fn must_rotate_around(&self, from: f64, to: f64) -> bool {
         self.params.revolution == Revolution::Single && (to - from).abs() > 180.0
+    }
+
+    /// The rotation value (degrees, not wrapped) for the tool-axis azimuth `phi_deg`.
+    pub fn rotation_of(&self, phi_deg: f64) -> f64 {
+        phi_deg + self.params.rot_convention.base_deg() + self.params.rot_offset_deg
+    }
+
+    /// The tool-axis azimuth (radians) of the rotation value `r` (degrees).
+    fn azimuth_of(&self, r: f64) -> f64 {
+        num::rad(r - self.params.rot_convention.base_deg() - self.params.rot_offset_deg)
     }
 
     fn axis_of(&self, phi: f64) -> DVec3 {
@@ -155,9 +204,9 @@ impl Machine for Rtn {
         let n = self.axis_set.check_input(p, n)?;
         let prev = previous.and_then(|a| a.get(3).copied());
         let target = if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON {
-            prev.unwrap_or(self.params.rot_offset_deg)
+            prev.unwrap_or_else(|| self.rotation_of(0.0))
         } else {
-            num::deg(num::atan2(n.y, n.x)) + self.params.rot_offset_deg
+            self.rotation_of(num::deg(num::atan2(n.y, n.x)))
         };
         let r = match (self.params.revolution, prev) {
             (Revolution::Unlimited, Some(pr)) => unwrap_near(target, pr),
@@ -172,14 +221,14 @@ impl Machine for Rtn {
             }
             _ => wrap180(target),
         };
-        let phi = num::rad(r - self.params.rot_offset_deg);
+        let phi = self.azimuth_of(r);
         let o = self.offset(phi);
         let axes = vec![p.x - o.x, p.y - o.y, p.z, r];
         self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
         self.axis_set.check_count(4, axes)?;
-        let phi = num::rad(axes[3] - self.params.rot_offset_deg);
+        let phi = self.azimuth_of(axes[3]);
         Ok((
             DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
             self.axis_of(phi),

@@ -249,6 +249,7 @@ pub enum Fk {
     /// `rtn` (Slicer4RTN, RotBot).
     Rtn {
         tilt: f64,
+        /// c + rot_offset (docs/machines.md: R = φ + c + rot_offset), degrees.
         offset_deg: f64,
         /// (e_parallel, e_perpendicular), mm.
         e: DVec2,
@@ -256,6 +257,7 @@ pub enum Fk {
     /// `pax` (5-axis head).
     Pax {
         l: f64,
+        /// c + rot_offset (docs/machines.md: A = φ + c + rot_offset), degrees.
         offset_deg: f64,
         max_tilt_deg: f64,
     },
@@ -293,6 +295,21 @@ fn number(v: &Value, k: &str) -> Result<f64, String> {
 }
 
 /// A number, `null` (or absent) meaning `none`.
+/// docs/machines.md "rtn-slicer4rtn / rotbot": the constant c of R = φ + c + rot_offset by
+/// `rot_convention`: `slicer4rtn` (the default) 180° — Slicer4RTN 0.6.0 writes atan2 of the
+/// point about the cone centre + 180° + `--rot-offset` —, `rotbot` 0° — RotBot's Transform
+/// scripts write U = atan2(y, x) of the point on an outward cone.
+fn rotation_base_deg(v: &Value) -> Result<f64, String> {
+    match v.get("rot_convention") {
+        None | Some(Value::Null) => Ok(180.0),
+        Some(c) => match c.as_str() {
+            Some("slicer4rtn") => Ok(180.0),
+            Some("rotbot") => Ok(0.0),
+            _ => Err(format!("machine JSON: 'rot_convention' {c}")),
+        },
+    }
+}
+
 fn number_or(v: &Value, k: &str, none: f64) -> Result<f64, String> {
     match v.get(k) {
         None | Some(Value::Null) => Ok(none),
@@ -344,7 +361,7 @@ impl Fk {
             },
             "rtn" => Fk::Rtn {
                 tilt: number(v, "tilt_deg")?.to_radians(),
-                offset_deg: number(v, "rot_offset_deg")?,
+                offset_deg: rotation_base_deg(v)? + number(v, "rot_offset_deg")?,
                 e: DVec2::new(
                     number(v, "e_parallel_mm")?,
                     number(v, "e_perpendicular_mm")?,
@@ -352,7 +369,7 @@ impl Fk {
             },
             "pax" => Fk::Pax {
                 l: number(v, "pivot_to_tip_mm")?,
-                offset_deg: number(v, "rot_offset_deg")?,
+                offset_deg: rotation_base_deg(v)? + number(v, "rot_offset_deg")?,
                 max_tilt_deg: number(v, "max_tilt_deg")?,
             },
             "ab-table" => {
@@ -467,12 +484,13 @@ impl Fk {
                     DVec3::new(s, 0.0, c),
                 )
             }
-            // docs/machines.md "rtn-slicer4rtn / rotbot": fixed tilt α, rotation = azimuth φ of
-            // the tool axis + rot_offset (seed 002 "rot-offset": −90°, 0° to the front,
-            // counter-clockwise increasing), so n = (sin α cos φ, sin α sin φ, cos α) with
-            // φ = R − rot_offset; the RotBot misalignment "turns with U": the tip is off the
-            // rotation axis by e_parallel along the azimuth and e_perpendicular 90°
-            // counter-clockwise from it.
+            // docs/machines.md "rtn-slicer4rtn / rotbot": fixed tilt α, rotation R = φ + c +
+            // rot_offset with φ the azimuth of the tool axis and c by rot_convention (180° for
+            // Slicer4RTN: seed 002 "rot-offset" −90°, 0° in front, counter-clockwise increasing,
+            // ±180° with the nozzle opening looking forward; 0° for RotBot), so
+            // n = (sin α cos φ, sin α sin φ, cos α) with φ = R − c − rot_offset; the RotBot
+            // misalignment "turns with U": the tip is off the rotation axis by e_parallel along
+            // the azimuth and e_perpendicular 90° counter-clockwise from it.
             Fk::Rtn {
                 tilt,
                 offset_deg,
@@ -487,8 +505,8 @@ impl Fk {
                 )
             }
             // docs/machines.md "pax-5axis": n = (sin B cos φ, sin B sin φ, cos B),
-            // φ = A − rot_offset; pivot-to-tip L with the machine position the tip at B = 0
-            // (as the B head): pivot = p + L n = (X, Y, Z) + L e_z.
+            // φ = A − c − rot_offset (c by rot_convention, as the rtn); pivot-to-tip L with the
+            // machine position the tip at B = 0 (as the B head): pivot = p + L n = (X, Y, Z) + L e_z.
             Fk::Pax { l, offset_deg, .. } => {
                 let phi = (x[3] - offset_deg).to_radians();
                 let b = x[4].to_radians();
