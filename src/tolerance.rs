@@ -25,6 +25,10 @@ pub const DEFAULT_TRAVEL_CLEARANCE: f64 = 1.0;
 pub const DEFAULT_RETRACT_LENGTH: f64 = 0.8;
 /// Lowest z any output point may have, mm (the bed is z = 0; see `unwarp` for the clamp).
 pub const BED_Z: f64 = 0.0;
+/// The deepest negative `--z-offset`, as a fraction of the job's layer height: deeper pushes the
+/// whole first layer into the bed (points below the bed are clamped to it after every offset,
+/// their E reduced by the depth).
+pub const BED_CLAMP_MAX_LAYER_FRACTION: f64 = 0.5;
 
 /// `--resolution` given to PrusaSlicer and Slic3r by `warpslice run`, mm: the slicer may simplify
 /// its sliced polygons by this much (half the subdivision tolerance [`DEFAULT_TOLERANCE`]). Their

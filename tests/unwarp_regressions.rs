@@ -287,3 +287,47 @@ fn a_refused_unwarp_leaves_no_output_file() {
     assert!(!dir.join("fresh.gcode.partial").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 12 item 2: "never below the bed" was not enforced: `--z-offset` was added after the
+/// clamp (−50 mm wrote every move below Z 0 and reported nothing clamped). The clamp now comes
+/// after every offset, and a negative z-offset deeper than half a layer is refused by name.
+#[test]
+fn nothing_is_written_below_the_bed_whatever_the_z_offset() {
+    use warpslice::error::Coded;
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let run = |z_offset: f64| {
+        let s = UnwarpSettings {
+            unwarp: UnwarpOptions {
+                offset: Some([100.0, 100.0]),
+                z_offset,
+                ..UnwarpOptions::default()
+            },
+            output: MachineOptions::default(),
+        };
+        unwarp(g.as_bytes(), &w.job, &s)
+    };
+    for z_offset in [-50.0, -0.11] {
+        let e = run(z_offset).unwrap_err();
+        assert_eq!(e.code(), "unwarp.option", "{z_offset}: {e}");
+        assert!(e.to_string().contains("z-offset"), "{e}");
+    }
+    // a shallow negative z-offset (less than half a layer) is clamped: nothing below Z 0, more
+    // points clamped than without it
+    let lowest = |gcode: &[u8]| {
+        String::from_utf8_lossy(gcode)
+            .lines()
+            .filter(|l| l.starts_with("G1") || l.starts_with("G0"))
+            .flat_map(|l| l.split_whitespace().map(str::to_owned).collect::<Vec<_>>())
+            .filter_map(|w| w.strip_prefix('Z').map(|v| v.parse::<f64>().unwrap()))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let base = run(0.0).unwrap();
+    let low = run(-0.09).unwrap();
+    assert!(low.report.clamped_points > base.report.clamped_points);
+    assert!(
+        lowest(&low.gcode) >= 0.0,
+        "a move at Z {}",
+        lowest(&low.gcode)
+    );
+}

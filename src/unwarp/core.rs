@@ -231,6 +231,7 @@ impl Core {
         self.warp.inverse(q)
     }
 
+    /// Model frame → output frame, before the bed clamp.
     fn model_to_output(&self, p: DVec3) -> DVec3 {
         DVec3::new(
             p.x + self.dx + self.shift.x,
@@ -239,15 +240,18 @@ impl Core {
         )
     }
 
+    /// How far an output point lies below the bed (0 above it), mm: the clamp comes after every
+    /// offset, so nothing is written below the bed (`--z-offset` is bounded by the options'
+    /// check, see [`crate::unwarp::UnwarpOptions::validate_for`]).
+    fn below_bed(out: DVec3) -> f64 {
+        (BED_Z - out.z).max(0.0)
+    }
+
     fn map_point(&self, kind: Kind, g: DVec3) -> (DVec3, DVec3) {
-        match kind {
+        let (out, n) = match kind {
             Kind::Object => {
                 let p = self.to_model(g);
-                let n = self.warp.tool_axis(p);
-                (
-                    self.model_to_output(DVec3::new(p.x, p.y, p.z.max(BED_Z))),
-                    n,
-                )
+                (self.model_to_output(p), self.warp.tool_axis(p))
             }
             _ => (
                 DVec3::new(
@@ -257,7 +261,8 @@ impl Core {
                 ),
                 DVec3::Z,
             ),
-        }
+        };
+        (DVec3::new(out.x, out.y, out.z.max(BED_Z)), n)
     }
 
     fn piece(&mut self, line: u64, m: &Move, relative: bool) -> Result<(), UnwarpError> {
@@ -361,13 +366,15 @@ impl Core {
             let mid = (a + b) * 0.5;
             let det = self.warp.jacobian_det(mid);
             let mut e = m.e * (t1 - t0) / det * self.opts.flow.at(mid.z.max(BED_Z));
-            if b.z < BED_Z {
-                // clamped to the bed: the bead is (BED_Z − z) thinner
+            let out = self.model_to_output(b);
+            let depth = Core::below_bed(out);
+            if depth > 0.0 {
+                // clamped to the bed: the bead is `depth` thinner
                 self.report.clamped_points += 1;
-                e *= ((h - (BED_Z - b.z)) / h).clamp(0.0, 1.0);
+                e *= ((h - depth) / h).clamp(0.0, 1.0);
             }
             let n = self.warp.tool_axis(b);
-            let out = self.model_to_output(DVec3::new(b.x, b.y, b.z.max(BED_Z)));
+            let out = DVec3::new(out.x, out.y, out.z.max(BED_Z));
             self.write_extrusion(out, n, e, m, m.feature, relative, true);
             t0 = t1;
             a = b;

@@ -35,7 +35,7 @@ impl Unwarper {
         opts: &UnwarpOptions,
         emitter: Box<dyn Emitter>,
     ) -> Result<Unwarper, UnwarpError> {
-        opts.validate()?;
+        opts.validate_for(job)?;
         // build once to validate the job's warp
         job.warp.clone().build(&job.model_bbox)?;
         Ok(Unwarper {

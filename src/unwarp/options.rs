@@ -86,6 +86,22 @@ impl UnwarpOptions {
         }
         Ok(())
     }
+
+    /// [`UnwarpOptions::validate`], and what needs the job: a negative `z_offset` deeper than
+    /// [`crate::tolerance::BED_CLAMP_MAX_LAYER_FRACTION`] of the layer height would push the
+    /// whole first layer into the bed (the clamp would flatten it with E scaled toward 0).
+    pub fn validate_for(&self, job: &crate::job::Job) -> Result<(), UnwarpError> {
+        self.validate()?;
+        let limit = crate::tolerance::BED_CLAMP_MAX_LAYER_FRACTION * job.layer_height;
+        if self.z_offset < -limit {
+            return Err(UnwarpError::Option {
+                name: "z-offset",
+                value: self.z_offset.to_string(),
+                allowed: "at least minus half the job's layer height: a deeper offset pushes the first layer into the bed",
+            });
+        }
+        Ok(())
+    }
 }
 
 /// The unwarp's parameters as the CLI and the page show them ([`crate::describe`]); keys are
