@@ -54,7 +54,8 @@ pub struct MachineReport {
     pub rotate_arounds: u64,
     /// Pose discontinuities crossed in place (rotary axes stepped with the tip held).
     pub reposes: u64,
-    /// Filament of the moves replaced by a rotate-around, mm.
+    /// Filament of the pieces turned around in the air by a rotate-around, mm (given to the
+    /// next extruding piece, not lost).
     pub e_skipped_mm: f64,
     /// `G92` modulo-360° resets of unlimited rotary axes.
     pub rotary_resets: u64,

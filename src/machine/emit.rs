@@ -22,7 +22,8 @@
 //!   by [`ROTATE_AROUND_LIFT_MM`] (1 mm, Slicer4RTN's "radius + 1 mm" clearance), travels to the
 //!   next point in the air while the axis turns around, and descends. The move is split at the
 //!   seam first ([`super::tessellate::SEAM_PIECE_MM`]), so only a piece shorter than 0.001 mm is
-//!   not extruded; the report counts its filament (`e_skipped_mm`).
+//!   turned around in the air; its filament is added to the next extruding piece (the report
+//!   counts it, `e_skipped_mm`: moved past the seam, not lost).
 //! - **Unlimited rotary axes** (RotBot's slip ring, the mandrel, the polar C axis): at a layer
 //!   change an axis beyond ±180° is reset with `G92 <letter>` modulo 360° (seed 002:
 //!   "rot-revolv=0 resets at layer change the rotation angle to mod(360)").
@@ -88,6 +89,8 @@ pub struct MachineEmitter {
     last_layer: Option<u32>,
     tess: TessellationReport,
     report: MachineReport,
+    /// Filament of a rotate-around's piece, given to the next extruding piece, mm.
+    carry_e: f64,
 }
 
 impl std::fmt::Debug for MachineEmitter {
@@ -137,6 +140,7 @@ impl MachineEmitter {
             last_f: None,
             prev: None,
             last_layer: None,
+            carry_e: 0.0,
             tess: TessellationReport::default(),
             report,
         })
@@ -308,7 +312,12 @@ impl MachineEmitter {
         let mut from = prev.clone();
         for m in &moves {
             if m.rotate_around {
+                // the piece turned around in the air (≤ SEAM_PIECE_MM): its filament goes to
+                // the next extruding piece, so the volume is kept
                 self.report.e_skipped_mm += m.e;
+                if !m.travel {
+                    self.carry_e += m.e;
+                }
                 let to = Pose {
                     axes: m.axes.clone(),
                     p: m.p,
@@ -316,7 +325,7 @@ impl MachineEmitter {
                 };
                 self.rotate_around(out, &from, &to, tp.f.max(m.f))?;
             } else {
-                let e = (!m.travel).then_some((m.e, relative));
+                let e = (!m.travel).then(|| (m.e + std::mem::take(&mut self.carry_e), relative));
                 let tag = if m.depth_limited {
                     DISCONTINUITY_TAG
                 } else if m.reorient {
@@ -505,7 +514,7 @@ impl Emitter for MachineEmitter {
     fn finish(&mut self, out: &mut Vec<u8>) {
         let r = self.report();
         let line = format!(
-            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E skipped); {} rotary resets; {} re-poses\n",
+            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses\n",
             r.moves_in, r.moves_out, r.worst_position_mm, r.worst_angle_deg, r.worst_dropped_deg,
             r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes
         );
