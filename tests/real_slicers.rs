@@ -320,7 +320,6 @@ fn run_case(
             name,
             &input,
             &w.stl,
-            &w.job,
             &out.toolpath,
             out.report.model_to_output,
             core_e,
@@ -373,13 +372,12 @@ fn machine_setup(name: &str) -> (MachineSpec, Option<[f64; 2]>) {
 }
 
 /// Unwarp `input` again with the preset `name` and walk its G-code against the core toolpath
-/// (`core_m2o`: the core run's model_to_output). `Ok(None)`: refused with a named limit, and
-/// the core toolpath confirms a pose out of reach.
+/// (`core_m2o`: the core run's model_to_output; `expect`: the case, its job included).
+/// `Ok(None)`: refused with a named limit, and the core toolpath confirms a pose out of reach.
 fn machine_case(
     name: &str,
     input: &[u8],
     stl: &[u8],
-    job: &warpslice::job::Job,
     core: &[ToolPoint],
     core_m2o: [f64; 3],
     core_e: (f64, f64),
@@ -401,7 +399,7 @@ fn machine_case(
         },
         spec.clone(),
     );
-    let out = match unwarp_with_stl(input, job, &opts, Some(stl)) {
+    let out = match unwarp_with_stl(input, expect.job, &opts, Some(stl)) {
         Ok(out) => out,
         Err(e) => {
             let text = e.to_string();
