@@ -175,6 +175,18 @@ fn rtn_slicer4rtn_unlimited_revolution_writes_slicer4rtns_a() {
     let m = warpslice::machine::MachineSpec::from_json(&json, "unlimited")
         .and_then(|s| s.build())
         .unwrap();
+    rotation_follows(m.as_ref(), "A", "Slicer4RTN", s4rtn_unlimited);
+}
+
+/// Walk every cone of [`CENTRES`], outward and inward, with `m` (each pose seeded by the
+/// previous one) and compare its rotary axis (axis 3, `letter`) with the reference's value
+/// modulo 360°.
+fn rotation_follows(
+    m: &dyn Machine,
+    letter: &str,
+    reference: &str,
+    want: fn(DVec3, [f64; 2], bool) -> f64,
+) {
     for c in CENTRES {
         for inward in [false, true] {
             let mut prev: Option<Vec<f64>> = None;
@@ -182,10 +194,10 @@ fn rtn_slicer4rtn_unlimited_revolution_writes_slicer4rtns_a() {
                 let a = m
                     .inverse(p, cone_axis(p, c, inward), prev.as_deref())
                     .unwrap();
-                let want = s4rtn_unlimited(p, c, inward);
+                let w = want(p, c, inward);
                 assert!(
-                    mod360(a[3], want) < TOL,
-                    "centre {c:?} inward {inward} at {p}: A = {} vs Slicer4RTN {want}",
+                    mod360(a[3], w) < TOL,
+                    "centre {c:?} inward {inward} at {p}: {letter} = {} vs {reference} {w}",
                     a[3]
                 );
                 prev = Some(a);
@@ -197,23 +209,7 @@ fn rtn_slicer4rtn_unlimited_revolution_writes_slicer4rtns_a() {
 #[test]
 fn rotbot_writes_rotbots_u_on_outward_and_inward_cones() {
     let m = machine("rotbot");
-    for c in CENTRES {
-        for inward in [false, true] {
-            let mut prev: Option<Vec<f64>> = None;
-            for p in points(c) {
-                let a = m
-                    .inverse(p, cone_axis(p, c, inward), prev.as_deref())
-                    .unwrap();
-                let want = rotbot_u(p, c, inward);
-                assert!(
-                    mod360(a[3], want) < TOL,
-                    "centre {c:?} inward {inward} at {p}: U = {} vs RotBot {want}",
-                    a[3]
-                );
-                prev = Some(a);
-            }
-        }
-    }
+    rotation_follows(m.as_ref(), "U", "RotBot", rotbot_u);
 }
 
 #[test]
