@@ -3,7 +3,7 @@
 //! {relative E, absolute E} × the five acceptance warps on the generated parts; and every
 //! corpus model marked `accept` × the five warps, each case with one slicer and E mode in turn
 //! (so every slicer and E mode meets every model; the full product, `WARPSLICE_FULL_MATRIX=1`,
-//! passed all 480 cases but takes 26 min on this 2-core machine, over the suite's budget):
+//! runs all 480 corpus cases, over the suite's budget: see the README for its time):
 //! warp → slice → unwarp, then the independent checker of the written G-code
 //! (tests/common/check.rs: placement, layer surfaces on vertices and chords, segment length, E
 //! per class, travels, retractions, bed) and checks b and e of tests/common. A warp that the acceptance requires to
@@ -129,8 +129,8 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     }
     let dir = tmpdir(tag);
     let nw = warps.len();
-    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer: 26 min
-    // here, over the suite's budget)
+    // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer, over
+    // the suite's budget)
     let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") {
         None
     } else {
