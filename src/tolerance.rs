@@ -7,6 +7,17 @@ pub const DEFAULT_MAX_EDGE: f64 = 1.0;
 pub const DEFAULT_TOLERANCE: f64 = 0.01;
 /// Default longest extruding segment after unwarping, mm (`--max-segment`).
 pub const DEFAULT_MAX_SEGMENT: f64 = 1.0;
+/// Finest `--tolerance` accepted, mm: the output's coordinates have 3 decimals (0.0005 mm
+/// rounding), so a finer tolerance cannot show in the file, and it bounds the pieces per move
+/// (`1e-12` made a 1 MB chunk's output overflow memory).
+pub const MIN_TOLERANCE: f64 = 0.001;
+/// Shortest `--max-segment` accepted, mm: ten steps of the written 0.001 mm resolution (pieces
+/// per move ≤ length / 0.01).
+pub const MIN_MAX_SEGMENT: f64 = 0.01;
+/// Largest |x| or |y| of `--place` and `--offset`, mm: no printer's bed reaches 10 m, and the
+/// travel planner samples the bed between the part and the placement (`--place 1e9,0` spun for
+/// minutes).
+pub const MAX_PLACEMENT_MM: f64 = 10_000.0;
 /// Default intended layer height, mm (written to the job; the slicer's actual first layer and
 /// layer height are read back from the G-code).
 pub const DEFAULT_LAYER_HEIGHT: f64 = 0.2;

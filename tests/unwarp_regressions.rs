@@ -331,3 +331,66 @@ fn nothing_is_written_below_the_bed_whatever_the_z_offset() {
         lowest(&low.gcode)
     );
 }
+
+/// Issue 12, hangs: `--place 1e9,0` spun for minutes in the travel planner, and
+/// `--max-segment 0.001` or `--tolerance 1e-12` aborted on memory. Such options are refused by
+/// name before any work; the smallest accepted values still run.
+#[test]
+fn absurd_options_are_refused_before_any_work() {
+    use warpslice::error::Coded;
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let run = |o: UnwarpOptions| {
+        let s = UnwarpSettings {
+            unwarp: UnwarpOptions {
+                offset: o.offset.or(Some([100.0, 100.0])),
+                ..o
+            },
+            output: MachineOptions::default(),
+        };
+        unwarp(g.as_bytes(), &w.job, &s)
+    };
+    let d = UnwarpOptions::default;
+    for (o, name) in [
+        (
+            UnwarpOptions {
+                place: Some([1e9, 0.0]),
+                ..d()
+            },
+            "place",
+        ),
+        (
+            UnwarpOptions {
+                offset: Some([100.0, -1e12]),
+                ..d()
+            },
+            "offset",
+        ),
+        (
+            UnwarpOptions {
+                max_segment: 0.001,
+                ..d()
+            },
+            "max-segment",
+        ),
+        (
+            UnwarpOptions {
+                tolerance: 1e-12,
+                ..d()
+            },
+            "tolerance",
+        ),
+    ] {
+        let e = run(o).unwrap_err();
+        assert_eq!(e.code(), "unwarp.option", "{name}: {e}");
+        assert!(e.to_string().contains(name), "{e}");
+    }
+    let fine = run(UnwarpOptions {
+        tolerance: 0.001,
+        max_segment: 0.01,
+        place: Some([9000.0, -9000.0]),
+        ..d()
+    })
+    .unwrap();
+    assert!(fine.report.segments_out > 0);
+}

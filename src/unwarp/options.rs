@@ -6,6 +6,7 @@ use super::{Flow, UnwarpError};
 use crate::schema::{Param, ParamDefault, ParamType};
 use crate::tolerance::{
     DEFAULT_MAX_SEGMENT, DEFAULT_RETRACT_LENGTH, DEFAULT_TOLERANCE, DEFAULT_TRAVEL_CLEARANCE,
+    MAX_PLACEMENT_MM, MIN_MAX_SEGMENT, MIN_TOLERANCE,
 };
 
 /// Options of the unwarp step (CLI: `warpslice unwarp`).
@@ -68,6 +69,34 @@ impl UnwarpOptions {
                 });
             }
         }
+        if self.tolerance < MIN_TOLERANCE {
+            return Err(UnwarpError::Option {
+                name: "tolerance",
+                value: self.tolerance.to_string(),
+                allowed: "at least 0.001 mm (the file's coordinates have 3 decimals)",
+            });
+        }
+        if self.max_segment < MIN_MAX_SEGMENT {
+            return Err(UnwarpError::Option {
+                name: "max-segment",
+                value: self.max_segment.to_string(),
+                allowed: "at least 0.01 mm (the file's coordinates have 3 decimals)",
+            });
+        }
+        for (name, v) in [("place", self.place), ("offset", self.offset)] {
+            if let Some([x, y]) = v {
+                if [x, y]
+                    .iter()
+                    .any(|c| c.is_finite() && c.abs() > MAX_PLACEMENT_MM)
+                {
+                    return Err(UnwarpError::Option {
+                        name,
+                        value: format!("{x},{y}"),
+                        allowed: "x,y within ±10000 mm (a position on a printer's bed)",
+                    });
+                }
+            }
+        }
         if !self.z_offset.is_finite() {
             return Err(UnwarpError::Option {
                 name: "z-offset",
@@ -109,13 +138,13 @@ impl UnwarpOptions {
 pub const PARAMS: &[Param] = &[
     Param::number("tolerance", "--tolerance", "Tolerance")
         .unit("mm")
-        .range(Some(0.0), None, (true, false))
+        .range(Some(MIN_TOLERANCE), None, (false, false))
         .step(0.001)
         .default(ParamDefault::Number(DEFAULT_TOLERANCE))
         .help("split each move until the mapped polyline stays this close to the exact image"),
     Param::number("max_segment", "--max-segment", "Max segment")
         .unit("mm")
-        .range(Some(0.0), None, (true, false))
+        .range(Some(MIN_MAX_SEGMENT), None, (false, false))
         .step(0.1)
         .default(ParamDefault::Number(DEFAULT_MAX_SEGMENT))
         .help("longest object extrusion segment after unwarping (skirt and brim stay as sliced)"),
