@@ -314,7 +314,7 @@ fn run_case(
         clearance: defaults.travel_clearance,
     };
     let st = common::check_unwarp(&model, &w.job, &expect, &input, &out)?;
-    let core_e = common::written::read(&out.gcode)?.e_totals();
+    let core_e = st.checked.e_totals;
     for &name in &case.presets {
         let r = machine_case(
             name,

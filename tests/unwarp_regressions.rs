@@ -288,24 +288,34 @@ fn a_refused_unwarp_leaves_no_output_file() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The 3-axis unwarp of the synthetic slicer's G-code of [`conic_cube`] with `o`, placed where
+/// the synthetic slicer put it (`--offset 100,100`) unless `o` gives another offset.
+fn synthetic_conic_cube(
+    o: UnwarpOptions,
+) -> Result<warpslice::unwarp::UnwarpOutput, warpslice::pipeline::Error> {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let s = UnwarpSettings {
+        unwarp: UnwarpOptions {
+            offset: o.offset.or(Some([100.0, 100.0])),
+            ..o
+        },
+        output: MachineOptions::default(),
+    };
+    unwarp(g.as_bytes(), &w.job, &s)
+}
+
 /// Issue 12 item 2: "never below the bed" was not enforced: `--z-offset` was added after the
 /// clamp (−50 mm wrote every move below Z 0 and reported nothing clamped). The clamp now comes
 /// after every offset, and a negative z-offset deeper than half a layer is refused by name.
 #[test]
 fn nothing_is_written_below_the_bed_whatever_the_z_offset() {
     use warpslice::error::Coded;
-    let w = conic_cube();
-    let g = synthetic::gcode(&w.job, true, 2.0);
     let run = |z_offset: f64| {
-        let s = UnwarpSettings {
-            unwarp: UnwarpOptions {
-                offset: Some([100.0, 100.0]),
-                z_offset,
-                ..UnwarpOptions::default()
-            },
-            output: MachineOptions::default(),
-        };
-        unwarp(g.as_bytes(), &w.job, &s)
+        synthetic_conic_cube(UnwarpOptions {
+            z_offset,
+            ..UnwarpOptions::default()
+        })
     };
     for z_offset in [-50.0, -0.11] {
         let e = run(z_offset).unwrap_err();
@@ -338,18 +348,7 @@ fn nothing_is_written_below_the_bed_whatever_the_z_offset() {
 #[test]
 fn absurd_options_are_refused_before_any_work() {
     use warpslice::error::Coded;
-    let w = conic_cube();
-    let g = synthetic::gcode(&w.job, true, 2.0);
-    let run = |o: UnwarpOptions| {
-        let s = UnwarpSettings {
-            unwarp: UnwarpOptions {
-                offset: o.offset.or(Some([100.0, 100.0])),
-                ..o
-            },
-            output: MachineOptions::default(),
-        };
-        unwarp(g.as_bytes(), &w.job, &s)
-    };
+    let run = synthetic_conic_cube;
     let d = UnwarpOptions::default;
     for (o, name) in [
         (

@@ -254,10 +254,8 @@ impl MachineEmitter {
         let up0 = self
             .machine
             .inverse(from.p + lift, from.n, Some(&from.axes))?;
-        let to_axes = &to.axes[..];
-        let up1 = self.machine.inverse(to.p + lift, to.n, Some(to_axes))?;
+        let up1 = self.machine.inverse(to.p + lift, to.n, Some(&to.axes))?;
         let tag = ROTATE_AROUND_TAG;
-        let travel = f;
         self.write_g1(
             out,
             &from.axes,
@@ -265,19 +263,19 @@ impl MachineEmitter {
             from.p,
             None,
             ROTATE_AROUND_LIFT_MM,
-            travel,
+            f,
             tag,
         )?;
         let len = (to.p - from.p).length();
-        self.write_g1(out, &up0, &up1, to.p, None, len, travel, tag)?;
+        self.write_g1(out, &up0, &up1, to.p, None, len, f, tag)?;
         self.write_g1(
             out,
             &up1,
-            to_axes,
+            &to.axes,
             to.p,
             None,
             ROTATE_AROUND_LIFT_MM,
-            travel,
+            f,
             tag,
         )?;
         self.report.rotate_arounds += 1;

@@ -28,6 +28,7 @@ use warpslice::job::Job;
 use warpslice::mesh::Mesh;
 
 use super::closed::Closed;
+use super::machine::to_segment;
 use super::written::{self, Move, Typed};
 
 /// The registration's required accuracy against the slicer's placement, mm (issue 17).
@@ -115,6 +116,8 @@ pub struct Checked {
     pub direct_dip: f64,
     pub gaps: usize,
     pub min_z: f64,
+    /// E over the whole written file: (net, extruded) ([`written::Written::e_totals`]).
+    pub e_totals: (f64, f64),
 }
 
 /// The first-layer slab of the warped mesh: its triangles clipped to z ≤ top, projected.
@@ -167,17 +170,6 @@ impl Slab {
     }
 }
 
-fn dist_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let ab = b - a;
-    let l2 = ab.length_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t - p).length()
-}
-
 /// Distance from p to a convex polygon (0 inside), either orientation.
 fn dist_to_convex(p: DVec2, poly: &[DVec2]) -> f64 {
     let n = poly.len();
@@ -194,7 +186,14 @@ fn dist_to_convex(p: DVec2, poly: &[DVec2]) -> f64 {
         }
     }
     (0..n)
-        .map(|k| dist_to_segment(p, poly[k], poly[(k + 1) % n]))
+        .map(|k| {
+            to_segment(
+                p.extend(0.0),
+                poly[k].extend(0.0),
+                poly[(k + 1) % n].extend(0.0),
+            )
+            .0
+        })
         .fold(f64::INFINITY, f64::min)
 }
 
@@ -251,6 +250,7 @@ pub fn check(x: &Expect<'_>, input: &[u8], output: &[u8]) -> Result<Checked, Str
     let mut c = Checked {
         lift_clearance: f64::INFINITY,
         min_z: f64::INFINITY,
+        e_totals: out.e_totals(),
         ..Checked::default()
     };
 
