@@ -20,6 +20,7 @@ mutants=(
   "linear-blend|src/warp/base.rs|s/t \* t \* \(3.0 - 2.0 \* t\)/t/|--test real_slicers prusaslicer_relative_generated"
   "registration-0.05|src/register/mod.rs|s/translation: \[dx, dy, 0.0\],/translation: [dx + 0.05, dy, 0.0],/|--test real_slicers prusaslicer_relative_generated"
   "e-scale|src/unwarp/core.rs|s/let mut e = m.e \* \(t1 - t0\) \/ det/let mut e = 0.97 * m.e * (t1 - t0) \/ det/|--test real_slicers prusaslicer_relative_generated"
+  "rtn-axis-mirror|src/machine/rtn.rs|s/num::sin\(t\) \* num::sin\(phi\),/-num::sin(t) * num::sin(phi),/|--test real_slicers prusaslicer_relative_generated"
   "lift-removed|src/unwarp/travel.rs|s/if above <= DIRECT_TRAVEL_SLACK \{/if above <= DIRECT_TRAVEL_SLACK + 1.0 {/|--test real_slicers prusaslicer_relative_generated"
 )
 
@@ -44,8 +45,8 @@ for m in "${mutants[@]}"; do
     echo "mutant $name ($file): NOT CAUGHT by cargo test $tests (log: $log)"
     escaped=1
   elif grep -q "panicked at" "$log"; then
-    # the matrix prints "N of M cases failed:" and then one line per failed case
-    why=$(grep -m1 -A1 "cases failed:" "$log" | tail -n1)
+    # the matrix prints "N failures in M cases:" and then one line per failure
+    why=$(grep -m1 -A1 -E "failures in [0-9]+ cases:" "$log" | tail -n1)
     [ -n "$why" ] || why=$(grep -m1 -A1 "panicked at" "$log" | tail -n1)
     echo "mutant $name ($file): caught by cargo test $tests: ${why:0:240}"
   else

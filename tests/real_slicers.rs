@@ -26,7 +26,9 @@
 //! move, is checked on one real-slicer file per machine in tests/machine_emit.rs.
 //!
 //! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
-//! how many cases it skipped and why.
+//! how many cases it skipped and why. To reproduce one case: `WARPSLICE_CASES=model:warp,…`
+//! (substrings; add `WARPSLICE_FULL_MATRIX=1` for a case outside the rotation) runs only those,
+//! saying so, and `WARPSLICE_KEEP_FAILED=DIR` keeps a failed machine case's G-code and toolpath.
 #![cfg(not(target_arch = "wasm32"))]
 
 mod common;
@@ -136,10 +138,27 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     } else {
         rotate
     };
-    let cases: Vec<(usize, usize)> = (0..models.len())
+    let mut cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
         .filter(|&(m, w)| rotate.is_none_or(|k| (m * nw + w) % COMBOS == k))
         .collect();
+    // WARPSLICE_CASES="model:warp,…" (local reproduction of one case; substrings): only those
+    if let Ok(only) = std::env::var("WARPSLICE_CASES") {
+        let all = cases.len();
+        let wanted: Vec<(&str, &str)> = only
+            .split(',')
+            .map(|c| c.split_once(':').unwrap_or((c, "")))
+            .collect();
+        cases.retain(|&(m, w)| {
+            wanted
+                .iter()
+                .any(|(mm, ww)| models[m].0.contains(mm) && warps[w].0.contains(ww))
+        });
+        println!(
+            "{tag}: WARPSLICE_CASES={only}: running {} of {all} cases (the others were not run)",
+            cases.len()
+        );
+    }
     let next = AtomicUsize::new(0);
     let failures = Mutex::new(Vec::new());
     let table = Mutex::new(Vec::new());
@@ -198,7 +217,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     }
     assert!(
         failures.is_empty(),
-        "{kind:?} {e_mode:?}: {} of {} cases failed:\n{}",
+        "{kind:?} {e_mode:?}: {} failures in {} cases:\n{}",
         failures.len(),
         cases.len(),
         failures.join("\n")
@@ -475,7 +494,18 @@ fn machine_case(
     }
     let text = String::from_utf8(out.gcode).map_err(|e| e.to_string())?;
     let (lines, _) = common::machine::parse(&text, &axis_names)?;
-    common::machine::check(&spec, &out.toolpath, &lines, 0).map(Some)
+    let r = common::machine::check(&spec, &out.toolpath, &lines, 0);
+    // WARPSLICE_KEEP_FAILED=DIR (local reproduction): the failed case's machine G-code and
+    // toolpath are kept there
+    if let (Err(_), Ok(dir)) = (&r, std::env::var("WARPSLICE_KEEP_FAILED")) {
+        let stem = std::path::Path::new(&dir).join(name);
+        let tp: Vec<String> = out.toolpath.iter().map(|t| format!("{t:?}")).collect();
+        let kept = std::fs::create_dir_all(&dir)
+            .and_then(|()| std::fs::write(stem.with_extension("gcode"), &text))
+            .and_then(|()| std::fs::write(stem.with_extension("toolpath"), tp.join("\n")));
+        println!("{name}: failed case kept in {dir}: {kept:?}");
+    }
+    r.map(Some)
 }
 
 /// A machine file's total E vs the 3-axis file's, relative: both write E with 5 decimals and

@@ -196,11 +196,36 @@ pub fn check(
             };
             let (p, n) = m.forward(&line.axes)?;
             li += 1;
-            let dtip = (p - tp.p).length();
             let free = m.free(tp.p, tp.n);
-            let axis_err = deg(n, m.realised(tp.p, tp.n, None));
-            // the emitter's last piece of a move lands on the point: tip and (realisable) axis
-            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG);
+            // how far a line's pose is from the point, in tolerances (tip, realisable axis)
+            let miss = |p: DVec3, n: DVec3| -> (f64, f64, f64) {
+                let dtip = (p - tp.p).length();
+                let axis_err = deg(n, m.realised(tp.p, tp.n, None));
+                let score = dtip / TIP_TOL + if free { 0.0 } else { axis_err / AXIS_TOL_DEG };
+                (dtip, axis_err, score)
+            };
+            let (dtip, axis_err, score) = miss(p, n);
+            // the emitter's last piece of a move lands on the point: tip and (realisable) axis;
+            // a line that comes within tolerance of the point while a following line lands
+            // closer is on the way (a rotate-around that lands 0.006 mm before the point, the
+            // seam piece and the last piece after it: PrusaSlicer sphere × conic-in-30 on RTN)
+            // (the following lines within tolerance of the point, the lifted rotate-around
+            // lines between them passed over)
+            let closer_next = || -> Result<bool, String> {
+                for next in lines.iter().skip(li) {
+                    let (pn, nn) = m.forward(&next.axes)?;
+                    let (d, a, sc) = miss(pn, nn);
+                    let within = d <= TIP_TOL && (free || a <= AXIS_TOL_DEG);
+                    if within && sc < score - 1e-6 {
+                        return Ok(true);
+                    }
+                    if !within && !next.rotate_around {
+                        break;
+                    }
+                }
+                Ok(false)
+            };
+            let is_end = dtip <= TIP_TOL && (free || axis_err <= AXIS_TOL_DEG) && !closer_next()?;
             if line.rotate_around && !is_end {
                 // a lifted turn-around (single-revolution axis): off the path by design; its
                 // descent lands on the point
