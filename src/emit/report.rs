@@ -7,9 +7,13 @@ use serde::{Deserialize, Serialize};
 /// How the output F is computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum FeedMode {
-    /// F = tip feed (firmware counts linear axes only).
+    /// F from the flavour's own move-length rule D: F = f·D/L, so the move takes tip length /
+    /// tip feed on that firmware (the default).
     #[default]
+    Tip,
+    /// F = tip feed (right only where the firmware's length is the tip's).
     Xyz,
     /// F scaled so the move takes tip_length / f with rotary degrees counted in the length.
     AllAxes,
@@ -18,9 +22,10 @@ pub enum FeedMode {
 }
 
 impl FeedMode {
-    /// Parse `xyz`, `all-axes`, `inverse-time`.
+    /// Parse `tip`, `xyz`, `all-axes`, `inverse-time`.
     pub fn parse(s: &str) -> Option<FeedMode> {
         match s {
+            "tip" => Some(FeedMode::Tip),
             "xyz" => Some(FeedMode::Xyz),
             "all-axes" => Some(FeedMode::AllAxes),
             "inverse-time" => Some(FeedMode::InverseTime),

@@ -50,6 +50,17 @@ fn pow10(decimals: u32) -> f64 {
     P[(decimals as usize).min(P.len() - 1)]
 }
 
+/// The number a reader gets back from what [`push_fixed`]`(v, decimals)` writes:
+/// `round(v·10^d) / 10^d` (IEEE division is correctly rounded, so this is the f64 nearest the
+/// written decimal, as a parser reads it). `v` itself beyond the exact range.
+pub fn written_value(v: f64, decimals: u32) -> f64 {
+    let decimals = decimals.min(9);
+    match scaled(v, decimals) {
+        Some(n) => n as f64 / pow10(decimals),
+        None => v,
+    }
+}
+
 /// Append `v` with at most `decimals` decimals (0–9), trimmed, never `-0`.
 pub fn push_fixed(out: &mut Vec<u8>, v: f64, decimals: u32) {
     let decimals = decimals.min(9);

@@ -47,7 +47,7 @@ use super::flavour::Flavour;
 use super::tessellate::{tessellate_move, Bounds, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, DEFAULT_TRAVEL_FEED};
-use crate::gcode::write::{push_e, push_fixed, push_mm};
+use crate::gcode::write::{push_e, push_fixed, push_mm, written_value, MM_DECIMALS};
 use crate::job::Job;
 use crate::toolpath::{Feature, ToolPoint};
 
@@ -194,6 +194,18 @@ impl MachineEmitter {
         tag: &str,
     ) -> Result<(), MachineError> {
         out.extend_from_slice(b"G1");
+        // the move as the firmware reads it: the written (rounded) values, offsets included
+        let read = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .zip(&self.offsets)
+                .map(|(a, o)| written_value(a + o, MM_DECIMALS))
+                .collect()
+        };
+        let de = e.map_or(0.0, |(de, _)| de);
+        let firmware_length =
+            self.flavour
+                .length_rule()
+                .length(&self.limits, &read(from), &read(axes), de);
         for (i, l) in self.limits.iter().enumerate() {
             let v = axes[i] + self.offsets[i];
             if self.offsets[i] > 0.0 && v < 0.0 {
@@ -215,7 +227,7 @@ impl MachineEmitter {
             out.extend_from_slice(b" E");
             push_e(out, v);
         }
-        let fo = output_feed(self.feed, from, axes, tip_length, f);
+        let fo = output_feed(self.feed, from, axes, tip_length, firmware_length, f);
         self.write_feed(out, fo);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
@@ -372,10 +384,14 @@ impl Emitter for MachineEmitter {
             format!(
                 "; warpslice feed = {}",
                 match self.feed {
-                    FeedMode::Xyz => "xyz (F = tool-tip speed; the firmware must count only X Y Z)",
+                    FeedMode::Tip => format!(
+                        "tip (F = tool-tip feed × the move's length by {}'s own rule / its tip length: every move takes tip length / tip feed)",
+                        self.flavour.name()
+                    ),
+                    FeedMode::Xyz => "xyz (F = tool-tip speed; the firmware must count only X Y Z)".into(),
                     FeedMode::AllAxes =>
-                        "all-axes (F scaled so rotary degrees counted in the move length keep the tip speed)",
-                    FeedMode::InverseTime => "inverse-time (G93 in the printed region, G94 after it)",
+                        "all-axes (F scaled so rotary degrees counted in the move length keep the tip speed)".into(),
+                    FeedMode::InverseTime => "inverse-time (G93 in the printed region, G94 after it)".into(),
                 }
             ),
             format!(

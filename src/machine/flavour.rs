@@ -13,6 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::length_rule::LengthRule;
 use super::{AxisLimit, FeedMode, MachineError};
 
 /// The firmware the output is for.
@@ -52,6 +53,15 @@ impl Flavour {
         }
     }
 
+    /// How this firmware measures a move's length (see [`LengthRule`]): RepRapFirmware (rotary
+    /// axes `S1`) and Marlin (`AXISn_ROTATES`) the NIST rule, Klipper its X Y Z rule.
+    pub fn length_rule(self) -> LengthRule {
+        match self {
+            Flavour::RepRapFirmware | Flavour::Marlin => LengthRule::Nist,
+            Flavour::Klipper => LengthRule::KlipperXyz,
+        }
+    }
+
     /// Check that this firmware can drive `limits` (the machine's axes) with `feed`; the error
     /// says why not.
     ///
@@ -71,7 +81,7 @@ impl Flavour {
         };
         if feed == FeedMode::InverseTime && self != Flavour::RepRapFirmware {
             return Err(refuse(format!(
-                "{} has no G93 (inverse-time feed): use --feed xyz or all-axes, or --flavour reprapfirmware (3.5.0 or later)",
+                "{} has no G93 (inverse-time feed): use --feed tip (exact speeds without G93), or --flavour reprapfirmware (3.5.0 or later)",
                 match self {
                     Flavour::Marlin => "Marlin 2.1",
                     _ => "Klipper",

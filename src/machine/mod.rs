@@ -30,7 +30,8 @@
 //! - [`batch`]: CSV in, CSV out (`warpslice kinematics inverse|forward`).
 //! - [`tessellate`]: split moves until the firmware's linear axis interpolation stays within
 //!   0.02 mm / 0.1° of the intended path (seed 001 §4.5); reports the worst error.
-//! - [`feed`]: output F for `xyz`, `all-axes` and `inverse-time` (G93) feed modes.
+//! - [`feed`]: output F for `tip`, `xyz`, `all-axes` and `inverse-time` (G93) feed modes;
+//!   [`length_rule`]: how each firmware measures a move's length (what `tip` divides by).
 
 use core::fmt;
 
@@ -47,6 +48,7 @@ pub mod feed;
 pub mod flavour;
 pub mod lathe;
 pub mod laws;
+pub mod length_rule;
 pub mod options;
 pub mod pax;
 pub mod rtheta;

@@ -57,9 +57,9 @@ impl MachineOptions {
 /// itself is a preset name or a machine object (the page's machine select and JSON box).
 pub const PARAMS: &[Param] = &[
     Param::number("feed", "--feed", "Feed mode")
-        .choices(&["xyz", "all-axes", "inverse-time"])
-        .default(ParamDefault::Text("xyz"))
-        .help("how F is written for a machine: tip speed, scaled for rotary axes, or G93 inverse time"),
+        .choices(&["tip", "xyz", "all-axes", "inverse-time"])
+        .default(ParamDefault::Text("tip"))
+        .help("how F is written for a machine: tip (each move takes tip length / tip feed by the firmware's own move-length rule), xyz (F = tip feed), all-axes (scaled for rotary degrees counted like mm), or G93 inverse time (RepRapFirmware 3.5.0 and later)"),
     Param::number("flavour", "--flavour", "Firmware")
         .choices(&["reprapfirmware", "marlin", "klipper"])
         .optional()
