@@ -19,8 +19,8 @@ mod common;
 use common::machine::{check, deg, parse, AXIS_TOL_DEG, SAMPLES, TIP_TOL};
 use glam::DVec3;
 use warpslice::machine::tessellate::slerp;
-use warpslice::machine::MachineOptions;
 use warpslice::machine::{preset, MachineSpec};
+use warpslice::machine::{FeedMode, Flavour, MachineOptions};
 use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
@@ -134,7 +134,9 @@ fn sliced(
 /// RotBot's nozzle misalignment (seed 002: e_parallel, e_perpendicular, rotated with U), mm.
 const ROTBOT_MISALIGNMENT: (f64, f64) = (0.4, -0.25);
 
-fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
+/// The machine a case name stands for: the preset, RotBot misaligned, the mandrel under the
+/// part for the lathe.
+fn spec_for(name: &str) -> Result<MachineSpec, String> {
     let base = if name == "rotbot-misaligned" {
         "rotbot"
     } else {
@@ -150,6 +152,11 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
         p.axis_z_mm = -20.0;
     }
+    Ok(spec)
+}
+
+fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<String, String> {
+    let spec = spec_for(name)?;
     let tag = format!("{name}-{}", warp.name());
     let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else {
         return Ok("skipped".into());
@@ -231,8 +238,176 @@ fn every_preset_end_to_end_with_prusaslicer() {
     assert!(fails.is_empty(), "{}", fails.join("\n"));
 }
 
-#[allow(dead_code)]
-fn unused(_: MachineSpec) {}
+/// Relative speed error allowed between a move's tip speed on the firmware and the slicer's F
+/// (issue 11: 1 %).
+const TIP_SPEED_TOL: f64 = 0.01;
+/// Half a unit of the written axes' last decimal (3 decimals: 0.0005 mm or degrees): how far
+/// the file's rounding moves each axis.
+const AXIS_ROUNDING: f64 = 0.0005;
+
+/// How far the 3-decimal rounding of the written axes can move the tip at `axes` (first order:
+/// Σ over the axes of the tip's displacement when that axis moves by [`AXIS_ROUNDING`]), mm,
+/// by the tests' own forward kinematics.
+fn rounding_reach(fk: &common::machine::fk::Fk, axes: &[f64]) -> f64 {
+    let p0 = fk.forward(axes).expect("forward").0;
+    (0..axes.len())
+        .map(|i| {
+            let mut a = axes.to_vec();
+            a[i] += AXIS_ROUNDING;
+            (fk.forward(&a).expect("forward").0 - p0).length()
+        })
+        .sum()
+}
+
+/// One preset × flavour: the `--feed tip` output read with the firmware's own length rule
+/// (tests/common/firmware.rs, from the firmware's documents) and the tests' forward kinematics
+/// moves the tip at the slicer's F (the same file with `--feed xyz`, whose F is the slicer's:
+/// every one of them is checked to be an F of the input or warpslice's travel feed). Returns
+/// (moves checked, moves whose tip travel is within the rounding of the written axes, worst
+/// relative error of the moves the rounding changes by at most 0.1 %) or the first move off.
+fn tip_speed_case(
+    name: &str,
+    flavour: common::firmware::Firmware,
+    input: &[u8],
+    job: &warpslice::job::Job,
+) -> Result<(usize, usize, f64), String> {
+    let spec = spec_for(name)?;
+    let fk = common::machine::fk::Fk::from_spec(&spec)?;
+    let m = spec.build().map_err(|e| e.to_string())?;
+    let letters: Vec<char> = m
+        .axis_names()
+        .iter()
+        .map(|n| n.chars().next().unwrap())
+        .collect();
+    let rotary: Vec<char> = m
+        .limits()
+        .iter()
+        .filter(|l| l.rotary)
+        .map(|l| l.name.chars().next().unwrap())
+        .collect();
+    let out = |feed: FeedMode| -> Result<String, String> {
+        let opts = UnwarpSettings {
+            unwarp: UnwarpOptions::default(),
+            output: MachineOptions {
+                machine: Some(spec.clone()),
+                feed,
+                flavour: Flavour::parse(flavour.flavour()),
+            },
+        };
+        let o = unwarp(input, job, &opts).map_err(|e| format!("{feed:?}: {e}"))?;
+        String::from_utf8(o.gcode).map_err(|e| e.to_string())
+    };
+    let (xyz, tip) = (out(FeedMode::Xyz)?, out(FeedMode::Tip)?);
+    let (mx, mt) = (
+        common::firmware::motions(&xyz, &letters),
+        common::firmware::motions(&tip, &letters),
+    );
+    if mx.len() != mt.len() {
+        return Err(format!(
+            "{} motion lines with xyz, {} with tip",
+            mx.len(),
+            mt.len()
+        ));
+    }
+    let input_feeds: Vec<f64> = common::firmware::motions(&String::from_utf8_lossy(input), &[])
+        .iter()
+        .map(|m| m.f)
+        .chain([warpslice::emit::DEFAULT_TRAVEL_FEED])
+        .collect();
+    let (mut checked, mut rounding, mut worst) = (0, 0, 0.0f64);
+    for k in 1..mt.len() {
+        let (a, b, slicer) = (&mt[k - 1], &mt[k], &mx[k]);
+        if b.pos != slicer.pos || (b.de - slicer.de).abs() > 1e-9 {
+            return Err(format!(
+                "line {}: xyz and tip outputs move differently",
+                b.line
+            ));
+        }
+        if !input_feeds.contains(&slicer.f) {
+            return Err(format!(
+                "line {}: xyz F {} is no F of the slicer",
+                slicer.line, slicer.f
+            ));
+        }
+        if !(a.full && b.full) {
+            continue;
+        }
+        let delta = letters.iter().map(|c| (*c, b.pos[c] - a.pos[c])).collect();
+        let d = flavour.move_length(&delta, &rotary, b.de);
+        if d == 0.0 {
+            continue;
+        }
+        let axes = |mo: &common::firmware::Motion| -> Vec<f64> {
+            letters.iter().map(|c| mo.pos[c]).collect()
+        };
+        let tip_len = (fk.forward(&axes(b))?.0 - fk.forward(&axes(a))?.0).length();
+        let reach = rounding_reach(&fk, &axes(a)) + rounding_reach(&fk, &axes(b));
+        if tip_len <= reach {
+            // the tip does not move beyond what the file's rounding can move it (a reorientation
+            // in place): no tip speed to compare
+            rounding += 1;
+            continue;
+        }
+        // T = D / F on the firmware; the tip speed L / T against the slicer's F, within 1 % plus
+        // what the rounding of the written axes can change L by
+        let speed = tip_len * b.f / d;
+        let err = (speed / slicer.f - 1.0).abs();
+        let allowed = TIP_SPEED_TOL + reach / tip_len;
+        checked += 1;
+        if reach / tip_len <= 1e-3 {
+            worst = worst.max(err);
+        }
+        if err > allowed {
+            return Err(format!(
+                "line {}: tip {tip_len:.4} mm, {} length {d:.4}, F {} → tip speed {speed:.1} mm/min, the slicer's F {} (error {:.2} %, allowed {:.2} %)",
+                b.line,
+                flavour.flavour(),
+                b.f,
+                slicer.f,
+                err * 100.0,
+                allowed * 100.0
+            ));
+        }
+    }
+    Ok((checked, rounding, worst))
+}
+
+/// `--feed tip` (the default) on every preset × flavour: the firmware's own length rule gives
+/// each move of a PrusaSlicer file the slicer's tip speed within 1 %.
+#[test]
+fn tip_feed_moves_the_tip_at_the_slicers_speed_on_every_firmware() {
+    use common::firmware::Firmware;
+    let dir = tmpdir("tip");
+    let mut fails = Vec::new();
+    for name in warpslice::machine::preset_names() {
+        let Some((input, job)) = sliced(&warp_for(name), centre_for(name), &dir, name) else {
+            return;
+        };
+        for fw in [
+            Firmware::RepRapFirmware,
+            Firmware::Marlin,
+            Firmware::Klipper,
+        ] {
+            match tip_speed_case(name, fw, &input, &job) {
+                Ok((checked, rounding, worst)) => {
+                    println!(
+                        "{name:20} {:15} {checked:6} moves within 1 % (+ rounding) of the slicer's F, worst {:.3} % where the rounding is below 0.1 %; {rounding} moves turn in place",
+                        fw.flavour(),
+                        worst * 100.0
+                    );
+                    if checked < 100 || rounding * 20 > checked {
+                        fails.push(format!(
+                            "{name} {}: {checked} moves checked, {rounding} in place",
+                            fw.flavour()
+                        ));
+                    }
+                }
+                Err(e) => fails.push(format!("{name} {}: {e}", fw.flavour())),
+            }
+        }
+    }
+    assert!(fails.is_empty(), "{}", fails.join("\n"));
+}
 
 fn cli(args: &[&str], stdin: &str) -> (bool, String, String) {
     use std::io::Write;

@@ -64,6 +64,4 @@ pub struct MachineReport {
     pub e_skipped_mm: f64,
     /// `G92` modulo-360° resets of unlimited rotary axes.
     pub rotary_resets: u64,
-    /// Offset added to the written Z axes (triple-Z bed), mm.
-    pub z_axes_offset_mm: f64,
 }

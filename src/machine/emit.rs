@@ -10,11 +10,10 @@
 //!
 //! ## Region boundaries
 //! - [`Emitter::begin_region`] (the head is at the slicer's position, tool vertical): the
-//!   previous axes are `inverse(p, +Z)`; `G93` for inverse-time feed; for a triple-Z bed the Z
-//!   axes get a `G92` offset (below).
+//!   previous axes are `inverse(p, +Z)`; `G93` for inverse-time feed.
 //! - [`Emitter::end_region`] (after the driver's lift): a tessellated travel back to the
-//!   vertical tool axis at the same tip point, the Z offset removed (`G92` with raw values),
-//!   `G94` after inverse-time feed — so the 3-axis end G-code that follows works.
+//!   vertical tool axis at the same tip point, `G94` after inverse-time feed — so the 3-axis end
+//!   G-code that follows works.
 //!
 //! ## Machine specifics
 //! - **Single-revolution rotary axis** (Slicer4RTN, `revolution: single`): when consecutive
@@ -26,12 +25,10 @@
 //!   counts it, `e_skipped_mm`: moved past the seam, not lost).
 //! - **Unlimited rotary axes** (RotBot's slip ring, the mandrel, the polar C axis): at a layer
 //!   change an axis beyond ±180° is reset with `G92 <letter>` modulo 360° (seed 002:
-//!   "rot-revolv=0 resets at layer change the rotation angle to mod(360)").
-//! - **Triple-Z bed** (seed 001): RepRapFirmware clamps negative axis values, so the Z axes
-//!   (z₀ z₁ z₂) are written with a constant offset `D = (largest ball distance + |ball z|) ·
-//!   sin(max tilt)` (rounded up to whole mm): at the region start `G92 Z U V` declares the
-//!   level bed's raw heights + D, and every value written is raw + D. A raw value below −D is
-//!   an [`MachineError::AxisLimit`]. The header comment says so.
+//!   "rot-revolv=0 resets at layer change the rotation angle to mod(360)") — except for
+//!   Klipper, whose `G92` sets only X Y Z E: there the axis is written unwrapped, no reset.
+//! - **Triple-Z bed** (seed 001): the Z motors are written raw; their travel goes below zero
+//!   (see [`super::threez`]) and the flavour's header gives the firmware that minimum.
 //! - **B head**: the collision clip is in the kinematics; the ramp and z-offset come from the
 //!   unwarp options.
 //!
@@ -79,8 +76,6 @@ pub struct MachineEmitter {
     flavour: Flavour,
     feed: FeedMode,
     bounds: Bounds,
-    /// Offset added to each axis when written (the triple-Z Z axes), mm.
-    offsets: Vec<f64>,
     /// Unlimited rotary axes (reset modulo 360° at a layer change).
     unlimited: Vec<bool>,
     ew: EWriter,
@@ -114,8 +109,6 @@ impl MachineEmitter {
         let limits = machine.limits().to_vec();
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
         flavour.check(machine.name(), &limits, feed)?;
-        let offsets = machine.written_offsets();
-        let d = offsets.iter().copied().fold(0.0, f64::max);
         let unlimited = limits
             .iter()
             .map(|l| l.rotary && !(l.min.is_finite() && l.max.is_finite()))
@@ -124,7 +117,6 @@ impl MachineEmitter {
             machine: machine.name().to_string(),
             flavour: flavour.name().to_string(),
             feed,
-            z_axes_offset_mm: d,
             ..MachineReport::default()
         };
         Ok(MachineEmitter {
@@ -134,7 +126,6 @@ impl MachineEmitter {
             flavour,
             feed,
             bounds: DEFAULT_BOUNDS,
-            offsets,
             unlimited,
             ew: EWriter::default(),
             last_f: None,
@@ -187,37 +178,21 @@ impl MachineEmitter {
         out: &mut Vec<u8>,
         from: &[f64],
         axes: &[f64],
-        p: DVec3,
         e: Option<(f64, bool)>,
         tip_length: f64,
         f: f64,
         tag: &str,
     ) -> Result<(), MachineError> {
         out.extend_from_slice(b"G1");
-        // the move as the firmware reads it: the written (rounded) values, offsets included
-        let read = |v: &[f64]| -> Vec<f64> {
-            v.iter()
-                .zip(&self.offsets)
-                .map(|(a, o)| written_value(a + o, MM_DECIMALS))
-                .collect()
-        };
+        // the move as the firmware reads it: the written (rounded) values
+        let read =
+            |v: &[f64]| -> Vec<f64> { v.iter().map(|a| written_value(*a, MM_DECIMALS)).collect() };
         let de = e.map_or(0.0, |(de, _)| de);
         let firmware_length =
             self.flavour
                 .length_rule()
                 .length(&self.limits, &read(from), &read(axes), de);
-        for (i, l) in self.limits.iter().enumerate() {
-            let v = axes[i] + self.offsets[i];
-            if self.offsets[i] > 0.0 && v < 0.0 {
-                return Err(MachineError::AxisLimit {
-                    machine: self.preset.clone(),
-                    axis: l.name.clone(),
-                    value: axes[i],
-                    min: -self.offsets[i],
-                    max: f64::INFINITY,
-                    p,
-                });
-            }
+        for (l, &v) in self.limits.iter().zip(axes) {
             out.push(b' ');
             out.extend_from_slice(l.name.as_bytes());
             push_mm(out, v);
@@ -234,8 +209,12 @@ impl MachineEmitter {
         Ok(())
     }
 
-    /// `G92` the unlimited rotary axes back into ±180° (layer change).
+    /// `G92` the unlimited rotary axes back into ±180° (layer change); not for Klipper, whose
+    /// `G92` sets X Y Z E only (the axis stays unwrapped).
     fn reset_rotary(&mut self, out: &mut Vec<u8>) {
+        if !self.flavour.resets_extra_axes() {
+            return;
+        }
         let Some(prev) = self.prev.as_mut() else {
             return;
         };
@@ -268,28 +247,10 @@ impl MachineEmitter {
             .inverse(from.p + lift, from.n, Some(&from.axes))?;
         let up1 = self.machine.inverse(to.p + lift, to.n, Some(&to.axes))?;
         let tag = ROTATE_AROUND_TAG;
-        self.write_g1(
-            out,
-            &from.axes,
-            &up0,
-            from.p,
-            None,
-            ROTATE_AROUND_LIFT_MM,
-            f,
-            tag,
-        )?;
+        self.write_g1(out, &from.axes, &up0, None, ROTATE_AROUND_LIFT_MM, f, tag)?;
         let len = (to.p - from.p).length();
-        self.write_g1(out, &up0, &up1, to.p, None, len, f, tag)?;
-        self.write_g1(
-            out,
-            &up1,
-            &to.axes,
-            to.p,
-            None,
-            ROTATE_AROUND_LIFT_MM,
-            f,
-            tag,
-        )?;
+        self.write_g1(out, &up0, &up1, None, len, f, tag)?;
+        self.write_g1(out, &up1, &to.axes, None, ROTATE_AROUND_LIFT_MM, f, tag)?;
         self.report.rotate_arounds += 1;
         Ok(())
     }
@@ -304,7 +265,7 @@ impl MachineEmitter {
         let Some(prev) = self.prev.clone() else {
             let axes = self.machine.inverse(tp.p, tp.n, None)?;
             let e = (!tp.travel).then_some((tp.e, relative));
-            self.write_g1(out, &axes, &axes, tp.p, e, 0.0, tp.f, "")?;
+            self.write_g1(out, &axes, &axes, e, 0.0, tp.f, "")?;
             self.prev = Some(Pose {
                 axes,
                 p: tp.p,
@@ -343,7 +304,7 @@ impl MachineEmitter {
                 } else {
                     ""
                 };
-                self.write_g1(out, &from.axes, &m.axes, m.p, e, m.tip_length, m.f, tag)?;
+                self.write_g1(out, &from.axes, &m.axes, e, m.tip_length, m.f, tag)?;
             }
             from = Pose {
                 axes: m.axes.clone(),
@@ -365,7 +326,7 @@ impl Emitter for MachineEmitter {
         let mut lines = vec![
             format!("; warpslice machine = {} {}", self.preset, self.flavour.name()),
             format!(
-                "; warpslice machine axes = {} (linear mm, rotary degrees{})",
+                "; warpslice machine axes = {} (linear mm, rotary degrees, no offsets)",
                 self.limits
                     .iter()
                     .map(|l| if l.rotary {
@@ -375,11 +336,6 @@ impl Emitter for MachineEmitter {
                     })
                     .collect::<Vec<_>>()
                     .join(" "),
-                if self.offsets.iter().any(|&o| o > 0.0) {
-                    ""
-                } else {
-                    ", no offsets"
-                }
             ),
             format!(
                 "; warpslice feed = {}",
@@ -399,20 +355,6 @@ impl Emitter for MachineEmitter {
                 self.bounds.max_position_mm, self.bounds.max_angle_deg
             ),
         ];
-        let d = self.report.z_axes_offset_mm;
-        if d > 0.0 {
-            let names: Vec<&str> = self
-                .limits
-                .iter()
-                .zip(&self.offsets)
-                .filter(|(_, &o)| o > 0.0)
-                .map(|(l, _)| l.name.as_str())
-                .collect();
-            lines.push(format!(
-                "; warpslice z axes offset = {d} mm: RepRapFirmware clamps negative axis values, so {} are written as raw + {d} mm (G92 at the start of the printed region, removed at its end)",
-                names.join(" ")
-            ));
-        }
         lines.extend(self.flavour.header(&self.limits, self.feed));
         for l in lines {
             out.extend_from_slice(l.as_bytes());
@@ -435,19 +377,6 @@ impl Emitter for MachineEmitter {
             .inverse(p, n, None)
             .ok()
             .map(|axes| Pose { axes, p, n });
-        if self.offsets.iter().any(|&o| o > 0.0) {
-            if let Some(prev) = &self.prev {
-                out.extend_from_slice(b"G92");
-                for (i, l) in self.limits.iter().enumerate() {
-                    if self.offsets[i] > 0.0 {
-                        out.push(b' ');
-                        out.extend_from_slice(l.name.as_bytes());
-                        push_mm(out, prev.axes[i] + self.offsets[i]);
-                    }
-                }
-                out.extend_from_slice(b" ; warpslice: z axes offset (level bed, raw + offset)\n");
-            }
-        }
         Ok(())
     }
 
@@ -493,22 +422,6 @@ impl Emitter for MachineEmitter {
                     travel: true,
                 };
                 self.move_to(out, &tp, true).map_err(EmitError::new)?;
-            }
-            if self.offsets.iter().any(|&o| o > 0.0) {
-                if let Some(prev) = &self.prev {
-                    out.extend_from_slice(b"G92");
-                    for (i, l) in self.limits.iter().enumerate() {
-                        if self.offsets[i] > 0.0 {
-                            out.push(b' ');
-                            out.extend_from_slice(l.name.as_bytes());
-                            push_mm(out, prev.axes[i]);
-                        }
-                    }
-                    out.extend_from_slice(b" ; warpslice: z axes offset removed\n");
-                }
-                for o in self.offsets.iter_mut() {
-                    *o = 0.0;
-                }
             }
         }
         if self.feed == FeedMode::InverseTime {

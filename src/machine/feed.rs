@@ -18,6 +18,12 @@
 
 pub use crate::emit::FeedMode;
 
+/// In `tip` mode an F within this relative difference of the programmed feed f is written as f:
+/// it bounds the speed error this rounding adds (0.1 %, a tenth of the 1 % the tests allow), and
+/// keeps the slicer's own F words where the firmware's length is the tip's (X Y Z moves, where
+/// only the 3-decimal rounding of the written axes separates the two).
+pub const TIP_FEED_SNAP: f64 = 1e-3;
+
 /// The machine-space length the firmware measures between two axis vectors.
 pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {
     from.iter()
@@ -42,10 +48,15 @@ pub fn output_feed(
     let eps = crate::tolerance::LENGTH_EPSILON;
     match mode {
         FeedMode::Tip => {
-            if tip_length > eps && firmware_length > eps {
+            let fo = if tip_length > eps && firmware_length > eps {
                 f * firmware_length / tip_length
             } else {
                 f
+            };
+            if (fo - f).abs() <= TIP_FEED_SNAP * f {
+                f
+            } else {
+                fo
             }
         }
         FeedMode::Xyz => f,
@@ -91,6 +102,12 @@ mod tests {
             150.0
         );
         assert_eq!(output_feed(FeedMode::Tip, &a, &c, 0.0, 4.0, 600.0), 600.0);
+        // a firmware length within 0.1 % of the tip's keeps the slicer's F
+        assert_eq!(
+            output_feed(FeedMode::Tip, &a, &b, 3.0, 3.0009, 600.0),
+            600.0
+        );
+        assert!(output_feed(FeedMode::Tip, &a, &b, 3.0, 3.0031, 600.0) > 600.5);
         assert_eq!(FeedMode::parse("tip"), Some(FeedMode::Tip));
         assert_eq!(FeedMode::parse("all-axes"), Some(FeedMode::AllAxes));
         assert_eq!(FeedMode::parse("fast"), None);

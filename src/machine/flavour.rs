@@ -1,15 +1,24 @@
 //! Firmware flavours of the machine G-code: which firmware reads the file, what header it
-//! gets, and where it is refused.
+//! gets, and where it is refused. Each header is a block of comment lines `;   …` a user can
+//! paste (without the leading `;   `) into the firmware's configuration; the minimum firmware
+//! version of each feature warpslice uses is named next to it.
 //!
-//! - [`Flavour::RepRapFirmware`]: every axis letter is a G-code word; the header lists the
-//!   `M584` axis mapping the file expects (rotary axes created with `R1`, and `S1` or `S0` as
-//!   the feed mode needs: RepRapFirmware 3.2 and later).
+//! - [`Flavour::RepRapFirmware`] (3.3 or later): every axis letter is a G-code word; the header
+//!   gives the `M584` axis mapping with the extruder drive (`E`: RRF 3.3 and later require the
+//!   extruders in `M584`), rotary axes `R1` with `S1` (NIST length rule) or `S0` (`--feed
+//!   all-axes`), linear extra axes `R0`; `M208` minimum (`S1`) and maximum (`S0`) lines for
+//!   every axis limit the machine has (RRF defaults every axis to 0…200 and, with `M564 S1`,
+//!   its default, clamps a homed axis there: a rotary axis going negative would be clipped);
+//!   `M564` advice; inverse time (`G93`) only from RepRapFirmware 3.5.0.
 //! - [`Flavour::Marlin`] (2.1): axes beyond X Y Z are `AXIS4_NAME`, `AXIS5_NAME`, … in
 //!   `Configuration.h`, named from A B C U V W; the header says which letter is which.
-//! - [`Flavour::Klipper`]: Klipper has no kinematics for rotary or independently addressed
-//!   extra axes (a tilting head, a rotating nozzle or table, three independent Z motors, a polar
-//!   printer with a tilt): only the 3-axis `cartesian` machine is accepted; every other machine
-//!   is refused with that reason ([`MachineError::UnsupportedFlavour`]).
+//! - [`Flavour::Klipper`]: extra axes are `[manual_stepper]` sections registered as G-code
+//!   axes with `MANUAL_STEPPER STEPPER=… GCODE_AXIS=<letter>` (Klipper mainline since 2025-05);
+//!   the header lists both and the `INSTANTANEOUS_CORNER_VELOCITY` advice (an extra axis'
+//!   junction speed defaults to 1 mm/s). Klipper's `G92` sets X Y Z E only, so no `G92` is
+//!   written on an extra axis (unlimited rotary axes stay unwrapped), and it has no `G93`.
+//!   Letters E and F (extruder, feed) cannot name an extra axis
+//!   ([`MachineError::UnsupportedFlavour`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -109,24 +118,42 @@ impl Flavour {
                 Ok(())
             }
             Flavour::Klipper => {
-                if names == ["X", "Y", "Z"] && limits.iter().all(|l| !l.rotary) {
-                    Ok(())
-                } else {
-                    Err(refuse(format!(
-                        "Klipper has no rotary-axis (or independent extra-axis) kinematics for this machine's axes {}; use reprapfirmware or marlin",
-                        names.join(" ")
-                    )))
+                if let Some(bad) = names
+                    .iter()
+                    .find(|n| n.len() != 1 || !n.chars().all(|c| c.is_ascii_alphabetic()))
+                {
+                    return Err(refuse(format!(
+                        "Klipper's GCODE_AXIS takes one letter A-Z; axis '{bad}' cannot be given (rename it with axis_names)"
+                    )));
                 }
+                if let Some(bad) = names
+                    .iter()
+                    .find(|n| ["E", "F"].contains(&n.to_ascii_uppercase().as_str()))
+                {
+                    return Err(refuse(format!(
+                        "in Klipper's G1 the letter '{bad}' is the {}, not an axis (rename it with axis_names)",
+                        if bad.eq_ignore_ascii_case("E") { "extruder" } else { "feed rate" }
+                    )));
+                }
+                Ok(())
             }
         }
     }
 
-    /// Header comment lines (without the leading `; warpslice machine = …` line).
+    /// Whether this firmware's `G92` can set an extra axis (the modulo-360° resets of unlimited
+    /// rotary axes): not Klipper's, which sets X Y Z E only.
+    pub fn resets_extra_axes(self) -> bool {
+        self != Flavour::Klipper
+    }
+
+    /// Header comment lines (without the leading `; warpslice machine = …` line): a
+    /// `; flavour …` line, then `;   …` lines a user pastes (without `;   `) into the firmware's
+    /// configuration, each with its reason after `; `.
     ///
-    /// RepRapFirmware (3.2 and later): `M584 … R1` creates rotary axes, `R0` linear ones, and
-    /// `S1` keeps a rotary axis out of the feed-rate length (NIST RS274 §2.1.2.5; RRF's default
-    /// for `R1`) while `S0` counts its degrees like millimetres: `S1` for `--feed xyz` and
-    /// `inverse-time`, `S0` for `--feed all-axes` (see [`FeedMode`]).
+    /// RepRapFirmware (3.3 and later): `M584 … R1` creates rotary axes, `R0` linear ones, and
+    /// `S1` keeps a rotary axis out of the feed-rate length when a linear axis moves (NIST
+    /// RS274 §2.1.2.5; RRF's default for `R1`) while `S0` counts its degrees like millimetres:
+    /// `S0` for `--feed all-axes`, `S1` otherwise (`tip` computes F for exactly that rule).
     pub fn header(self, limits: &[AxisLimit], feed: FeedMode) -> Vec<String> {
         let extra: Vec<&AxisLimit> = limits
             .iter()
@@ -135,11 +162,17 @@ impl Flavour {
         let mut lines = Vec::new();
         match self {
             Flavour::RepRapFirmware => {
-                lines.push("; flavour RepRapFirmware 3: this file expects the axis mapping".into());
+                lines.push(
+                    "; flavour RepRapFirmware 3.3 or later: this file expects in config.g".into(),
+                );
                 let mut m = String::from(";   M584");
                 for (i, l) in limits.iter().enumerate() {
                     m.push_str(&format!(" {}<driver{i}>", l.name));
                 }
+                m.push_str(&format!(
+                    " E<driver{}>   ; your board's drivers; E: RRF 3.3 and later need the extruder drive(s) declared in M584",
+                    limits.len()
+                ));
                 lines.push(m);
                 for l in &extra {
                     lines.push(format!(
@@ -158,6 +191,17 @@ impl Flavour {
                         }
                     ));
                 }
+                for l in limits {
+                    lines.extend(rrf_m208(l));
+                }
+                lines.push(
+                    ";   M564 H1 S1   ; RRF's default: moves need homed axes and are clamped to the M208 limits, so the limits above must hold every value this file writes (M564 S0 would drop the clamp everywhere: not advised)".into(),
+                );
+                if feed == FeedMode::InverseTime {
+                    lines.push(format!(
+                        ";   G93 inverse-time feed: RepRapFirmware {RRF_G93_VERSION} or later (older versions read F as mm/min)"
+                    ));
+                }
             }
             Flavour::Marlin => {
                 lines.push("; flavour Marlin 2.1: extra axes are set in Configuration.h as".into());
@@ -173,22 +217,134 @@ impl Flavour {
                         }
                     ));
                 }
+                for l in limits {
+                    if l.min.is_finite() || l.max.is_finite() {
+                        lines.push(format!(
+                            ";   axis {} travel [{}, {}] {}",
+                            l.name,
+                            l.min,
+                            l.max,
+                            if l.rotary { "deg" } else { "mm" }
+                        ));
+                    }
+                }
             }
-            Flavour::Klipper => lines.push("; flavour Klipper (3-axis)".into()),
-        }
-        for l in limits {
-            if l.min.is_finite() || l.max.is_finite() {
+            Flavour::Klipper if extra.is_empty() => lines.push("; flavour Klipper (3-axis)".into()),
+            Flavour::Klipper => {
                 lines.push(format!(
-                    ";   axis {} travel [{}, {}] {}",
-                    l.name,
-                    l.min,
-                    l.max,
-                    if l.rotary { "deg" } else { "mm" }
+                    "; flavour Klipper (extra G-code axes: mainline since {KLIPPER_GCODE_AXIS_SINCE}): this file expects in printer.cfg"
                 ));
+                for l in &extra {
+                    lines.push(format!(
+                        ";   [manual_stepper {}]   ; axis {}, {}: step_pin, dir_pin, enable_pin, microsteps, rotation_distance ({}){}",
+                        klipper_stepper(l),
+                        l.name,
+                        if l.rotary { "rotary, degrees" } else { "linear, mm" },
+                        if l.rotary {
+                            "degrees per motor turn"
+                        } else {
+                            "mm per motor turn"
+                        },
+                        klipper_travel(l)
+                    ));
+                }
+                lines.push(
+                    ";   and, before this file's moves (the start G-code or a [delayed_gcode]):"
+                        .into(),
+                );
+                for l in &extra {
+                    lines.push(format!(
+                        ";   MANUAL_STEPPER STEPPER={} GCODE_AXIS={} LIMIT_VELOCITY=<{u}/s> LIMIT_ACCEL=<{u}/s²> INSTANTANEOUS_CORNER_VELOCITY=<{u}/s>",
+                        klipper_stepper(l),
+                        l.name,
+                        u = if l.rotary { "deg" } else { "mm" }
+                    ));
+                }
+                lines.push(format!(
+                    ";   INSTANTANEOUS_CORNER_VELOCITY: an extra axis' junction speed defaults to {KLIPPER_EXTRA_AXIS_CORNER_DEFAULT} mm/s (deg/s); this file splits curved moves into short pieces, so set it near the axis' speed on the path or every junction slows the print"
+                ));
+                lines.push(
+                    ";   Klipper times a move by its X Y Z length (the largest E or extra-axis change when X Y Z are still): --feed tip computes F for that rule; Klipper has no G93".into(),
+                );
+                if extra
+                    .iter()
+                    .any(|l| l.rotary && !(l.min.is_finite() && l.max.is_finite()))
+                {
+                    lines.push(
+                        ";   Klipper's G92 sets X Y Z E only: an unlimited rotary axis is written unwrapped (no resets), so give it no position limits".into(),
+                    );
+                }
             }
         }
         lines
     }
+}
+
+/// Klipper's `[manual_stepper]` section name warpslice suggests for extra axis `l`.
+fn klipper_stepper(l: &AxisLimit) -> String {
+    format!("axis_{}", l.name.to_ascii_lowercase())
+}
+
+/// The `position_min` / `position_max` advice of a Klipper extra axis.
+fn klipper_travel(l: &AxisLimit) -> String {
+    let n = crate::num::fmt_shortest;
+    match (l.min.is_finite(), l.max.is_finite()) {
+        (true, true) => format!(", position_min: {}, position_max: {}", n(l.min), n(l.max)),
+        (true, false) => format!(", position_min: {}", n(l.min)),
+        (false, true) => format!(", position_max: {}", n(l.max)),
+        (false, false) => String::new(),
+    }
+}
+
+/// The first RepRapFirmware version with `G93` inverse-time feed (its documentation says 3.2;
+/// the code has it from 3.5.0).
+pub const RRF_G93_VERSION: &str = "3.5.0";
+/// Since when mainline Klipper takes extra G-code axes (`MANUAL_STEPPER … GCODE_AXIS=`).
+pub const KLIPPER_GCODE_AXIS_SINCE: &str = "2025-05";
+/// Klipper's default `INSTANTANEOUS_CORNER_VELOCITY` of an extra axis, mm/s (deg/s).
+pub const KLIPPER_EXTRA_AXIS_CORNER_DEFAULT: f64 = 1.0;
+/// The `M208` range written for a rotary axis without limits (a slip ring, a mandrel), degrees:
+/// RepRapFirmware clamps every homed axis to its `M208` range, so "unlimited" is a range wider
+/// than any file turns it (warpslice resets such an axis modulo 360° at each layer change).
+pub const RRF_UNLIMITED_ROTARY_DEG: f64 = 100_000.0;
+
+/// The `M208` lines of axis `l`: `M208 <L><min> S1` (minimum) and `M208 <L><max> S0`
+/// (maximum) for each finite end; an unlimited rotary axis gets
+/// ±[`RRF_UNLIMITED_ROTARY_DEG`]; an unlimited linear axis keeps the machine's own limits (a
+/// note says so).
+fn rrf_m208(l: &AxisLimit) -> Vec<String> {
+    let n = crate::num::fmt_shortest;
+    let unit = if l.rotary { "degrees" } else { "mm" };
+    let mut out = Vec::new();
+    for (v, s, end) in [(l.min, 1, "minimum"), (l.max, 0, "maximum")] {
+        if v.is_finite() {
+            out.push(format!(
+                ";   M208 {}{} S{s}   ; axis {} {end}, {unit}",
+                l.name,
+                n(v),
+                l.name
+            ));
+        } else if l.rotary {
+            let w = if s == 1 {
+                -RRF_UNLIMITED_ROTARY_DEG
+            } else {
+                RRF_UNLIMITED_ROTARY_DEG
+            };
+            out.push(format!(
+                ";   M208 {}{} S{s}   ; axis {} turns without limit: a range wider than any layer turns it",
+                l.name,
+                n(w),
+                l.name
+            ));
+        }
+    }
+    if out.is_empty() {
+        out.push(format!(
+            ";   axis {}: keep your M208 {} limits (the machine file gives none)",
+            l.name, l.name
+        ));
+    }
+    out
 }
 
 #[cfg(test)]

@@ -182,12 +182,6 @@ pub trait Machine: Send + Sync + fmt::Debug {
     }
     /// What the machine says of itself (see [`Capabilities`]).
     fn capabilities(&self) -> Capabilities;
-    /// A constant added to each axis value as written to G-code (same order as the axes), for
-    /// firmware that cannot take the raw values (the triple-Z bed's Z motors, see
-    /// [`threez`]). Zero for most machines.
-    fn written_offsets(&self) -> Vec<f64> {
-        vec![0.0; self.limits().len()]
-    }
     /// Refuse a job this machine would print wrong although every point is reachable (the
     /// lathe: a cylindrical warp whose axis is not the mandrel's). `model_to_output` moves the
     /// job's model frame to the output frame.

@@ -33,8 +33,10 @@
 //!
 //! The paper's preset (§4.1): b̂₀ = (−4.07, −12.16), b̂₁ = (304.93, −12.16),
 //! b̂₂ = (150.43, 296.84), ball z = −45.7 mm, slots 29.89°, 150.11°, −90°, tilt ≤ 30°.
-//! RepRapFirmware refuses negative axis values by default: the emitter offsets the Z axes with
-//! `G92` when needed; the values here are raw.
+//! The Z motors go below zero when the bed tilts: their travel is `[−D, ∞)` with
+//! `D = (largest ball distance + |ball z|) · sin(max tilt)` rounded up to whole mm (every pose
+//! within the tilt keeps each raw height above −D); the flavour headers give the firmware that
+//! minimum (RepRapFirmware `M208 Z−D S1`, which defaults to 0 and clamps a homed axis there).
 
 use glam::{DVec2, DVec3};
 
@@ -124,9 +126,8 @@ pub struct ThreeZ {
 }
 
 impl ThreeZ {
-    /// The offset D of [`Machine::written_offsets`], mm.
-    pub fn z_axes_offset(&self) -> f64 {
-        let p = &self.params;
+    /// D of the Z motors' travel `[−D, ∞)` (see the module documentation), mm.
+    pub fn z_motor_depth(p: &ThreeZParams) -> f64 {
         let mut spread = 0.0f64;
         for a in &p.balls_xy {
             for b in &p.balls_xy {
@@ -164,7 +165,14 @@ impl ThreeZ {
         let collinear = tri.abs() < COLLINEAR_AREA || nrm[0].dot(d[0]).abs() > super::UNIT_EPSILON;
         require(name, !collinear, "the three balls are collinear")?;
         Ok(ThreeZ {
-            axis_set: AxisSet::linear(name, names),
+            axis_set: {
+                let floor = -ThreeZ::z_motor_depth(&params);
+                let mut limits = AxisSet::linear(name, names).limits().to_vec();
+                for l in limits.iter_mut().skip(2) {
+                    l.min = floor;
+                }
+                AxisSet::new(name, limits)
+            },
             params,
             b_hat,
             l,
@@ -229,16 +237,6 @@ impl Machine for ThreeZ {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
-    /// RepRapFirmware clamps negative axis values, so the Z motors (z₀ z₁ z₂, axes 2–4) are
-    /// written with a constant offset `D = (largest ball distance + |ball z|) · sin(max tilt)`,
-    /// rounded up to whole mm (seed 001's poses keep every raw height above −D).
-    fn written_offsets(&self) -> Vec<f64> {
-        let d = self.z_axes_offset();
-        (0..self.limits().len())
-            .map(|i| if (2..5).contains(&i) { d } else { 0.0 })
-            .collect()
-    }
-
     /// X, Y and the mean of the Z motors (the bed's height under its centroid: the tilt a
     /// drawing shows is that of the motor plane, an approximation of the bed's).
     fn head_position(&self, axes: &[f64]) -> DVec3 {

@@ -4,6 +4,7 @@
 
 pub mod check;
 pub mod closed;
+pub mod firmware;
 pub mod inside;
 pub mod machine;
 pub mod skip;
