@@ -3,11 +3,13 @@
 //! - the flavour changes only what docs/machines.md says it changes (the `; warpslice machine =
 //!   … <flavour>` line and the flavour's header block): every other line, every move included,
 //!   is the RepRapFirmware output's;
-//! - Klipper (accepted only for `cartesian`): its moves carry no word but X Y Z E F, no G93,
+//! - Klipper on `cartesian`: its moves carry no word but X Y Z E F, no G93,
 //!   every F a positive mm/min number the firmware reads (no exponent), F = the slicer's feed
 //!   (`--feed xyz`), and its object extrusions lie on the conic layer surfaces computed here in
 //!   closed form (README: T_z = z + r·tan α), so the moves are right and not only equal;
-//! - Klipper is refused for every other preset, with the reason;
+//! - Klipper drives every machine: the header's `[manual_stepper]` / `MANUAL_STEPPER …
+//!   GCODE_AXIS=` letters are the moves' extra letters, no `G92` on an extra axis, no `G93`;
+//!   an axis lettered E is refused by name;
 //! - Marlin on the 4/5-axis presets: the letters `#define AXISn_NAME` declares (n = 4, 5, …, in
 //!   Marlin's A B C U V W) are exactly the extra letters the moves use, rotary or linear as
 //!   docs/machines.md says, within the travel the header gives; on `pax-5axis` the A/B words,
@@ -511,25 +513,142 @@ fn marlin_never_gets_inverse_time() {
     assert!(lines(&text).iter().any(|l| l.cmd == Some("G93")));
 }
 
+/// Klipper's header for a machine with extra axes: the `[manual_stepper <name>]` sections and
+/// the `MANUAL_STEPPER STEPPER=<name> GCODE_AXIS=<L> …` lines, per letter (the same name in
+/// both), and whether the `INSTANTANEOUS_CORNER_VELOCITY` advice is there.
+fn klipper_header(own: &[&str]) -> (Vec<(String, char)>, Vec<(String, char)>, bool) {
+    let mut sections = Vec::new();
+    let mut registered = Vec::new();
+    let mut corner = false;
+    for l in own {
+        if let Some(t) = l.strip_prefix(";   [manual_stepper ") {
+            let (name, rest) = t.split_once(']').expect("[manual_stepper name]");
+            let letter = rest
+                .split_once("; axis ")
+                .and_then(|(_, r)| r.chars().next())
+                .expect("; axis L");
+            sections.push((name.to_string(), letter));
+        } else if let Some(t) = l.strip_prefix(";   MANUAL_STEPPER STEPPER=") {
+            let (name, rest) = t.split_once(' ').unwrap();
+            let letter = rest
+                .strip_prefix("GCODE_AXIS=")
+                .and_then(|r| r.chars().next())
+                .expect("GCODE_AXIS=L");
+            assert!(
+                l.contains("INSTANTANEOUS_CORNER_VELOCITY="),
+                "the corner velocity is set where the axis is registered: {l}"
+            );
+            registered.push((name.to_string(), letter));
+        } else if l.starts_with(";   INSTANTANEOUS_CORNER_VELOCITY: ") && l.contains("1 mm/s") {
+            corner = true;
+        }
+    }
+    (sections, registered, corner)
+}
+
+/// Klipper (mainline since 2025-05: extra axes registered with `MANUAL_STEPPER … GCODE_AXIS=`)
+/// drives every machine: its header declares exactly the extra letters the moves use (in the
+/// machine's order), with the corner-velocity advice (the default 1 mm/s); its `G92` sets X Y Z
+/// E only, so no `G92` names an extra axis (RotBot's unlimited U is written unwrapped) and no
+/// `G93` is written.
 #[test]
-fn klipper_is_refused_for_every_other_preset_with_the_reason() {
+fn klipper_drives_every_machine_through_manual_stepper_axes() {
+    // about the part's centre: every perimeter turns the nozzle once around
+    let conic45 = ["--warp", "conic", "--angle", "45", "--center", "0,0"];
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "pax-5axis",
+            &["--warp", "conic", "--angle", "25", "--center", "-15,0"],
+        ),
+        (
+            "fullcontrol-prusa-b",
+            &["--warp", "curved", "--strength", "0.3"],
+        ),
+        ("rotbot", &conic45),
+        ("ratrig-vcore3-3z", &["--warp", "belt", "--angle", "20"]),
+    ];
+    for (preset, warp) in cases {
+        let part = part(&format!("klipper-{preset}"), warp);
+        let text = part.unwarp(
+            &format!("{preset}-klipper.gcode"),
+            &["--machine", preset, "--flavour", "klipper"],
+        );
+        let (own, _) = split_flavour(&text);
+        assert_eq!(own[0], format!("; warpslice machine = {preset} klipper"));
+        let (sections, registered, corner) = klipper_header(&own);
+        let want: Vec<char> = documented_extra_axes(preset).iter().map(|a| a.0).collect();
+        let letters = |v: &[(String, char)]| v.iter().map(|x| x.1).collect::<Vec<char>>();
+        assert_eq!(letters(&sections), want, "{preset}: {own:?}");
+        assert_eq!(
+            sections, registered,
+            "{preset}: the same steppers registered"
+        );
+        assert!(corner, "{preset}: no corner-velocity advice: {own:?}");
+        let mut used = BTreeSet::new();
+        let mut turned = 0.0f64;
+        for l in lines(&text) {
+            let Some(cmd) = l.cmd else { continue };
+            assert!(cmd != "G93", "{preset}: Klipper has no G93: {}", l.text);
+            if cmd == "G92" {
+                for (c, _) in &l.words {
+                    assert!(
+                        "XYZE".contains(*c),
+                        "{preset}: Klipper's G92 sets X Y Z E only: {}",
+                        l.text
+                    );
+                }
+            }
+            if MOTION.contains(&cmd) {
+                for (c, v) in &l.words {
+                    let x = num(l.text, v);
+                    if !"XYZEF".contains(*c) {
+                        used.insert(*c);
+                        if *c == 'U' && preset == "rotbot" {
+                            turned = turned.max(x.abs());
+                        }
+                    }
+                    if *c == 'F' {
+                        assert!(x > 0.0, "{preset}: a positive feed: {}", l.text);
+                    }
+                }
+            }
+        }
+        assert_eq!(
+            used,
+            want.iter().copied().collect(),
+            "{preset}: letters used vs declared"
+        );
+        if preset == "rotbot" {
+            // unwrapped: the perimeters about the cone's axis add up to more than one turn
+            assert!(
+                turned > 360.0,
+                "rotbot U stays within {turned}°: was it reset?"
+            );
+        }
+    }
+}
+
+/// A letter Klipper's G1 reads as something else (E: the extruder) cannot name an axis:
+/// refused by name, as the inverse-time feed it has no G93 for.
+#[test]
+fn klipper_refuses_an_axis_named_e_by_name() {
     let part = part(
-        "klipper-refused",
+        "klipper-letter",
         &["--warp", "conic", "--angle", "25", "--center", "-15,0"],
     );
-    let names = warpslice::machine::preset_names();
-    assert!(names.len() >= 9, "{names:?}");
-    for name in names.iter().filter(|n| **n != "cartesian") {
-        let e = part.unwarp_err(
-            &format!("{name}.gcode"),
-            &["--machine", name, "--flavour", "klipper"],
-        );
-        assert!(
-            e.contains(&format!("machine {name}: flavour klipper refused"))
-                && e.contains("use reprapfirmware or marlin"),
-            "{name}: {e}"
-        );
-    }
+    let mut spec = warpslice::machine::preset("pax-5axis").unwrap();
+    spec.axis_names = Some(["X", "Y", "Z", "E", "B"].map(String::from).to_vec());
+    spec.flavour = None;
+    let file = part.dir.join("pax-e.json");
+    std::fs::write(&file, spec.to_json()).unwrap();
+    let e = part.unwarp_err(
+        "pax-e.gcode",
+        &["--machine", file.to_str().unwrap(), "--flavour", "klipper"],
+    );
+    assert!(
+        e.contains("flavour klipper refused") && e.contains("'E' is the extruder"),
+        "{e}"
+    );
 }
 
 // ── Marlin ──────────────────────────────────────────────────────────────────────────────────

@@ -522,17 +522,17 @@ fn unwarp_errors_are_named() {
         e.starts_with("G-code line ") && e.contains("axis X") && e.contains("outside its travel"),
         "{e}"
     );
-    // Klipper cannot drive a 5-axis head
+    // Klipper drives a 5-axis head, but has no G93
     let klipper = UnwarpSettings {
         unwarp: UnwarpOptions::default(),
         output: MachineOptions {
             machine: Some(preset("pax-5axis").unwrap()),
             flavour: Some(warpslice::machine::Flavour::Klipper),
-            ..MachineOptions::default()
+            feed: FeedMode::InverseTime,
         },
     };
     let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();
-    assert!(e.contains("Klipper has no rotary-axis"), "{e}");
+    assert!(e.contains("Klipper has no G93"), "{e}");
     // options JSON: a preset name, an unknown one
     let o: UnwarpSettings =
         serde_json::from_str(r#"{"machine": "rotbot", "feed": "inverse-time"}"#).unwrap();
@@ -580,6 +580,8 @@ fn unwarp_errors_are_named() {
             "pax-5axis",
             "--flavour",
             "klipper",
+            "--feed",
+            "inverse-time",
             "-o",
             o.to_str().unwrap(),
         ],

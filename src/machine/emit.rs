@@ -340,14 +340,12 @@ impl Emitter for MachineEmitter {
             format!(
                 "; warpslice feed = {}",
                 match self.feed {
-                    FeedMode::Tip => format!(
-                        "tip (F = tool-tip feed × the move's length by {}'s own rule / its tip length: every move takes tip length / tip feed)",
-                        self.flavour.name()
-                    ),
-                    FeedMode::Xyz => "xyz (F = tool-tip speed; the firmware must count only X Y Z)".into(),
+                    FeedMode::Tip =>
+                        "tip (F = tool-tip feed × the move's length by the firmware's own rule / its tip length: every move takes tip length / tip feed)",
+                    FeedMode::Xyz => "xyz (F = tool-tip speed; the firmware must count only X Y Z)",
                     FeedMode::AllAxes =>
-                        "all-axes (F scaled so rotary degrees counted in the move length keep the tip speed)".into(),
-                    FeedMode::InverseTime => "inverse-time (G93 in the printed region, G94 after it)".into(),
+                        "all-axes (F scaled so rotary degrees counted in the move length keep the tip speed)",
+                    FeedMode::InverseTime => "inverse-time (G93 in the printed region, G94 after it)",
                 }
             ),
             format!(

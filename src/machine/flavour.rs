@@ -377,4 +377,152 @@ mod tests {
             "{marlin}"
         );
     }
+
+    /// `M208 <L><v> S<s>` lines of a RepRapFirmware header: (letter, S, value).
+    fn m208(lines: &[String]) -> Vec<(String, u8, f64)> {
+        lines
+            .iter()
+            .filter_map(|l| l.strip_prefix(";   M208 "))
+            .map(|t| {
+                let code = t.split(';').next().unwrap();
+                let w: Vec<&str> = code.split_whitespace().collect();
+                assert_eq!(w.len(), 2, "{t}");
+                let (letter, v) = w[0].split_at(1);
+                let s = match w[1] {
+                    "S1" => 1,
+                    "S0" => 0,
+                    other => panic!("M208 {other}"),
+                };
+                (letter.to_string(), s, v.parse().expect("an M208 number"))
+            })
+            .collect()
+    }
+
+    /// Every preset × flavour: the header block's lines are there and parse as the firmware's
+    /// own commands: RepRapFirmware's `M584` names every axis and an extruder drive, `M208`
+    /// gives each finite limit (S1 minimum, S0 maximum; ±100000 for an unlimited rotary axis),
+    /// `M564` advice, `G93`'s minimum version with inverse time; Klipper a `[manual_stepper]`
+    /// and a `MANUAL_STEPPER … GCODE_AXIS=` line per extra axis; Marlin an `AXISn_NAME` each.
+    #[test]
+    fn every_preset_gets_a_parseable_header_in_every_flavour() {
+        for name in crate::machine::preset_names() {
+            let m = crate::machine::preset(name).unwrap().build().unwrap();
+            let limits = m.limits();
+            let extra: Vec<&AxisLimit> = limits
+                .iter()
+                .filter(|l| !["X", "Y", "Z"].contains(&l.name.as_str()))
+                .collect();
+            for feed in [FeedMode::Tip, FeedMode::InverseTime] {
+                let rrf = Flavour::RepRapFirmware.header(limits, feed);
+                let m584 = rrf
+                    .iter()
+                    .find_map(|l| l.strip_prefix(";   M584 "))
+                    .expect("M584");
+                let words: Vec<&str> = m584.split(';').next().unwrap().split_whitespace().collect();
+                let mut want: Vec<String> = limits.iter().map(|l| l.name.clone()).collect();
+                want.push("E".into());
+                let got: Vec<String> = words
+                    .iter()
+                    .map(|w| {
+                        let (letter, drv) = w.split_at(1);
+                        assert!(drv.starts_with("<driver") && drv.ends_with('>'), "{w}");
+                        letter.to_string()
+                    })
+                    .collect();
+                assert_eq!(got, want, "{name}: M584 {m584}");
+                let lines = m208(&rrf);
+                for l in limits {
+                    let get = |s: u8| {
+                        lines
+                            .iter()
+                            .find(|(n, ss, _)| *n == l.name && *ss == s)
+                            .map(|x| x.2)
+                    };
+                    for (s, v, wide) in [
+                        (1, l.min, -RRF_UNLIMITED_ROTARY_DEG),
+                        (0, l.max, RRF_UNLIMITED_ROTARY_DEG),
+                    ] {
+                        let want = if v.is_finite() {
+                            Some(v)
+                        } else if l.rotary {
+                            Some(wide)
+                        } else {
+                            None
+                        };
+                        assert_eq!(get(s), want, "{name}: M208 {} S{s}", l.name);
+                    }
+                }
+                assert!(
+                    rrf.iter().any(|l| l.starts_with(";   M564 H1 S1")),
+                    "{name}"
+                );
+                assert_eq!(
+                    rrf.iter().any(|l| l.contains("G93") && l.contains("3.5.0")),
+                    feed == FeedMode::InverseTime,
+                    "{name}"
+                );
+
+                let kl = Flavour::Klipper.header(limits, feed);
+                if extra.is_empty() {
+                    assert_eq!(kl, ["; flavour Klipper (3-axis)"], "{name}");
+                }
+                for l in &extra {
+                    let stepper = format!("axis_{}", l.name.to_ascii_lowercase());
+                    let section = kl
+                        .iter()
+                        .find(|x| x.starts_with(&format!(";   [manual_stepper {stepper}]")))
+                        .unwrap_or_else(|| panic!("{name}: no section for {}", l.name));
+                    if l.min.is_finite() {
+                        assert!(
+                            section.contains(&format!(
+                                "position_min: {}",
+                                crate::num::fmt_shortest(l.min)
+                            )),
+                            "{section}"
+                        );
+                    }
+                    assert!(
+                        kl.iter().any(|x| x.starts_with(&format!(
+                            ";   MANUAL_STEPPER STEPPER={stepper} GCODE_AXIS={} ",
+                            l.name
+                        )) && x.contains("INSTANTANEOUS_CORNER_VELOCITY=")),
+                        "{name}: {kl:?}"
+                    );
+                }
+                let marlin = Flavour::Marlin.header(limits, feed);
+                let defs = marlin.iter().filter(|l| l.contains("#define AXIS")).count();
+                assert_eq!(defs, extra.len(), "{name}");
+            }
+        }
+    }
+
+    /// The refusals, by name (code `machine.unsupported-flavour`): Marlin and Klipper with
+    /// inverse time, Klipper with an axis lettered E or F or with a longer name.
+    #[test]
+    fn refusals_are_named() {
+        use crate::error::Coded;
+        let xyz = [
+            AxisLimit::linear("X"),
+            AxisLimit::linear("Y"),
+            AxisLimit::linear("Z"),
+        ];
+        for f in [Flavour::Marlin, Flavour::Klipper] {
+            let e = f.check("m", &xyz, FeedMode::InverseTime).unwrap_err();
+            assert_eq!(e.code(), "machine.unsupported-flavour");
+            assert!(e.to_string().contains("has no G93"), "{e}");
+        }
+        assert!(Flavour::RepRapFirmware
+            .check("m", &xyz, FeedMode::InverseTime)
+            .is_ok());
+        for (letter, why) in [("E", "extruder"), ("F", "feed rate"), ("AA", "one letter")] {
+            let mut l = xyz.to_vec();
+            l.push(AxisLimit::rotary(letter, -90.0, 90.0));
+            let e = Flavour::Klipper.check("m", &l, FeedMode::Tip).unwrap_err();
+            assert_eq!(e.code(), "machine.unsupported-flavour");
+            assert!(e.to_string().contains(why), "{e}");
+        }
+        let mut ok = xyz.to_vec();
+        ok.push(AxisLimit::rotary("A", -90.0, 90.0));
+        assert!(Flavour::Klipper.check("m", &ok, FeedMode::Tip).is_ok());
+    }
 }

@@ -33,10 +33,10 @@
 //!
 //! The paper's preset (§4.1): b̂₀ = (−4.07, −12.16), b̂₁ = (304.93, −12.16),
 //! b̂₂ = (150.43, 296.84), ball z = −45.7 mm, slots 29.89°, 150.11°, −90°, tilt ≤ 30°.
-//! The Z motors go below zero when the bed tilts: their travel is `[−D, ∞)` with
-//! `D = (largest ball distance + |ball z|) · sin(max tilt)` rounded up to whole mm (every pose
-//! within the tilt keeps each raw height above −D); the flavour headers give the firmware that
-//! minimum (RepRapFirmware `M208 Z−D S1`, which defaults to 0 and clamps a homed axis there).
+//! The Z motors go below zero when the bed tilts: their travel is `[−D, ∞)` (D in
+//! [`ThreeZ::z_motor_depth`]: every tip on the plate at a tilt within the limit keeps each
+//! raw height above −D); the flavour headers give the firmware that minimum (RepRapFirmware
+//! `M208 Z−D S1`: its default minimum is 0, and it clamps a homed axis there).
 
 use glam::{DVec2, DVec3};
 
@@ -126,16 +126,28 @@ pub struct ThreeZ {
 }
 
 impl ThreeZ {
-    /// D of the Z motors' travel `[−D, ∞)` (see the module documentation), mm.
+    /// D of the Z motors' travel `[−D, ∞)`, mm: how far below the tip's height a motor can be
+    /// for a tip on the build plate (x ∈ [0, w], y ∈ [0, d], z ≥ 0, bed frame) and a tilt up to
+    /// θ = `max_tilt_deg`. A motor's height follows its ball (Eq. 1, `(bᵢ)_z = −zᵢ`), which is
+    /// the vector v from the contact point to the ball rotated with the bed: the ball moves
+    /// vertically by at most `|Rv − v| ≤ 2 sin(θ/2) |v|`, with |v|² ≤ (largest distance from a
+    /// plate corner to a ball)² + ball_z². So `D = ⌈2 sin(θ/2) · √(spread² + ball_z²)⌉`
+    /// (225 mm for the RatRig preset).
     pub fn z_motor_depth(p: &ThreeZParams) -> f64 {
+        let [w, d, _] = p.build_volume_mm;
         let mut spread = 0.0f64;
-        for a in &p.balls_xy {
+        for c in [[0.0, 0.0], [w, 0.0], [0.0, d], [w, d]] {
             for b in &p.balls_xy {
-                spread = spread.max(((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
+                spread = spread.max(((c[0] - b[0]).powi(2) + (c[1] - b[1]).powi(2)).sqrt());
             }
         }
-        let d = (spread + p.ball_z_mm.abs()) * num::sin(num::rad(p.max_tilt_deg));
-        d.max(0.0).ceil()
+        let v = (spread * spread + p.ball_z_mm * p.ball_z_mm).sqrt();
+        let depth = 2.0 * num::sin(num::rad(p.max_tilt_deg) / 2.0) * v;
+        if depth.is_finite() {
+            depth.max(0.0).ceil()
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// Build with axis letters `names` (X Y Z U V).
