@@ -248,6 +248,16 @@ impl Flavour {
                         klipper_travel(l)
                     ));
                 }
+                for l in limits.iter().filter(|l| !extra.contains(l)) {
+                    let travel = klipper_travel(l);
+                    if let Some(t) = travel.strip_prefix(", ") {
+                        lines.push(format!(
+                            ";   [stepper_{}] {t}   ; axis {} travel, mm",
+                            l.name.to_ascii_lowercase(),
+                            l.name
+                        ));
+                    }
+                }
                 lines.push(
                     ";   and, before this file's moves (the start G-code or a [delayed_gcode]):"
                         .into(),
@@ -488,6 +498,17 @@ mod tests {
                         )) && x.contains("INSTANTANEOUS_CORNER_VELOCITY=")),
                         "{name}: {kl:?}"
                     );
+                }
+                for l in limits
+                    .iter()
+                    .filter(|l| !extra.contains(l) && l.min.is_finite())
+                {
+                    let want = format!(
+                        ";   [stepper_{}] position_min: {}",
+                        l.name.to_ascii_lowercase(),
+                        crate::num::fmt_shortest(l.min)
+                    );
+                    assert!(kl.iter().any(|x| x.starts_with(&want)), "{name}: {kl:?}");
                 }
                 let marlin = Flavour::Marlin.header(limits, feed);
                 let defs = marlin.iter().filter(|l| l.contains("#define AXIS")).count();
