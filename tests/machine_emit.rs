@@ -179,7 +179,7 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     }
     let m = spec.build().map_err(|e| e.to_string())?;
     let names = m.axis_names();
-    let (lines, _) = parse(&text, &names)?;
+    let lines = parse(&text, &names)?;
     let rep = out.report.machine.clone().ok_or("no machine report")?;
     if name == "cartesian" {
         return Ok(format!(
@@ -683,7 +683,7 @@ fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
         3 * rep.rotate_arounds
     );
     let m = spec.build().unwrap();
-    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    let lines = parse(&text, &m.axis_names()).unwrap();
     assert!(lines.iter().all(|l| (-180.0..=180.0).contains(&l.axes[3])));
     // every point is reached (tip and realised axis; the descent of a rotate-around lands on
     // its point), the lifted moves are 1 mm up
@@ -708,7 +708,7 @@ fn single_revolution_rotates_around_and_unlimited_resets_at_layer_change() {
     assert_eq!(rep.rotate_arounds, 0);
     assert!(rep.rotary_resets >= 1 && text.contains("G92 U"), "{text}");
     let m = spec.build().unwrap();
-    let (lines, _) = parse(&text, &m.axis_names()).unwrap();
+    let lines = parse(&text, &m.axis_names()).unwrap();
     // continuous: no jump of U between consecutive lines (a reset renames a line by 360°)
     for w in lines.windows(2) {
         let d = w[1].axes[3] - w[0].after.as_ref().unwrap_or(&w[0].axes)[3];

@@ -493,7 +493,7 @@ fn machine_case(
         }));
     }
     let text = String::from_utf8(out.gcode).map_err(|e| e.to_string())?;
-    let (lines, _) = common::machine::parse(&text, &axis_names)?;
+    let lines = common::machine::parse(&text, &axis_names)?;
     let r = common::machine::check(&spec, &out.toolpath, &lines, 0);
     // WARPSLICE_KEEP_FAILED=DIR (local reproduction): the failed case's machine G-code and
     // toolpath are kept there

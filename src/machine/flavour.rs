@@ -274,7 +274,7 @@ impl Flavour {
                     ";   INSTANTANEOUS_CORNER_VELOCITY: an extra axis' junction speed defaults to {KLIPPER_EXTRA_AXIS_CORNER_DEFAULT} mm/s (deg/s); this file splits curved moves into short pieces, so set it near the axis' speed on the path or every junction slows the print"
                 ));
                 lines.push(
-                    ";   Klipper times a move by its X Y Z length (the largest E or extra-axis change when X Y Z are still): --feed tip computes F for that rule; Klipper has no G93".into(),
+                    ";   Klipper times a move by its X Y Z length (the largest E or extra-axis change when X Y Z are still, which it runs as an extrude-only move: mind max_extrude_only_velocity and LIMIT_ACCEL): --feed tip computes F for that rule; Klipper has no G93".into(),
                 );
                 if extra
                     .iter()

@@ -44,20 +44,9 @@ pub struct AxisLine {
 }
 
 /// Parse the machine G-code: `G1` lines with every axis letter (the region), `G92` on the
-/// axes (rotary resets, the triple-Z offset, subtracted to give raw values).
-pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), String> {
-    let mut offset = 0.0;
-    for l in text.lines() {
-        if let Some(rest) = l.strip_prefix("; warpslice z axes offset = ") {
-            offset = rest
-                .split_whitespace()
-                .next()
-                .and_then(|v| v.parse().ok())
-                .ok_or("bad offset line")?;
-        }
-    }
+/// axes (rotary resets: the next move starts from the renamed position).
+pub fn parse(text: &str, names: &[String]) -> Result<Vec<AxisLine>, String> {
     let mut cur: Vec<Option<f64>> = vec![None; names.len()];
-    let mut in_offset = false;
     let mut out: Vec<AxisLine> = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let (code, comment) = match raw.find(';') {
@@ -83,11 +72,7 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
             }
         }
         if cmd == "G92" {
-            if comment.contains("z axes offset (level bed") {
-                in_offset = true;
-            } else if comment.contains("z axes offset removed") {
-                in_offset = false;
-            } else if let Some(last) = out.last_mut() {
+            if let Some(last) = out.last_mut() {
                 // a rotary reset renames the current position: the next move starts there
                 let mut after = last.after.clone().unwrap_or_else(|| last.axes.clone());
                 for (k, &sn) in seen.iter().enumerate() {
@@ -100,12 +85,7 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
             continue;
         }
         if seen.iter().all(|&s| s) && names.iter().any(|n| !["X", "Y", "Z"].contains(&n.as_str())) {
-            let mut axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
-            if in_offset {
-                for a in &mut axes[2..5] {
-                    *a -= offset;
-                }
-            }
+            let axes: Vec<f64> = cur.iter().map(|v| v.unwrap_or(0.0)).collect();
             out.push(AxisLine {
                 number: i + 1,
                 axes,
@@ -116,7 +96,7 @@ pub fn parse(text: &str, names: &[String]) -> Result<(Vec<AxisLine>, f64), Strin
             });
         }
     }
-    Ok((out, offset))
+    Ok(out)
 }
 
 /// Distance from `q` to the segment a–b and the parameter of the closest point.
