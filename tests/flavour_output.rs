@@ -513,10 +513,13 @@ fn marlin_never_gets_inverse_time() {
     assert!(lines(&text).iter().any(|l| l.cmd == Some("G93")));
 }
 
+/// (stepper name, axis letter) pairs.
+type Steppers = Vec<(String, char)>;
+
 /// Klipper's header for a machine with extra axes: the `[manual_stepper <name>]` sections and
 /// the `MANUAL_STEPPER STEPPER=<name> GCODE_AXIS=<L> …` lines, per letter (the same name in
 /// both), and whether the `INSTANTANEOUS_CORNER_VELOCITY` advice is there.
-fn klipper_header(own: &[&str]) -> (Vec<(String, char)>, Vec<(String, char)>, bool) {
+fn klipper_header(own: &[&str]) -> (Steppers, Steppers, bool) {
     let mut sections = Vec::new();
     let mut registered = Vec::new();
     let mut corner = false;

@@ -384,7 +384,7 @@ fn tip_feed_moves_the_tip_at_the_slicers_speed_on_every_firmware() {
             return;
         };
         for fw in [
-            Firmware::RepRapFirmware,
+            Firmware::Rrf,
             Firmware::Marlin,
             Firmware::Klipper,
         ] {

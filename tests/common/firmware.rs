@@ -21,8 +21,11 @@ use std::collections::BTreeMap;
 /// The firmwares of the flavours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Firmware {
-    RepRapFirmware,
+    /// RepRapFirmware 3.
+    Rrf,
+    /// Marlin 2.1.
     Marlin,
+    /// Klipper.
     Klipper,
 }
 
@@ -30,7 +33,7 @@ impl Firmware {
     /// The `--flavour` name.
     pub fn flavour(self) -> &'static str {
         match self {
-            Firmware::RepRapFirmware => "reprapfirmware",
+            Firmware::Rrf => "reprapfirmware",
             Firmware::Marlin => "marlin",
             Firmware::Klipper => "klipper",
         }
@@ -49,7 +52,7 @@ impl Firmware {
                 .sqrt()
         };
         match self {
-            Firmware::RepRapFirmware | Firmware::Marlin => {
+            Firmware::Rrf | Firmware::Marlin => {
                 let linear = norm(&|c| !rotary.contains(&c));
                 let turning = norm(&|c| rotary.contains(&c));
                 if linear > 0.0 {
@@ -158,7 +161,7 @@ mod own {
     #[test]
     fn the_rules_differ_where_the_firmwares_do() {
         let d: BTreeMap<char, f64> = [('X', 3.0), ('U', 4.0), ('A', 90.0)].into_iter().collect();
-        assert_eq!(Firmware::RepRapFirmware.move_length(&d, &['A'], 0.1), 5.0);
+        assert_eq!(Firmware::Rrf.move_length(&d, &['A'], 0.1), 5.0);
         assert_eq!(Firmware::Klipper.move_length(&d, &['A'], 0.1), 3.0);
         let r: BTreeMap<char, f64> = [('X', 0.0), ('A', -30.0), ('U', 4.0)].into_iter().collect();
         assert_eq!(Firmware::Marlin.move_length(&r, &['A'], 0.1), 4.0);
