@@ -383,11 +383,7 @@ fn tip_feed_moves_the_tip_at_the_slicers_speed_on_every_firmware() {
         let Some((input, job)) = sliced(&warp_for(name), centre_for(name), &dir, name) else {
             return;
         };
-        for fw in [
-            Firmware::Rrf,
-            Firmware::Marlin,
-            Firmware::Klipper,
-        ] {
+        for fw in [Firmware::Rrf, Firmware::Marlin, Firmware::Klipper] {
             match tip_speed_case(name, fw, &input, &job) {
                 Ok((checked, rounding, worst)) => {
                     println!(
