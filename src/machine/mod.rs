@@ -34,7 +34,7 @@
 
 use core::fmt;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 pub mod abtable;
 pub mod angles;
@@ -45,6 +45,7 @@ pub mod cartesian;
 pub mod emit;
 pub mod feed;
 pub mod flavour;
+pub mod head;
 pub mod lathe;
 pub mod laws;
 pub mod options;
@@ -196,6 +197,14 @@ pub trait Machine: Send + Sync + fmt::Debug {
     ) -> Result<(), MachineError> {
         Ok(())
     }
+    /// The head's orientation in the output (part) frame for these axis values: the columns are
+    /// the tool frame's x, y and z (= the tool axis) axes ([`head`]: the heater block's box is
+    /// placed with it). `None` (the default): the machine does not say how the head is turned
+    /// about the tool axis, and the collision check takes each box as the cylinder about the
+    /// tool axis that contains it.
+    fn head_frame(&self, _axes: &[f64]) -> Option<DMat3> {
+        None
+    }
     /// Where the head is in the machine's own frame for these axis values (mm), for drawing the
     /// toolpath in machine coordinates: by default the first three axes are X Y Z.
     fn head_position(&self, axes: &[f64]) -> DVec3 {
@@ -300,6 +309,32 @@ pub enum MachineError {
         /// The machine's mandrel axis (y, z), output frame, mm.
         mandrel: [f64; 2],
     },
+    /// A head part would hit the printed material or the bed (the collision check).
+    Collision {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// 1-based line of the output G-code.
+        line: u64,
+        /// Layer of the move (1-based count of the slicer's layer changes).
+        layer: u32,
+        /// The head part (as named in the machine's `head`).
+        part: String,
+        /// `material` or `bed`.
+        obstacle: String,
+        /// Penetration depth (overlap along Z), mm.
+        depth_mm: f64,
+        /// Where: output frame x, y, and the z where the part enters, mm.
+        at: [f64; 3],
+        /// How many findings the file has.
+        total: usize,
+    },
+    /// The collision check cannot judge this machine.
+    CollisionUnsupported {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// Why.
+        reason: String,
+    },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
         /// Name of the machine (preset or JSON `name`).
@@ -357,6 +392,16 @@ impl fmt::Display for MachineError {
                 "the cylindrical warp's layers are coaxial about the line y = {}, z = {} (along X, in the output) but machine {machine} turns about y = {}, z = {}: set \"axis_y_mm\": {}, \"axis_z_mm\": {} in the machine JSON, or --place the part so that its warp axis lies on the mandrel",
                 crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1]), crate::num::fmt_shortest(mandrel[0]), crate::num::fmt_shortest(mandrel[1]), crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1])
             ),
+            MachineError::Collision { machine, line, layer, part, obstacle, depth_mm, at, total } => write!(
+                f,
+                "machine {machine}: output line {line} (layer {layer}): the {part} goes {depth_mm:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) ({total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
+                if obstacle == "bed" { "bed" } else { "printed material" },
+                at[0], at[1], at[2], if *total == 1 { "" } else { "s" }
+            ),
+            MachineError::CollisionUnsupported { machine, reason } => write!(
+                f,
+                "machine {machine}: the collision check cannot judge this machine: {reason}; turn check_collisions off for it"
+            ),
             MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
@@ -379,4 +424,6 @@ crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     BadCsv => "machine.bad-csv", "a kinematics CSV line is invalid";
     MandrelMismatch => "machine.mandrel-mismatch", "a cylindrical job whose axis is not the mandrel's";
     UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
+    Collision => "machine.collision", "a head part would hit the printed material or the bed";
+    CollisionUnsupported => "machine.collision-unsupported", "the collision check cannot judge this machine";
 } wraps {});
