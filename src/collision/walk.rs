@@ -3,7 +3,8 @@
 //! deposited as a bead.
 //!
 //! - Positions: absolute (`G90`) or relative (`G91`); missing axes keep their value (0 before
-//!   the first). `G92` on an axis keeps the raw position and shifts the written one (raw =
+//!   the first). The first move is checked at its end only (where the head came from is not
+//!   in the file). `G92` on an axis keeps the raw position and shifts the written one (raw =
 //!   written + offset); warpslice's own triple-Z `G92` lines (tagged `z axes offset`) declare
 //!   raw + D ([`crate::machine::Machine::written_offsets`]), so there raw = written − D.
 //! - E: `M82`/`M83` (relative by default, as warpslice writes for PrusaSlicer), `G92 E`. A move
@@ -184,9 +185,13 @@ impl Walker {
             if let (Some(e), false) = (e, self.relative_e) {
                 self.e_last = e;
             }
-            let first = std::mem::take(&mut self.first);
-            self.checker
-                .check_move(&from, &to, self.line, self.layer, first)?;
+            if std::mem::take(&mut self.first) {
+                // where the head was before the first move is unknown: check where it goes
+                self.checker.check_move(&to, &to, self.line, self.layer, true)?;
+            } else {
+                self.checker
+                    .check_move(&from, &to, self.line, self.layer, false)?;
+            }
             if extrudes {
                 self.checker.deposit(&from, &to, self.width)?;
             }

@@ -21,8 +21,9 @@
 //! 11.5 mm with the nozzle 6 mm from its −x end (the cartridge towards +x), from 4.5 to 16 mm.
 //! Heat sink Ø 22.3 mm from 18 to 44 mm. With the tip on the bed, the block's +x edge touches the
 //! bed at tilt atan(4.5/14) = 17.8°: seed 000 §4.3.1 found 18° for the B head by trying.
-//! The RTN presets (seed 002: RotBot and Slicer4RTN use Volcano-class blocks, the nozzle
-//! protrudes further) take an 8 mm nozzle below the same block.
+//! The RTN presets (kind `rtn`, seed 002) take a long nozzle below the same block: 15 mm,
+//! 15° half-angle, so that at the fixed 45° tilt the block stays above the tip's plane (seed
+//! 002's own RTN had its block "touching the bed (same height as nozzle)").
 //!
 //! ## The bed, in the output (part) frame
 //! The part sits on the bed, so in the output frame the bed does not move, whatever the machine
@@ -131,18 +132,27 @@ pub const V6_TIP_RADIUS_MM: f64 = 0.5;
 pub const V6_NOZZLE_HALF_ANGLE_DEG: f64 = 40.0;
 /// Tip to heater block, mm (E3D V6).
 pub const V6_NOZZLE_LENGTH_MM: f64 = 4.5;
+/// The rotating tilted nozzle's long nozzle, tip to heater block, mm: at the fixed 45° tilt the
+/// block's far edge (14 mm from the nozzle) is then 0.7 mm above the tip, where seed 002's
+/// Micro Swiss RTN had its block "touching the bed (same height as nozzle)".
+pub const RTN_NOZZLE_LENGTH_MM: f64 = 15.0;
+/// The long nozzle's tip radius, mm: its 0.4 mm opening (a flat tip tilted 45° over a planar
+/// layer would dip r·sin 45° below the tip).
+pub const RTN_TIP_RADIUS_MM: f64 = 0.2;
+/// The long nozzle's half-angle, degrees (Ø 8.5 mm at the block).
+pub const RTN_NOZZLE_HALF_ANGLE_DEG: f64 = 15.0;
 
 impl HeadSpec {
     /// The E3D-V6-class head with the nozzle protruding `nozzle_mm` below the heater block (see
     /// the module documentation).
-    pub fn v6(nozzle_mm: f64) -> HeadSpec {
+    pub fn v6(nozzle_mm: f64, half_angle_deg: f64, tip_radius_mm: f64) -> HeadSpec {
         let b = nozzle_mm;
         HeadSpec {
             parts: vec![
                 HeadPart::Cone {
                         name: "nozzle".into(),
-                        tip_radius_mm: V6_TIP_RADIUS_MM,
-                        half_angle_deg: V6_NOZZLE_HALF_ANGLE_DEG,
+                        tip_radius_mm,
+                        half_angle_deg,
                         length_mm: b,
                         from_mm: 0.0,
                 },
@@ -164,8 +174,16 @@ impl HeadSpec {
     /// The default head of a machine kind (see the module documentation).
     pub fn default_for(kind: &str) -> HeadSpec {
         match kind {
-            "rtn" => HeadSpec::v6(8.0),
-            _ => HeadSpec::v6(V6_NOZZLE_LENGTH_MM),
+            "rtn" => HeadSpec::v6(
+                RTN_NOZZLE_LENGTH_MM,
+                RTN_NOZZLE_HALF_ANGLE_DEG,
+                RTN_TIP_RADIUS_MM,
+            ),
+            _ => HeadSpec::v6(
+                V6_NOZZLE_LENGTH_MM,
+                V6_NOZZLE_HALF_ANGLE_DEG,
+                V6_TIP_RADIUS_MM,
+            ),
         }
     }
 
