@@ -93,7 +93,10 @@ fn tip_plunging_through_printed_material_is_found_on_its_line() {
     let e = refusal("cartesian", &f).expect("refused");
     assert_eq!(e.code(), "machine.collision");
     let msg = e.to_string();
-    assert!(msg.contains(&format!("output line {plunge} (layer 10)")) && msg.contains("nozzle"), "{msg}");
+    assert!(
+        msg.contains(&format!("output line {plunge} (layer 10)")) && msg.contains("nozzle"),
+        "{msg}"
+    );
 }
 
 /// B head (seed 000, r = 46 mm): tip of written axes (X, Y, Z, B), the docs' formula.
@@ -174,8 +177,14 @@ fn b_head_tilted_beside_a_wall_crosses_it_with_the_block_while_the_tip_is_clear(
         }
         tx += 0.05;
     }
-    assert!(oracle > 1.0, "the oracle's block must cross the wall: {oracle}");
-    let blk = f.iter().find(|f| f.part == "heater-block").expect("the block");
+    assert!(
+        oracle > 1.0,
+        "the oracle's block must cross the wall: {oracle}"
+    );
+    let blk = f
+        .iter()
+        .find(|f| f.part == "heater-block")
+        .expect("the block");
     assert_eq!(blk.obstacle, "material");
     // the engine samples cell centres (0.2 mm) of the wall and poses 0.2 mm apart; the scan
     // 0.05 mm steps: the depth changes at most 1 mm per mm of either
@@ -210,7 +219,10 @@ fn b_head_reaches_the_bed_at_low_tilt_near_the_plate_edge() {
     for px in [100.0, 236.0] {
         let (f, down) = check(px);
         let oracle = -lowest_over_plate(px);
-        assert!(oracle > 0.5, "the oracle must reach into the bed at x = {px}: {oracle}");
+        assert!(
+            oracle > 0.5,
+            "the oracle must reach into the bed at x = {px}: {oracle}"
+        );
         let bed: Vec<_> = f.iter().filter(|f| f.obstacle == "bed").collect();
         assert_eq!(bed.len(), 1, "{f:?}");
         assert_eq!((bed[0].line, bed[0].part.as_str()), (down, "heater-block"));
@@ -253,7 +265,11 @@ fn rtn_rotate_around_sweeps_the_nozzle_into_the_part_at_1_mm_lift() {
     let turn = g.line("G1 A-179 ; rotate-around");
     let descend = g.line("G1 Z2 ; rotate-around");
     let f = findings(&g.text, &spec);
-    assert_eq!(only_line(&f), vec![turn], "lift {lift}, descend {descend}: {f:?}");
+    assert_eq!(
+        only_line(&f),
+        vec![turn],
+        "lift {lift}, descend {descend}: {f:?}"
+    );
     let n = f.iter().find(|f| f.part == "nozzle").expect("the nozzle");
     // closed form at A = 0 (lean −Y): the nozzle (45° tilt, 15° half-angle, tip radius 0.2)
     // has its lowest generator rising at 30° from the tip's low edge, 0.141 mm below and
@@ -288,7 +304,10 @@ fn machine_file_head_and_bed_parse_and_misspelt_keys_are_refused() {
     let e = MachineSpec::from_json(&bad, "t.json").unwrap_err();
     assert!(e.to_string().contains("half_angel_deg"), "{e}");
     let neg = ok.replace("\"length_mm\":5", "\"length_mm\":-5");
-    let e = MachineSpec::from_json(&neg, "t.json").unwrap().head().unwrap_err();
+    let e = MachineSpec::from_json(&neg, "t.json")
+        .unwrap()
+        .head()
+        .unwrap_err();
     assert_eq!(e.code(), "machine.bad-spec");
     assert!(e.to_string().contains("nozzle"), "{e}");
 }

@@ -45,12 +45,7 @@ pub fn refusal(machine: &str, findings: &[CollisionFinding]) -> Option<MachineEr
     let f = findings.first()?;
     Some(MachineError::Collision {
         machine: machine.to_string(),
-        line: f.line,
-        layer: f.layer,
-        part: f.part.clone(),
-        obstacle: f.obstacle.clone(),
-        depth_mm: f.depth_mm,
-        at: f.at,
+        finding: Box::new(f.clone()),
         total: findings.len(),
     })
 }

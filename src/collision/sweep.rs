@@ -20,7 +20,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::material::{centre, cell_of, Material, CELL_MM};
+use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use crate::emit::CollisionFinding;
 use crate::machine::head::{BedSpec, HeadPart};
@@ -261,7 +261,8 @@ impl Checker {
         include_start: bool,
     ) -> Result<(), MachineError> {
         self.stats.moves += 1;
-        let at = |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
+        let at =
+            |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
         let p0 = self.pose(from)?;
         let p1 = self.pose(to)?;
         let mut n = ((self.displacement(&p0, &p1) / SAMPLE_STEP_MM).ceil() as usize).max(1);
@@ -367,8 +368,7 @@ impl Checker {
         let pieces = if a.n.angle_between(b.n) < 1e-9 {
             1
         } else {
-            ((b.p - a.p).length() / CELL_MM).ceil()
-                .clamp(1.0, 4096.0) as usize
+            ((b.p - a.p).length() / CELL_MM).ceil().clamp(1.0, 4096.0) as usize
         };
         let mut prev = a;
         for k in 1..=pieces {

@@ -47,7 +47,13 @@ impl Walker {
         let letters = m
             .axis_names()
             .iter()
-            .map(|s| s.as_bytes().first().copied().unwrap_or(b'?').to_ascii_uppercase())
+            .map(|s| {
+                s.as_bytes()
+                    .first()
+                    .copied()
+                    .unwrap_or(b'?')
+                    .to_ascii_uppercase()
+            })
             .collect::<Vec<u8>>();
         let k = letters.len();
         let written_offsets = m.written_offsets();
@@ -133,10 +139,10 @@ impl Walker {
                 }
             }
         }
-        match m {
-            Some(v) if v == 82.0 => self.relative_e = false,
-            Some(v) if v == 83.0 => self.relative_e = true,
-            _ => {}
+        if m == Some(82.0) {
+            self.relative_e = false;
+        } else if m == Some(83.0) {
+            self.relative_e = true;
         }
         let Some(g) = g else { return Ok(()) };
         if g == 90.0 {
@@ -144,9 +150,9 @@ impl Walker {
         } else if g == 91.0 {
             self.relative = true;
         } else if g == 92.0 {
-            let warpslice_z = s.comment.is_some_and(|c| {
-                String::from_utf8_lossy(c).contains("z axes offset (level bed")
-            });
+            let warpslice_z = s
+                .comment
+                .is_some_and(|c| String::from_utf8_lossy(c).contains("z axes offset (level bed"));
             let removed = s
                 .comment
                 .is_some_and(|c| String::from_utf8_lossy(c).contains("z axes offset removed"));
@@ -181,13 +187,20 @@ impl Walker {
                     };
                 }
             }
-            let extrudes = e.is_some_and(|e| if self.relative_e { e > 0.0 } else { e > self.e_last });
+            let extrudes = e.is_some_and(|e| {
+                if self.relative_e {
+                    e > 0.0
+                } else {
+                    e > self.e_last
+                }
+            });
             if let (Some(e), false) = (e, self.relative_e) {
                 self.e_last = e;
             }
             if std::mem::take(&mut self.first) {
                 // where the head was before the first move is unknown: check where it goes
-                self.checker.check_move(&to, &to, self.line, self.layer, true)?;
+                self.checker
+                    .check_move(&to, &to, self.line, self.layer, true)?;
             } else {
                 self.checker
                     .check_move(&from, &to, self.line, self.layer, false)?;

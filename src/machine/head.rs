@@ -150,11 +150,11 @@ impl HeadSpec {
         HeadSpec {
             parts: vec![
                 HeadPart::Cone {
-                        name: "nozzle".into(),
-                        tip_radius_mm,
-                        half_angle_deg,
-                        length_mm: b,
-                        from_mm: 0.0,
+                    name: "nozzle".into(),
+                    tip_radius_mm,
+                    half_angle_deg,
+                    length_mm: b,
+                    from_mm: 0.0,
                 },
                 HeadPart::Box {
                     name: "heater-block".into(),

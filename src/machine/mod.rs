@@ -313,18 +313,8 @@ pub enum MachineError {
     Collision {
         /// Name of the machine (preset or JSON `name`).
         machine: String,
-        /// 1-based line of the output G-code.
-        line: u64,
-        /// Layer of the move (1-based count of the slicer's layer changes).
-        layer: u32,
-        /// The head part (as named in the machine's `head`).
-        part: String,
-        /// `material` or `bed`.
-        obstacle: String,
-        /// Penetration depth (overlap along Z), mm.
-        depth_mm: f64,
-        /// Where: output frame x, y, and the z where the part enters, mm.
-        at: [f64; 3],
+        /// The first finding: output line, layer, head part, obstacle, depth, where.
+        finding: Box<crate::emit::CollisionFinding>,
         /// How many findings the file has.
         total: usize,
     },
@@ -392,11 +382,12 @@ impl fmt::Display for MachineError {
                 "the cylindrical warp's layers are coaxial about the line y = {}, z = {} (along X, in the output) but machine {machine} turns about y = {}, z = {}: set \"axis_y_mm\": {}, \"axis_z_mm\": {} in the machine JSON, or --place the part so that its warp axis lies on the mandrel",
                 crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1]), crate::num::fmt_shortest(mandrel[0]), crate::num::fmt_shortest(mandrel[1]), crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1])
             ),
-            MachineError::Collision { machine, line, layer, part, obstacle, depth_mm, at, total } => write!(
+            MachineError::Collision { machine, finding: c, total } => write!(
                 f,
-                "machine {machine}: output line {line} (layer {layer}): the {part} goes {depth_mm:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) ({total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
-                if obstacle == "bed" { "bed" } else { "printed material" },
-                at[0], at[1], at[2], if *total == 1 { "" } else { "s" }
+                "machine {machine}: output line {} (layer {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) ({total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
+                c.line, c.layer, c.part, c.depth_mm,
+                if c.obstacle == "bed" { "bed" } else { "printed material" },
+                c.at[0], c.at[1], c.at[2], if *total == 1 { "" } else { "s" }
             ),
             MachineError::CollisionUnsupported { machine, reason } => write!(
                 f,

@@ -211,9 +211,10 @@ impl MachineSpec {
 
     /// The head (given, or the kind's default), checked.
     pub fn head(&self) -> Result<super::head::HeadSpec, MachineError> {
-        let h = self.head.clone().unwrap_or_else(|| {
-            super::head::HeadSpec::default_for(self.kinematics.kind_name())
-        });
+        let h = self
+            .head
+            .clone()
+            .unwrap_or_else(|| super::head::HeadSpec::default_for(self.kinematics.kind_name()));
         h.validate(&self.name)?;
         Ok(h)
     }
