@@ -26,7 +26,7 @@
 //! 7  emit
 //! 8  unwarp
 //! 9  machine
-//! 10 calibrate slicer
+//! 10 calibrate slicer collision
 //! 11 pipeline
 //! 12 describe
 //! 13 wasm
@@ -60,6 +60,7 @@ pub mod tolerance;
 
 pub mod anchor;
 pub mod calibrate;
+pub mod collision;
 pub mod describe;
 pub mod emit;
 pub mod gcode;

@@ -64,4 +64,28 @@ pub struct MachineReport {
     pub e_skipped_mm: f64,
     /// `G92` modulo-360° resets of unlimited rotary axes.
     pub rotary_resets: u64,
+    /// The collision check ran (`check_collisions`; see `crate::collision`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub collisions_checked: bool,
+    /// Every collision found (with `allow_collisions`; otherwise the first stops the unwarp).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub collisions: Vec<CollisionFinding>,
+}
+
+/// One collision of a head part with the printed material or the bed (`crate::collision`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CollisionFinding {
+    /// 1-based line of the output G-code whose move collides.
+    pub line: u64,
+    /// Layer of the move (1-based count of the slicer's layer-change comments; 0 before).
+    pub layer: u32,
+    /// The head part (`nozzle`, `heater-block`, … as named in the machine's `head`).
+    pub part: String,
+    /// What it hits: `material` (printed so far) or `bed`.
+    pub obstacle: String,
+    /// Penetration depth: the largest overlap along Z of the part with the material column or
+    /// the bed at one cell, over the move's sampled poses, mm.
+    pub depth_mm: f64,
+    /// Where (output frame x, y of that cell, z where the part enters it), mm.
+    pub at: [f64; 3],
 }

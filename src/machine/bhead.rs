@@ -113,6 +113,10 @@ impl Machine for BHead {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
+    /// The head turns about +Y by B: R_y(B).
+    fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
+        Some(super::head::turned_frame(0.0, num::rad(*axes.get(3)?)))
+    }
     fn capabilities(&self) -> Capabilities {
         {
             let mut notes = vec![format!(

@@ -47,6 +47,10 @@ impl Machine for Cartesian {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
+    /// The head never turns: the identity.
+    fn head_frame(&self, _axes: &[f64]) -> Option<glam::DMat3> {
+        Some(glam::DMat3::IDENTITY)
+    }
     fn capabilities(&self) -> Capabilities {
         Capabilities {
             summary: "3 axes: the nozzle stays vertical".into(),

@@ -35,7 +35,7 @@
 
 use core::fmt;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 pub mod abtable;
 pub mod angles;
@@ -46,6 +46,7 @@ pub mod cartesian;
 pub mod emit;
 pub mod feed;
 pub mod flavour;
+pub mod head;
 pub mod lathe;
 pub mod laws;
 pub mod length_rule;
@@ -192,6 +193,14 @@ pub trait Machine: Send + Sync + fmt::Debug {
     ) -> Result<(), MachineError> {
         Ok(())
     }
+    /// The head's orientation in the output (part) frame for these axis values: the columns are
+    /// the tool frame's x, y and z (= the tool axis) axes ([`head`]: the heater block's box is
+    /// placed with it). `None` (the default): the machine does not say how the head is turned
+    /// about the tool axis, and the collision check takes each box as the cylinder about the
+    /// tool axis that contains it.
+    fn head_frame(&self, _axes: &[f64]) -> Option<DMat3> {
+        None
+    }
     /// Where the head is in the machine's own frame for these axis values (mm), for drawing the
     /// toolpath in machine coordinates: by default the first three axes are X Y Z.
     fn head_position(&self, axes: &[f64]) -> DVec3 {
@@ -296,6 +305,22 @@ pub enum MachineError {
         /// The machine's mandrel axis (y, z), output frame, mm.
         mandrel: [f64; 2],
     },
+    /// A head part would hit the printed material or the bed (the collision check).
+    Collision {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// The first finding: output line, layer, head part, obstacle, depth, where.
+        finding: Box<crate::emit::CollisionFinding>,
+        /// How many findings the file has.
+        total: usize,
+    },
+    /// The collision check cannot judge this machine.
+    CollisionUnsupported {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// Why.
+        reason: String,
+    },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
         /// Name of the machine (preset or JSON `name`).
@@ -353,6 +378,17 @@ impl fmt::Display for MachineError {
                 "the cylindrical warp's layers are coaxial about the line y = {}, z = {} (along X, in the output) but machine {machine} turns about y = {}, z = {}: set \"axis_y_mm\": {}, \"axis_z_mm\": {} in the machine JSON, or --place the part so that its warp axis lies on the mandrel",
                 crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1]), crate::num::fmt_shortest(mandrel[0]), crate::num::fmt_shortest(mandrel[1]), crate::num::fmt_shortest(warp[0]), crate::num::fmt_shortest(warp[1])
             ),
+            MachineError::Collision { machine, finding: c, total } => write!(
+                f,
+                "machine {machine}: output line {} (layer {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) ({total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
+                c.line, c.layer, c.part, c.depth_mm,
+                if c.obstacle == "bed" { "bed" } else { "printed material" },
+                c.at[0], c.at[1], c.at[2], if *total == 1 { "" } else { "s" }
+            ),
+            MachineError::CollisionUnsupported { machine, reason } => write!(
+                f,
+                "machine {machine}: the collision check cannot judge this machine: {reason}; turn check_collisions off for it"
+            ),
             MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
@@ -375,4 +411,6 @@ crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     BadCsv => "machine.bad-csv", "a kinematics CSV line is invalid";
     MandrelMismatch => "machine.mandrel-mismatch", "a cylindrical job whose axis is not the mandrel's";
     UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
+    Collision => "machine.collision", "a head part would hit the printed material or the bed";
+    CollisionUnsupported => "machine.collision-unsupported", "the collision check cannot judge this machine";
 } wraps {});

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{FeedMode, Flavour, MachineEmitter, MachineError, MachineSpec};
 use crate::emit::{Cartesian, Emitter};
-use crate::schema::{Param, ParamDefault};
+use crate::schema::{Param, ParamDefault, ParamType};
 
 /// `--machine`, `--feed`, `--flavour`: which emitter writes the unwarped toolpath. In the
 /// options JSON these keys sit beside the unwarp's own (see [`crate::pipeline::UnwarpSettings`]).
@@ -20,6 +20,12 @@ pub struct MachineOptions {
     pub feed: FeedMode,
     /// `--flavour`: the firmware (overrides the machine's).
     pub flavour: Option<Flavour>,
+    /// `--check-collisions`: sweep the machine's head along every output move against the
+    /// material printed so far and the bed (`crate::collision`). Off by default for now.
+    pub check_collisions: bool,
+    /// `--allow-collisions`: with the check on, write the file and list every finding (in the
+    /// report and as comments at its end) instead of refusing it (`machine.collision`).
+    pub allow_collisions: bool,
 }
 
 /// `machine` in the options JSON: `null`, a preset name or a machine object.
@@ -64,4 +70,12 @@ pub const PARAMS: &[Param] = &[
         .choices(&["reprapfirmware", "marlin", "klipper"])
         .optional()
         .help("the firmware the output is for (default: the machine's, else reprapfirmware)"),
+    Param::number("check_collisions", "--check-collisions", "Check collisions")
+        .of(ParamType::Bool)
+        .default(ParamDefault::Bool(false))
+        .help("sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; refuse the file on a collision"),
+    Param::number("allow_collisions", "--allow-collisions", "Allow collisions")
+        .of(ParamType::Bool)
+        .default(ParamDefault::Bool(false))
+        .help("with --check-collisions: write the file anyway and list every collision found"),
 ];

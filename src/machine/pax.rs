@@ -100,6 +100,15 @@ impl Machine for Pax {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
+    /// The head turns by A about +Z, then tilts by B: R_z(φ)·R_y(B) with φ = A − offset
+    /// (the azimuth of [`Pax::axis_of`]).
+    fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
+        let (a, b) = (*axes.get(3)?, *axes.get(4)?);
+        Some(super::head::turned_frame(
+            num::rad(a - self.a_offset()),
+            num::rad(b),
+        ))
+    }
     fn capabilities(&self) -> Capabilities {
         Capabilities {
             summary: "5-axis head".into(),

@@ -186,6 +186,15 @@ impl Machine for Rtn {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
+    /// The whole hotend is tilted by the fixed tilt and turned about +Z to the azimuth φ of
+    /// the tool axis: R_z(φ)·R_y(tilt).
+    fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
+        let phi = self.azimuth_of(*axes.get(3)?);
+        Some(super::head::turned_frame(
+            phi,
+            num::rad(self.params.tilt_deg),
+        ))
+    }
     fn capabilities(&self) -> Capabilities {
         Capabilities {
             summary: "rotating tilted nozzle (fixed tilt, rotary axis about Z)".into(),

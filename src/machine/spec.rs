@@ -87,6 +87,14 @@ pub struct MachineSpec {
     /// Firmware flavour of the output (default RepRapFirmware).
     #[serde(default)]
     pub flavour: Option<super::Flavour>,
+    /// The print head's solids in the tool frame, for the collision check (`null`: the kind's
+    /// default, an E3D-V6-class hotend; see [`super::head`]).
+    #[serde(default)]
+    pub head: Option<super::head::HeadSpec>,
+    /// The bed in the output frame, for the collision check (`null`: the kind's default; see
+    /// [`super::head`]).
+    #[serde(default)]
+    pub bed: Option<super::head::BedSpec>,
     /// Kinematics and parameters.
     #[serde(flatten)]
     pub kinematics: Kinematics,
@@ -199,6 +207,26 @@ impl MachineSpec {
                 ),
             }),
         }
+    }
+
+    /// The head (given, or the kind's default), checked.
+    pub fn head(&self) -> Result<super::head::HeadSpec, MachineError> {
+        let h = self
+            .head
+            .clone()
+            .unwrap_or_else(|| super::head::HeadSpec::default_for(self.kinematics.kind_name()));
+        h.validate(&self.name)?;
+        Ok(h)
+    }
+
+    /// The bed (given, or the kind's default), checked.
+    pub fn bed(&self) -> Result<super::head::BedSpec, MachineError> {
+        let b = self
+            .bed
+            .clone()
+            .unwrap_or_else(|| super::head::BedSpec::default_for(self.kinematics.kind_name()));
+        b.validate(&self.name)?;
+        Ok(b)
     }
 
     /// Build the machine.

@@ -98,7 +98,46 @@ pub fn unwarp_with_stl(
     settings: &UnwarpSettings,
     stl: Option<&[u8]>,
 ) -> Result<UnwarpOutput, Error> {
-    Ok(unwarper_with_stl(job, settings, stl)?.run(gcode)?)
+    let mut out = unwarper_with_stl(job, settings, stl)?.run(gcode)?;
+    if let (true, Some(spec)) = (
+        settings.output.check_collisions,
+        settings.output.machine.as_ref(),
+    ) {
+        let (findings, _) = crate::collision::check_gcode(&out.gcode, spec)?;
+        apply_findings(settings, spec, findings, &mut out.gcode, &mut out.report)?;
+    }
+    Ok(out)
+}
+
+/// The collision check's verdict: refuse (`machine.collision`) unless `allow_collisions`;
+/// otherwise every finding goes into the machine report and as a comment at the end of the
+/// output.
+fn apply_findings(
+    settings: &UnwarpSettings,
+    spec: &MachineSpec,
+    findings: Vec<crate::emit::CollisionFinding>,
+    out: &mut Vec<u8>,
+    report: &mut crate::unwarp::UnwarpReport,
+) -> Result<(), Error> {
+    if !settings.output.allow_collisions {
+        if let Some(e) = crate::collision::refusal(&spec.name, &findings) {
+            return Err(e.into());
+        }
+    }
+    for f in &findings {
+        out.extend_from_slice(
+            format!(
+                "; warpslice collision: line {} layer {}: {} into {} by {:.3} mm at ({:.3}, {:.3}, {:.3})\n",
+                f.line, f.layer, f.part, f.obstacle, f.depth_mm, f.at[0], f.at[1], f.at[2]
+            )
+            .as_bytes(),
+        );
+    }
+    if let Some(m) = report.machine.as_mut() {
+        m.collisions_checked = true;
+        m.collisions = findings;
+    }
+    Ok(())
 }
 
 /// Read size of [`unwarp_stream`], bytes.
@@ -127,6 +166,13 @@ pub fn unwarp_stream<R: std::io::Read>(
         message: e.to_string(),
     };
     let mut u = unwarper_with_stl(job, settings, stl)?;
+    let mut walker = match (
+        settings.output.check_collisions,
+        settings.output.machine.as_ref(),
+    ) {
+        (true, Some(spec)) => Some(crate::collision::Walker::new(spec)?),
+        _ => None,
+    };
     let mut buf = vec![0u8; STREAM_CHUNK];
     let mut f = open().map_err(io)?;
     loop {
@@ -145,11 +191,22 @@ pub fn unwarp_stream<R: std::io::Read>(
             break;
         }
         u.push(&buf[..n])?;
-        out.write_all(&u.take_output()).map_err(out_err)?;
+        let chunk = u.take_output();
+        if let Some(w) = walker.as_mut() {
+            w.push(&chunk)?;
+        }
+        out.write_all(&chunk).map_err(out_err)?;
         progress(n as u64);
     }
-    let report = u.finish()?;
-    out.write_all(&u.take_output()).map_err(out_err)?;
+    let mut report = u.finish()?;
+    let mut chunk = u.take_output();
+    if let (Some(mut w), Some(spec)) = (walker, settings.output.machine.as_ref()) {
+        w.push(&chunk)?;
+        let (findings, _) = w.finish()?;
+        // refused: what was written stays a partial file, the caller reports the error
+        apply_findings(settings, spec, findings, &mut chunk, &mut report)?;
+    }
+    out.write_all(&chunk).map_err(out_err)?;
     out.flush().map_err(out_err)?;
     Ok(report)
 }

@@ -1,0 +1,228 @@
+//! The printed material: a height field over the output frame's XY plane.
+//!
+//! Every extrusion written so far is a bead of the line width whose top surface is the swept
+//! segment `p(t) + λ u`, `λ ∈ [−w/2, w/2]`, `u = n × d / |n × d|` (n the tool axis, d the
+//! move's direction; the nozzle's flat tip presses the bead's top at the tip). Each cell of
+//! [`CELL_MM`] keeps the highest top over its centre; the material is taken as everything
+//! below (a column): conservative under overhangs, exact above the printed surface, which is
+//! where the head is (every warp's layers are graphs z(x, y) in the output frame; the lathe's
+//! are not, and its check is refused).
+//!
+//! ## Layout (measured, see `examples/bench.rs`)
+//! Sparse tiles of [`TILE`]² cells (12.8 mm), created on first deposit, each with the maximum
+//! of every [`BLOCK`]² block (1.6 mm) and of the whole tile: a query skips a tile or block
+//! whose highest material is below the solid's lowest point, or whose region is farther from
+//! the solid than its half-diagonal. Heights are `f32` (6·10⁻⁵ mm at 1 m); memory ≈ 16.7 kB per
+//! tile touched (a full 250 × 210 mm bed: 5.7 MB), whatever the length of the file.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+/// Cell size of the height field, mm: half the thinnest line width the check is built for
+/// (0.4 mm), so a flat bead covers at least two cell centres across its width.
+pub const CELL_MM: f64 = 0.2;
+/// Cells per tile side.
+pub const TILE: usize = 64;
+/// Cells per block side (a block keeps its maximum).
+pub const BLOCK: usize = 8;
+const BLOCKS: usize = TILE / BLOCK;
+
+/// One tile of the height field.
+struct Tile {
+    h: Vec<f32>,
+    block_max: [f32; BLOCKS * BLOCKS],
+    max: f32,
+}
+
+impl Tile {
+    fn new() -> Tile {
+        Tile {
+            h: vec![f32::NEG_INFINITY; TILE * TILE],
+            block_max: [f32::NEG_INFINITY; BLOCKS * BLOCKS],
+            max: f32::NEG_INFINITY,
+        }
+    }
+}
+
+/// A cell of the height field (integer coordinates: centre at `(i + ½, j + ½)·CELL_MM`).
+pub type Cell = (i64, i64);
+
+/// The height field of printed material.
+#[derive(Default)]
+pub struct Material {
+    tiles: HashMap<(i64, i64), Tile>,
+    /// Beads deposited.
+    pub beads: u64,
+}
+
+impl std::fmt::Debug for Material {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Material")
+            .field("tiles", &self.tiles.len())
+            .field("beads", &self.beads)
+            .finish()
+    }
+}
+
+/// The cell containing coordinate `v`.
+pub fn cell_of(v: f64) -> i64 {
+    (v / CELL_MM).floor() as i64
+}
+
+/// The centre coordinate of cell index `i`.
+pub fn centre(i: i64) -> f64 {
+    (i as f64 + 0.5) * CELL_MM
+}
+
+impl Material {
+    /// An empty height field.
+    pub fn new() -> Material {
+        Material::default()
+    }
+
+    /// Tiles in use.
+    pub fn tiles(&self) -> usize {
+        self.tiles.len()
+    }
+
+    /// The material's top over cell (i, j), mm (−∞: none).
+    pub fn height(&self, i: i64, j: i64) -> f64 {
+        let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
+        match self.tiles.get(&(ti, tj)) {
+            None => f64::NEG_INFINITY,
+            Some(t) => {
+                let (ci, cj) = (
+                    i.rem_euclid(TILE as i64) as usize,
+                    j.rem_euclid(TILE as i64) as usize,
+                );
+                t.h[cj * TILE + ci] as f64
+            }
+        }
+    }
+
+    fn raise(&mut self, i: i64, j: i64, z: f64) {
+        let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
+        let t = self.tiles.entry((ti, tj)).or_insert_with(Tile::new);
+        let (ci, cj) = (
+            i.rem_euclid(TILE as i64) as usize,
+            j.rem_euclid(TILE as i64) as usize,
+        );
+        let z = z as f32;
+        let c = &mut t.h[cj * TILE + ci];
+        if z > *c {
+            *c = z;
+            let b = &mut t.block_max[(cj / BLOCK) * BLOCKS + ci / BLOCK];
+            *b = b.max(z);
+            t.max = t.max.max(z);
+        }
+    }
+
+    /// Deposit the bead of width `w` from tip `p0` to `p1` printed with tool axis `n` (see the
+    /// module documentation).
+    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, n: DVec3, w: f64) {
+        self.beads += 1;
+        let d = p1 - p0;
+        let u = n.cross(d);
+        let u = if u.length() > 1e-9 {
+            u.normalize()
+        } else {
+            DVec3::ZERO
+        };
+        let half = 0.5 * w;
+        // the top face's half-width seen from above; never less than half a cell diagonal,
+        // so a steep bead still marks the cells along its centre line
+        let reach = (half * u.truncate().length()).max(CELL_MM * std::f64::consts::FRAC_1_SQRT_2);
+        let dxy = d.truncate();
+        let l2 = dxy.length_squared();
+        let uxy = u.truncate();
+        let u2 = uxy.length_squared();
+        let (lo, hi) = (p0.min(p1), p0.max(p1));
+        for j in cell_of(lo.y - reach)..=cell_of(hi.y + reach) {
+            for i in cell_of(lo.x - reach)..=cell_of(hi.x + reach) {
+                let c = glam::DVec2::new(centre(i), centre(j));
+                let t = if l2 > 0.0 {
+                    ((c - p0.truncate()).dot(dxy) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let on = p0 + d * t;
+                let off = c - on.truncate();
+                if off.length() > reach {
+                    continue;
+                }
+                let lambda = if u2 > 1e-18 {
+                    (off.dot(uxy) / u2).clamp(-half, half)
+                } else {
+                    0.0
+                };
+                self.raise(i, j, on.z + lambda * u.z);
+            }
+        }
+    }
+
+    /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
+    /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
+    /// half_diagonal)` says the solid cannot reach the block's region from height `zlow` (the
+    /// solid's lowest point) to the block's top; `visit(i, j, top)`.
+    pub fn for_cells_above(
+        &self,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        above: f64,
+        zlow: f64,
+        mut far: impl FnMut(DVec3, f64) -> bool,
+        mut visit: impl FnMut(i64, i64, f64),
+    ) {
+        let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
+        let t = TILE as i64;
+        let b = BLOCK as i64;
+        for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
+            for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
+                let Some(tile) = self.tiles.get(&(ti, tj)) else {
+                    continue;
+                };
+                if (tile.max as f64) <= above {
+                    continue;
+                }
+                for bj in 0..BLOCKS as i64 {
+                    let cj0 = tj * t + bj * b;
+                    if cj0 + b - 1 < j0 || cj0 > j1 {
+                        continue;
+                    }
+                    for bi in 0..BLOCKS as i64 {
+                        let ci0 = ti * t + bi * b;
+                        if ci0 + b - 1 < i0 || ci0 > i1 {
+                            continue;
+                        }
+                        let top = tile.block_max[(bj * BLOCKS as i64 + bi) as usize] as f64;
+                        if top <= above {
+                            continue;
+                        }
+                        // the block's region between the solid's lowest point and its top
+                        let side = b as f64 * CELL_MM;
+                        let c = DVec3::new(
+                            ci0 as f64 * CELL_MM + 0.5 * side,
+                            cj0 as f64 * CELL_MM + 0.5 * side,
+                            0.5 * (zlow + top),
+                        );
+                        let half_diag =
+                            (0.5 * side * std::f64::consts::SQRT_2).hypot(0.5 * (top - zlow));
+                        if far(c, half_diag) {
+                            continue;
+                        }
+                        for j in cj0.max(j0)..=(cj0 + b - 1).min(j1) {
+                            for i in ci0.max(i0)..=(ci0 + b - 1).min(i1) {
+                                let cj = (j - tj * t) as usize;
+                                let ci = (i - ti * t) as usize;
+                                let h = tile.h[cj * TILE + ci] as f64;
+                                if h > above {
+                                    visit(i, j, h);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,51 @@
+//! Collision checking of machine output: the head's solids ([`crate::machine::head`]) swept
+//! along every move against the material printed so far and the bed.
+//!
+//! - [`solid`]: a head part placed in the output frame (frustum or oriented box): where a
+//!   vertical line crosses it, its distance from a point.
+//! - [`material`]: the printed material, a sparse height field of the bead tops.
+//! - [`sweep`]: the [`Checker`]: poses sampled along a move (every head point moves at most
+//!   [`SAMPLE_STEP_MM`] between samples), the overlap of each part with material and bed,
+//!   contact up to [`CONTACT_TOLERANCE_MM`] allowed.
+//! - [`walk`]: a machine G-code through the checker ([`check_gcode`], [`Walker`] for streams).
+//!
+//! Everything happens in the **output frame** (the part's): the material and the bed do not
+//! move in it; the head's pose there comes from the machine's forward kinematics
+//! ([`crate::machine::Machine::forward`], [`crate::machine::Machine::head_frame`]), so a
+//! turning table and a turning head are the same question.
+//!
+//! The unwarp runs it when the machine options ask (`check_collisions`, off by default;
+//! `allow_collisions` writes the file and lists the findings instead of refusing it with
+//! [`crate::machine::MachineError::Collision`]).
+
+pub mod material;
+pub mod solid;
+pub mod sweep;
+pub mod walk;
+
+pub use sweep::{CheckStats, Checker, CONTACT_TOLERANCE_MM, SAMPLE_STEP_MM};
+pub use walk::{Walker, DEFAULT_LINE_WIDTH_MM};
+
+use crate::emit::CollisionFinding;
+use crate::machine::{MachineError, MachineSpec};
+
+/// Check a whole machine G-code: every finding in file order, and the counts.
+pub fn check_gcode(
+    gcode: &[u8],
+    spec: &MachineSpec,
+) -> Result<(Vec<CollisionFinding>, CheckStats), MachineError> {
+    let mut w = Walker::new(spec)?;
+    w.push(gcode)?;
+    let (f, c) = w.finish()?;
+    Ok((f, c.stats()))
+}
+
+/// The refusal for the first of `findings` (named error `machine.collision`).
+pub fn refusal(machine: &str, findings: &[CollisionFinding]) -> Option<MachineError> {
+    let f = findings.first()?;
+    Some(MachineError::Collision {
+        machine: machine.to_string(),
+        finding: Box::new(f.clone()),
+        total: findings.len(),
+    })
+}

@@ -1,0 +1,221 @@
+//! A head part placed in the output frame: a frustum of revolution about an axis, or an
+//! oriented box. Two questions are asked of it: where a vertical line enters and leaves it
+//! ([`Posed::column`]), and a lower bound of its distance from a point ([`Posed::distance`]).
+//!
+//! ## Frustum (cone, cylinder)
+//! Origin `o` (the tip), unit axis `a` (the tool axis), axial coordinate `s = a·(q − o)` in
+//! `[s0, s1]`, radius `r(s) = r0 + k (s − s0)` with `k = tan(half-angle)` (0: a cylinder). On the
+//! vertical line `q(t) = (x, y, t)` with `w = (x − o_x, y − o_y, −o_z)`:
+//! `f(t) = |w + t e_z|² − s(t)² − r(s(t))²`, a quadratic in t; the line is inside where
+//! `f ≤ 0` and `s0 ≤ s(t) ≤ s1`, one interval since the frustum is convex.
+//!
+//! ## Box
+//! Origin `o`, rotation `R` (columns: the box frame's axes in the output frame), corners `min`,
+//! `max` of the box frame: the slab method on `Rᵀ(q(t) − o)`.
+
+use glam::{DMat3, DVec3};
+
+/// A placed solid (output frame, mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Posed {
+    /// A frustum of revolution (see the module documentation).
+    Frustum {
+        /// The tip (origin of the axial coordinate).
+        o: DVec3,
+        /// Unit axis.
+        a: DVec3,
+        /// Axial range.
+        s0: f64,
+        /// Axial range.
+        s1: f64,
+        /// Radius at `s0`.
+        r0: f64,
+        /// dr/ds.
+        k: f64,
+    },
+    /// An oriented box.
+    Box {
+        /// Origin of the box frame.
+        o: DVec3,
+        /// Box frame axes (columns) in the output frame.
+        r: DMat3,
+        /// Lowest corner in the box frame.
+        min: DVec3,
+        /// Highest corner in the box frame.
+        max: DVec3,
+    },
+}
+
+/// Below this |coefficient| a quadratic is taken as linear and a direction component as zero.
+const DEGENERATE: f64 = 1e-12;
+
+impl Posed {
+    /// The axis-aligned bounding box (lowest, highest corner).
+    pub fn aabb(&self) -> (DVec3, DVec3) {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => {
+                // a disc of radius r about centre c with normal a spans ± r·sqrt(1 − a_i²)
+                let disc = |s: f64, r: f64| {
+                    let c = o + a * s;
+                    let e = DVec3::new(
+                        (1.0 - a.x * a.x).max(0.0).sqrt(),
+                        (1.0 - a.y * a.y).max(0.0).sqrt(),
+                        (1.0 - a.z * a.z).max(0.0).sqrt(),
+                    ) * r;
+                    (c - e, c + e)
+                };
+                let (l0, h0) = disc(s0, r0);
+                let (l1, h1) = disc(s1, r0 + k * (s1 - s0));
+                (l0.min(l1), h0.max(h1))
+            }
+            Posed::Box { o, r, min, max } => {
+                let c = o + r * ((min + max) * 0.5);
+                let h = (max - min) * 0.5;
+                let e = r.x_axis.abs() * h.x + r.y_axis.abs() * h.y + r.z_axis.abs() * h.z;
+                (c - e, c + e)
+            }
+        }
+    }
+
+    /// Where the vertical line through (x, y) is inside: `(z_in, z_out)`, or `None`.
+    pub fn column(&self, x: f64, y: f64) -> Option<(f64, f64)> {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => {
+                let w = DVec3::new(x - o.x, y - o.y, -o.z);
+                let sw = a.dot(w);
+                let az = a.z;
+                // t range of the slab s0 ≤ sw + az t ≤ s1
+                let (ta, tb) = if az.abs() < DEGENERATE {
+                    if sw < s0 || sw > s1 {
+                        return None;
+                    }
+                    // bounded by the solid's enclosing sphere about the tip
+                    let rmax = r0.max(r0 + k * (s1 - s0));
+                    let rb2 = s0.abs().max(s1.abs()).powi(2) + rmax * rmax;
+                    let d2 = w.x * w.x + w.y * w.y;
+                    if d2 > rb2 {
+                        return None;
+                    }
+                    let h = (rb2 - d2).sqrt();
+                    (-w.z - h, -w.z + h)
+                } else {
+                    let t0 = (s0 - sw) / az;
+                    let t1 = (s1 - sw) / az;
+                    (t0.min(t1), t0.max(t1))
+                };
+                let c0 = r0 + k * (sw - s0);
+                let c1 = k * az;
+                let a2 = 1.0 - az * az - c1 * c1;
+                let a1 = 2.0 * (w.z - sw * az - c0 * c1);
+                let a0 = w.length_squared() - sw * sw - c0 * c0;
+                let f = |t: f64| (a2 * t + a1) * t + a0;
+                let mut pts = [ta, tb, f64::NAN, f64::NAN];
+                if a2.abs() < DEGENERATE {
+                    if a1.abs() > DEGENERATE {
+                        pts[2] = -a0 / a1;
+                    }
+                } else {
+                    let disc = a1 * a1 - 4.0 * a2 * a0;
+                    if disc >= 0.0 {
+                        let sq = disc.sqrt();
+                        // the numerically stable pair of roots
+                        let q = -0.5 * (a1 + a1.signum() * sq);
+                        pts[2] = q / a2;
+                        if q != 0.0 {
+                            pts[3] = a0 / q;
+                        }
+                    }
+                }
+                let mut ts: Vec<f64> = pts
+                    .iter()
+                    .copied()
+                    .filter(|t| t.is_finite() && *t >= ta && *t <= tb)
+                    .collect();
+                ts.sort_by(f64::total_cmp);
+                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for p in ts.windows(2) {
+                    if f(0.5 * (p[0] + p[1])) <= 0.0 {
+                        lo = lo.min(p[0]);
+                        hi = hi.max(p[1]);
+                    }
+                }
+                (lo <= hi).then_some((lo, hi))
+            }
+            Posed::Box { o, r, min, max } => {
+                let u = r.transpose() * DVec3::new(x - o.x, y - o.y, -o.z);
+                let v = r.transpose() * DVec3::Z;
+                let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+                for i in 0..3 {
+                    let (ui, vi, mn, mx) = (u[i], v[i], min[i], max[i]);
+                    if vi.abs() < DEGENERATE {
+                        if ui < mn || ui > mx {
+                            return None;
+                        }
+                    } else {
+                        let t0 = (mn - ui) / vi;
+                        let t1 = (mx - ui) / vi;
+                        lo = lo.max(t0.min(t1));
+                        hi = hi.min(t0.max(t1));
+                    }
+                }
+                (lo <= hi).then_some((lo, hi))
+            }
+        }
+    }
+
+    /// The distance from `q` to the solid (0 inside): exact for both shapes, so a lower bound.
+    pub fn distance(&self, q: DVec3) -> f64 {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => {
+                let d = q - o;
+                let s = a.dot(d);
+                let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+                let r1 = r0 + k * (s1 - s0);
+                if s >= s0 && s <= s1 && rho <= r0 + k * (s - s0) {
+                    return 0.0;
+                }
+                // the profile: a trapezoid (0, s0) (r0, s0) (r1, s1) (0, s1) in (ρ, s)
+                let seg = |p0: (f64, f64), p1: (f64, f64)| {
+                    let (ex, ey) = (p1.0 - p0.0, p1.1 - p0.1);
+                    let l2 = ex * ex + ey * ey;
+                    let t = if l2 > 0.0 {
+                        (((rho - p0.0) * ex + (s - p0.1) * ey) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    (rho - p0.0 - t * ex).hypot(s - p0.1 - t * ey)
+                };
+                seg((0.0, s0), (r0, s0))
+                    .min(seg((r0, s0), (r1, s1)))
+                    .min(seg((r1, s1), (0.0, s1)))
+            }
+            Posed::Box { o, r, min, max } => {
+                let u = r.transpose() * (q - o);
+                let c = (min + max) * 0.5;
+                let h = (max - min) * 0.5;
+                ((u - c).abs() - h).max(DVec3::ZERO).length()
+            }
+        }
+    }
+}

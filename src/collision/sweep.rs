@@ -1,0 +1,388 @@
+//! The swept check: the head's solids at poses sampled along a move, against the material
+//! printed so far and the bed.
+//!
+//! ## Sampling
+//! The firmware moves every axis linearly, so the pose at `t ∈ [0, 1]` is
+//! `forward(a₀ + t (a₁ − a₀))` (tip, tool axis and [`crate::machine::Machine::head_frame`]).
+//! Between two consecutive samples no point of the head moves more than
+//! [`SAMPLE_STEP_MM`]: the bound `|Δtip| + R·θ` (R the farthest head point from the tip, θ the
+//! rotation angle between the two frames; the angle between the tool axes when the frame is
+//! unknown) is checked for every pair, doubling the samples until it holds (at most
+//! [`MAX_SAMPLES`]; the report counts moves that hit it). So a bead of a line width (≥ 0.4 mm)
+//! cannot pass between two samples of a head part.
+//!
+//! ## Depth
+//! For each sampled pose and part, every height-field cell under the part: the vertical line
+//! through its centre enters the part at `z_in`, leaves at `z_out`; the material fills the
+//! column up to `h`; the overlap is `min(h, z_out) − z_in`. The bed is a column up to its top
+//! over its plate. A finding is an overlap above [`CONTACT_TOLERANCE_MM`], kept per (move,
+//! part, obstacle) with its largest depth.
+
+use glam::{DMat3, DVec3};
+
+use super::material::{cell_of, centre, Material, CELL_MM};
+use super::solid::Posed;
+use crate::emit::CollisionFinding;
+use crate::machine::head::{BedSpec, HeadPart};
+use crate::machine::{Machine, MachineError, MachineSpec};
+use crate::num;
+
+/// Largest displacement of any head point between two sampled poses of a move, mm: half the
+/// thinnest line width (0.4 mm) the check is built for.
+pub const SAMPLE_STEP_MM: f64 = 0.2;
+/// Contact, not collision: an overlap of a part with the material or the bed up to this depth
+/// (mm) is the nozzle resting on the bead it prints on (3-decimal output rounding 0.0005 mm,
+/// the interpolation bound 0.02 mm, the flat tip against the neighbouring bead's edge).
+pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
+/// Most samples of one move.
+pub const MAX_SAMPLES: usize = 1 << 14;
+
+/// Counts of the check.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CheckStats {
+    /// Moves checked.
+    pub moves: u64,
+    /// Poses sampled.
+    pub samples: u64,
+    /// Moves whose sampling stopped at [`MAX_SAMPLES`] before the step bound held.
+    pub under_sampled: u64,
+}
+
+/// A head part, as checked: its name, and the solid in the tool frame (origin the tip, z the
+/// tool axis).
+#[derive(Clone, Debug)]
+struct Part {
+    name: String,
+    shape: Local,
+    /// Farthest point from the tip, mm.
+    reach: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Local {
+    Frustum { s0: f64, s1: f64, r0: f64, k: f64 },
+    Box { min: DVec3, max: DVec3 },
+}
+
+impl Part {
+    fn new(p: &HeadPart) -> Part {
+        let (shape, reach) = match p {
+            HeadPart::Cone {
+                tip_radius_mm,
+                half_angle_deg,
+                length_mm,
+                from_mm,
+                ..
+            } => {
+                let k = num::tan(num::rad(*half_angle_deg));
+                let s1 = from_mm + length_mm;
+                (
+                    Local::Frustum {
+                        s0: *from_mm,
+                        s1,
+                        r0: *tip_radius_mm,
+                        k,
+                    },
+                    s1.hypot(tip_radius_mm + k * length_mm),
+                )
+            }
+            HeadPart::Cylinder {
+                radius_mm,
+                from_mm,
+                to_mm,
+                ..
+            } => (
+                Local::Frustum {
+                    s0: *from_mm,
+                    s1: *to_mm,
+                    r0: *radius_mm,
+                    k: 0.0,
+                },
+                from_mm.abs().max(to_mm.abs()).hypot(*radius_mm),
+            ),
+            HeadPart::Box { min, max, .. } => {
+                let (min, max) = (DVec3::from_array(*min), DVec3::from_array(*max));
+                (Local::Box { min, max }, min.abs().max(max.abs()).length())
+            }
+        };
+        Part {
+            name: p.name().to_string(),
+            shape,
+            reach,
+        }
+    }
+
+    /// The part at tip `p`, tool axis `n`, frame `frame` (None: the box as the cylinder about
+    /// the tool axis that contains it).
+    fn pose(&self, p: DVec3, n: DVec3, frame: Option<&DMat3>) -> Posed {
+        match (self.shape, frame) {
+            (Local::Frustum { s0, s1, r0, k }, _) => Posed::Frustum {
+                o: p,
+                a: n,
+                s0,
+                s1,
+                r0,
+                k,
+            },
+            (Local::Box { min, max }, Some(r)) => Posed::Box {
+                o: p,
+                r: *r,
+                min,
+                max,
+            },
+            (Local::Box { min, max }, None) => {
+                let rad = [min.x, max.x]
+                    .iter()
+                    .flat_map(|x| [min.y, max.y].map(|y| x.hypot(y)))
+                    .fold(0.0, f64::max);
+                Posed::Frustum {
+                    o: p,
+                    a: n,
+                    s0: min.z,
+                    s1: max.z,
+                    r0: rad,
+                    k: 0.0,
+                }
+            }
+        }
+    }
+}
+
+/// One sampled pose.
+#[derive(Clone, Copy, Debug)]
+struct Pose {
+    p: DVec3,
+    n: DVec3,
+    frame: Option<DMat3>,
+}
+
+/// The collision checker of one machine: head, bed, material printed so far.
+pub struct Checker {
+    machine: Box<dyn Machine>,
+    parts: Vec<Part>,
+    reach: f64,
+    bed: BedSpec,
+    material: Material,
+    stats: CheckStats,
+    findings: Vec<CollisionFinding>,
+}
+
+impl std::fmt::Debug for Checker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Checker")
+            .field("machine", &self.machine.name())
+            .field("parts", &self.parts)
+            .field("bed", &self.bed)
+            .field("stats", &self.stats)
+            .finish()
+    }
+}
+
+impl Checker {
+    /// The checker for `spec` (its head and bed, or the kind's defaults). The lathe is refused:
+    /// its layers are not graphs over the bed, so the height field cannot hold them.
+    pub fn new(spec: &MachineSpec) -> Result<Checker, MachineError> {
+        let machine = spec.build()?;
+        if spec.kinematics.kind_name() == "lathe-a" {
+            return Err(MachineError::CollisionUnsupported {
+                machine: machine.name().to_string(),
+                reason: "the mandrel's layers wrap round the part, and the check's height field holds only layers that are graphs over the bed".into(),
+            });
+        }
+        let parts: Vec<Part> = spec.head()?.parts.iter().map(Part::new).collect();
+        let reach = parts.iter().map(|p| p.reach).fold(0.0, f64::max);
+        Ok(Checker {
+            machine,
+            parts,
+            reach,
+            bed: spec.bed()?,
+            material: Material::new(),
+            stats: CheckStats::default(),
+            findings: Vec::new(),
+        })
+    }
+
+    /// The machine checked.
+    pub fn machine(&self) -> &dyn Machine {
+        self.machine.as_ref()
+    }
+
+    /// Counts so far.
+    pub fn stats(&self) -> CheckStats {
+        self.stats
+    }
+
+    /// The material printed so far.
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// Every finding so far, in file order.
+    pub fn findings(&self) -> &[CollisionFinding] {
+        &self.findings
+    }
+
+    /// Take the findings.
+    pub fn take_findings(&mut self) -> Vec<CollisionFinding> {
+        std::mem::take(&mut self.findings)
+    }
+
+    fn pose(&self, axes: &[f64]) -> Result<Pose, MachineError> {
+        let (p, n) = self.machine.forward(axes)?;
+        Ok(Pose {
+            p,
+            n,
+            frame: self.machine.head_frame(axes),
+        })
+    }
+
+    /// Upper bound of the displacement of any head point between two poses, mm.
+    fn displacement(&self, a: &Pose, b: &Pose) -> f64 {
+        let theta = match (&a.frame, &b.frame) {
+            (Some(ra), Some(rb)) => {
+                let r = *rb * ra.transpose();
+                let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) * 0.5).clamp(-1.0, 1.0);
+                num::acos(c)
+            }
+            _ => a.n.angle_between(b.n),
+        };
+        (b.p - a.p).length() + self.reach * theta
+    }
+
+    /// Check the move from axes `from` to `to` (output line `line`, layer `layer`); findings
+    /// are kept (see [`Checker::findings`]). `include_start` checks the pose at `from` too (the
+    /// first move of a file).
+    pub fn check_move(
+        &mut self,
+        from: &[f64],
+        to: &[f64],
+        line: u64,
+        layer: u32,
+        include_start: bool,
+    ) -> Result<(), MachineError> {
+        self.stats.moves += 1;
+        let at =
+            |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
+        let p0 = self.pose(from)?;
+        let p1 = self.pose(to)?;
+        let mut n = ((self.displacement(&p0, &p1) / SAMPLE_STEP_MM).ceil() as usize).max(1);
+        let poses = loop {
+            let mut poses = Vec::with_capacity(n + 1);
+            poses.push(p0);
+            for k in 1..n {
+                poses.push(self.pose(&at(k as f64 / n as f64))?);
+            }
+            poses.push(p1);
+            let ok = poses
+                .windows(2)
+                .all(|w| self.displacement(&w[0], &w[1]) <= SAMPLE_STEP_MM);
+            if ok || n >= MAX_SAMPLES {
+                if !ok {
+                    self.stats.under_sampled += 1;
+                }
+                break poses;
+            }
+            n = (n * 2).min(MAX_SAMPLES);
+        };
+        let start = usize::from(!include_start);
+        let mut found: Vec<CollisionFinding> = Vec::new();
+        for pose in &poses[start..] {
+            self.stats.samples += 1;
+            for part in &self.parts {
+                let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+                for (obstacle, depth, at) in self.penetrations(&solid) {
+                    match found
+                        .iter_mut()
+                        .find(|f| f.part == part.name && f.obstacle == obstacle)
+                    {
+                        Some(f) if f.depth_mm >= depth => {}
+                        Some(f) => {
+                            f.depth_mm = depth;
+                            f.at = at;
+                        }
+                        None => found.push(CollisionFinding {
+                            line,
+                            layer,
+                            part: part.name.clone(),
+                            obstacle: obstacle.to_string(),
+                            depth_mm: depth,
+                            at,
+                        }),
+                    }
+                }
+            }
+        }
+        self.findings.extend(found);
+        Ok(())
+    }
+
+    /// The deepest overlap of `solid` with the material and with the bed (each only if above
+    /// the contact tolerance): `(obstacle, depth, [x, y, z_in])`.
+    fn penetrations(&self, solid: &Posed) -> Vec<(&'static str, f64, [f64; 3])> {
+        let (lo, hi) = solid.aabb();
+        let tol = CONTACT_TOLERANCE_MM;
+        let mut out = Vec::new();
+        let mut best: Option<(f64, [f64; 3])> = None;
+        let consider = |h: f64, x: f64, y: f64, best: &mut Option<(f64, [f64; 3])>| {
+            if let Some((zi, zo)) = solid.column(x, y) {
+                let d = h.min(zo) - zi;
+                if d > tol && best.is_none_or(|(b, _)| d > b) {
+                    *best = Some((d, [x, y, zi]));
+                }
+            }
+        };
+        self.material.for_cells_above(
+            (lo.x, lo.y, hi.x, hi.y),
+            lo.z + tol,
+            lo.z,
+            |c, r| solid.distance(c) > r,
+            |i, j, h| consider(h, centre(i), centre(j), &mut best),
+        );
+        if let Some((d, at)) = best {
+            out.push(("material", d, at));
+        }
+        let top = self.bed.top();
+        if lo.z < top - tol {
+            let mut best = None;
+            for j in cell_of(lo.y)..=cell_of(hi.y) {
+                for i in cell_of(lo.x)..=cell_of(hi.x) {
+                    let (x, y) = (centre(i), centre(j));
+                    if self.bed.covers(x, y) {
+                        consider(top, x, y, &mut best);
+                    }
+                }
+            }
+            if let Some((d, at)) = best {
+                out.push(("bed", d, at));
+            }
+        }
+        out
+    }
+
+    /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
+    /// sampled at the pieces the firmware's interpolation gives, each piece a straight bead.
+    pub fn deposit(&mut self, from: &[f64], to: &[f64], width: f64) -> Result<(), MachineError> {
+        let a = self.pose(from)?;
+        let b = self.pose(to)?;
+        // a straight bead when the pose is fixed; pieces of at most a cell otherwise
+        let pieces = if a.n.angle_between(b.n) < 1e-9 {
+            1
+        } else {
+            ((b.p - a.p).length() / CELL_MM).ceil().clamp(1.0, 4096.0) as usize
+        };
+        let mut prev = a;
+        for k in 1..=pieces {
+            let t = k as f64 / pieces as f64;
+            let next = if k == pieces {
+                b
+            } else {
+                let axes: Vec<f64> = from.iter().zip(to).map(|(x, y)| x + (y - x) * t).collect();
+                self.pose(&axes)?
+            };
+            let n = (prev.n + next.n).normalize_or(next.n);
+            self.material.deposit(prev.p, next.p, n, width);
+            prev = next;
+        }
+        Ok(())
+    }
+}
