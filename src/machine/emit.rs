@@ -44,6 +44,8 @@ use glam::DVec3;
 use super::angles::wrap180;
 use super::feed::{output_feed, FeedMode};
 use super::flavour::Flavour;
+use super::reach::Reach;
+use super::speed::AxisSpeeds;
 use super::tessellate::{tessellate_move, Bounds, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, DEFAULT_TRAVEL_FEED};
@@ -91,6 +93,17 @@ pub struct MachineEmitter {
     report: MachineReport,
     /// Filament of a rotate-around's piece, given to the next extruding piece, mm.
     carry_e: f64,
+    /// Every written move's axes inside their travel; the range written.
+    reach: Reach,
+    /// Moves slowed by an axis' largest feed; the time estimate.
+    speeds: AxisSpeeds,
+    /// Lines the output held before the current call ([`Emitter::lines_written`]).
+    line_base: u64,
+    /// Where in `out` the current call started writing, and the lines counted from there so
+    /// far (up to `scan.0`): the output line of the next G1 is `line_base + scan.1 + 1`.
+    scan: (usize, usize, u64),
+    /// The input line of the toolpath point being written.
+    input_line: u64,
 }
 
 impl std::fmt::Debug for MachineEmitter {
@@ -112,6 +125,11 @@ impl MachineEmitter {
     ) -> Result<MachineEmitter, MachineError> {
         let machine = spec.build()?;
         let limits = machine.limits().to_vec();
+        let axis_bounds = spec.axis_bounds(&limits)?;
+        let speeds = AxisSpeeds::new(
+            axis_bounds.iter().map(|b| b.max_feed).collect(),
+            axis_bounds.iter().map(|b| b.rotary).collect(),
+        );
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
         flavour.check(machine.name(), &limits, feed)?;
         let offsets = machine.written_offsets();
@@ -143,6 +161,11 @@ impl MachineEmitter {
             carry_e: 0.0,
             tess: TessellationReport::default(),
             report,
+            reach: Reach::new(axis_bounds),
+            speeds,
+            line_base: 0,
+            scan: (0, 0, 0),
+            input_line: 0,
         })
     }
 
@@ -163,7 +186,28 @@ impl MachineEmitter {
         r.worst_dropped_deg = t.worst_dropped_deg;
         r.depth_limited = t.depth_limited as u64;
         r.reposes = t.reposes as u64;
+        r.axes = self.reach.report();
+        for (a, &n) in r.axes.iter_mut().zip(&self.speeds.limited_by) {
+            a.speed_limited_moves = n;
+        }
+        r.speed_limited_moves = self.speeds.limited;
+        r.print_time_min = self.speeds.minutes;
+        r.slowdown_min = self.speeds.slowdown_minutes;
         r
+    }
+
+    /// A call that writes G1 lines starts writing at the end of `out`.
+    fn start_lines(&mut self, out: &[u8]) {
+        self.scan = (out.len(), out.len(), 0);
+    }
+
+    /// The 1-based output line the next line written to `out` will be.
+    fn next_output_line(&mut self, out: &[u8]) -> u64 {
+        let (start, upto, n) = self.scan;
+        let upto = upto.clamp(start, out.len());
+        let more = out[upto..].iter().filter(|&&b| b == b'\n').count() as u64;
+        self.scan = (start, out.len(), n + more);
+        self.line_base + n + more + 1
     }
 
     fn write_feed(&mut self, out: &mut Vec<u8>, f: f64) {
@@ -193,6 +237,19 @@ impl MachineEmitter {
         f: f64,
         tag: &str,
     ) -> Result<(), MachineError> {
+        if let Err(i) = self.reach.check(axes) {
+            let b = &self.reach.bounds()[i];
+            return Err(MachineError::Travel {
+                machine: self.preset.clone(),
+                axis: b.name.clone(),
+                value: axes[i],
+                min: b.min,
+                max: b.max,
+                output_line: self.next_output_line(out),
+                input_line: self.input_line,
+                p,
+            });
+        }
         out.extend_from_slice(b"G1");
         for (i, l) in self.limits.iter().enumerate() {
             let v = axes[i] + self.offsets[i];
@@ -217,6 +274,13 @@ impl MachineEmitter {
         }
         let fo = output_feed(self.feed, from, axes, tip_length, f);
         self.write_feed(out, fo);
+        // the feed in force: the one written, else the modal one
+        let f_fw = if fo.is_finite() && fo > 0.0 {
+            fo
+        } else {
+            self.last_f.unwrap_or(0.0)
+        };
+        self.speeds.add_move(self.feed, from, axes, f_fw);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -397,6 +461,27 @@ impl Emitter for MachineEmitter {
                 names.join(" ")
             ));
         }
+        lines.push(format!(
+            "; warpslice machine travel (raw values, checked on every move) = {}",
+            self.reach
+                .bounds()
+                .iter()
+                .map(|b| {
+                    let unit = if b.rotary { "deg" } else { "mm" };
+                    let feed = if b.max_feed.is_finite() {
+                        format!(" max {} {unit}/min", crate::num::fmt_shortest(b.max_feed))
+                    } else {
+                        " no feed limit".to_string()
+                    };
+                    if b.min.is_finite() || b.max.is_finite() {
+                        format!("{} [{}, {}]{feed}", b.name, b.min, b.max)
+                    } else {
+                        format!("{} unlimited{feed}", b.name)
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
         lines.extend(self.flavour.header(&self.limits, self.feed));
         for l in lines {
             out.extend_from_slice(l.as_bytes());
@@ -441,6 +526,8 @@ impl Emitter for MachineEmitter {
         tp: &ToolPoint,
         relative_e: bool,
     ) -> Result<(), EmitError> {
+        self.start_lines(out);
+        self.input_line = tp.line;
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");
@@ -451,6 +538,7 @@ impl Emitter for MachineEmitter {
                 tp.f
             };
             self.write_feed(out, f);
+            self.speeds.add_extruder_move(self.feed, tp.e, f);
             out.push(b'\n');
             return Ok(());
         }
@@ -463,7 +551,12 @@ impl Emitter for MachineEmitter {
         self.move_to(out, tp, relative_e).map_err(EmitError::new)
     }
 
+    fn lines_written(&mut self, n: u64) {
+        self.line_base = n;
+    }
+
     fn end_region(&mut self, out: &mut Vec<u8>) -> Result<(), EmitError> {
+        self.start_lines(out);
         if let Some(prev) = self.prev.clone() {
             if prev.n.angle_between(DVec3::Z) > 0.0 {
                 out.extend_from_slice(b"; warpslice: tool axis back to vertical\n");
@@ -475,6 +568,7 @@ impl Emitter for MachineEmitter {
                     layer: 0,
                     feature: Feature::Unknown,
                     travel: true,
+                    line: self.input_line,
                 };
                 self.move_to(out, &tp, true).map_err(EmitError::new)?;
             }
@@ -512,14 +606,66 @@ impl Emitter for MachineEmitter {
     fn finish(&mut self, out: &mut Vec<u8>) {
         let r = self.report();
         let line = format!(
-            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses\n",
+            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses; {}; {}\n",
             r.moves_in, r.moves_out, r.worst_position_mm, r.worst_angle_deg, r.worst_dropped_deg,
-            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes
+            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes,
+            speed_summary(&r),
+            margins_summary(&r.axes)
         );
         out.extend_from_slice(line.as_bytes());
     }
 
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
+    }
+}
+
+/// `N moves slowed by axis feed limits (A n, …); estimated time h:mm:ss (+s s slow-down)`: the
+/// speed part of the report line (CLI and the file's last comment).
+pub fn speed_summary(r: &MachineReport) -> String {
+    let by: Vec<String> = r
+        .axes
+        .iter()
+        .filter(|a| a.speed_limited_moves > 0)
+        .map(|a| format!("{} {}", a.axis, a.speed_limited_moves))
+        .collect();
+    let secs = (r.print_time_min * 60.0).round() as u64;
+    format!(
+        "{} moves slowed by axis feed limits{}; estimated time {}:{:02}:{:02} (+{:.1} s slow-down, no acceleration)",
+        r.speed_limited_moves,
+        if by.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", by.join(", "))
+        },
+        secs / 3600,
+        secs / 60 % 60,
+        secs % 60,
+        r.slowdown_min * 60.0
+    )
+}
+
+/// `reach margins X 12.300/45.600 mm, …` (to the lower/upper end of each limited axis), the
+/// margin part of the report line.
+pub fn margins_summary(axes: &[crate::emit::AxisReport]) -> String {
+    let m: Vec<String> = axes
+        .iter()
+        .filter_map(|a| {
+            let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+            (a.margin_min.is_some() || a.margin_max.is_some()).then(|| {
+                format!(
+                    "{} {}/{} {}",
+                    a.axis,
+                    f(a.margin_min),
+                    f(a.margin_max),
+                    if a.rotary { "deg" } else { "mm" }
+                )
+            })
+        })
+        .collect();
+    if m.is_empty() {
+        "reach margins: no axis limited".to_string()
+    } else {
+        format!("reach margins (to min/max) {}", m.join(", "))
     }
 }
