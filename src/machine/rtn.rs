@@ -31,8 +31,8 @@
 //!   (hi, lo + 360°) the machine stops at the nearer end, as the firmware clamps a move to its
 //!   `M208` limits (the nozzle then leans up to half the shadow, 10°, off the requested
 //!   azimuth: reported as the dropped tool-axis angle); at equal distance, or when both ends
-//!   are the same direction (a 360° range), the end nearer the previous value (`hi` without
-//!   one). When consecutive values jump by more than 180° the head must turn around the other
+//!   are the same direction (a 360° range), the end nearer the previous value (`lo` without
+//!   one, as Slicer4RTN's wrap into [−180°, 180°) followed by the firmware's clamp). When consecutive values jump by more than 180° the head must turn around the other
 //!   way: [`Rtn::must_rotate_around`] tells the emitter to insert Slicer4RTN's lifted
 //!   rotate-around move.
 //! - `unlimited` (0, RotBot's slip ring): R is unwrapped continuously next to the previous value
@@ -182,7 +182,7 @@ impl Rtn {
                 match previous {
                     Some(pr) if (pr - a).abs() < (pr - b).abs() => a,
                     Some(_) => b,
-                    None => b.max(a),
+                    None => a.min(b),
                 }
             }
         };
@@ -305,6 +305,13 @@ impl Machine for Rtn {
     fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
         if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() {
             core::f64::consts::PI
+        } else if self.params.revolution == Revolution::Single {
+            // midway in the shadow (or a 360° range's seam) the previous value picks the end
+            let t = self.rotation_of(num::deg(num::atan2(n.y, n.x)));
+            let [lo, hi] = self.params.rotation_range_deg;
+            let ends = [Some(lo), Some(hi)]
+                .map(|pr| self.axis_of(self.azimuth_of(self.in_range(t, pr))));
+            num::angle_between(ends[0], ends[1])
         } else {
             0.0
         }
