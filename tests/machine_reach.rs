@@ -58,7 +58,9 @@ fn read(text: &str) -> Vec<(bool, G1)> {
         for w in it {
             let (c, num) = w.split_at(1);
             let c = c.chars().next().unwrap();
-            let x: f64 = num.parse().unwrap_or_else(|_| panic!("line {}: {w}", i + 1));
+            let x: f64 = num
+                .parse()
+                .unwrap_or_else(|_| panic!("line {}: {w}", i + 1));
             match c {
                 'F' => g.f = Some(x),
                 'E' => g.e = Some(x),
@@ -94,7 +96,11 @@ fn first_outside(
         .filter(|(g92, g)| !g92 && g.words.len() == n_axes)
         .find_map(|(_, g)| {
             g.words.iter().find_map(|&(c, v)| {
-                let raw = if offset_axes.contains(c) { v - offset } else { v };
+                let raw = if offset_axes.contains(c) {
+                    v - offset
+                } else {
+                    v
+                };
                 travel
                     .iter()
                     .find(|t| t.0 == c && (raw < t.1 - WRITTEN || raw > t.2 + WRITTEN))
@@ -171,7 +177,10 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
         Err(e) => e,
     };
     let text = err.to_string();
-    assert!(text.contains("outside its travel") && text.contains("--place"), "{text}");
+    assert!(
+        text.contains("outside its travel") && text.contains("--place"),
+        "{text}"
+    );
     assert_eq!(warpslice::error::Coded::code(&err), "machine.travel");
     let warpslice::pipeline::Error::Unwarp(warpslice::unwarp::UnwarpError::Emit { error, .. }) =
         &err
@@ -194,7 +203,10 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
     let free = unwarp(input.as_bytes(), &job, &settings(unlimited(&spec))).unwrap();
     let out = String::from_utf8(free.gcode).unwrap();
     let (line, letter, raw) = first_outside(&out, 4, &travel_of(&spec), 0.0, "").unwrap();
-    assert_eq!(output_line as usize, line, "refused line vs the first line beyond the bed");
+    assert_eq!(
+        output_line as usize, line,
+        "refused line vs the first line beyond the bed"
+    );
     assert_eq!(axis, letter.to_string());
     assert!((value - raw).abs() <= WRITTEN, "{value} vs written {raw}");
     assert_eq!((min, max), (0.0, 230.0));
@@ -254,7 +266,10 @@ fn a_three_z_pose_outside_the_tilted_volume_is_refused() {
         let start = DVec3::new(p.x, p.y, 20.0);
         em.begin_region(&mut out, start, DVec3::Z).unwrap();
         let mut r = Ok(());
-        for (i, (q, m)) in [(start, DVec3::Z), (p, DVec3::Z), (p, n)].into_iter().enumerate() {
+        for (i, (q, m)) in [(start, DVec3::Z), (p, DVec3::Z), (p, n)]
+            .into_iter()
+            .enumerate()
+        {
             em.lines_written(out.iter().filter(|&&b| b == b'\n').count() as u64);
             let tp = ToolPoint {
                 p: q,
@@ -285,14 +300,20 @@ fn a_three_z_pose_outside_the_tilted_volume_is_refused() {
     else {
         panic!("not a travel error: {e}");
     };
-    assert_eq!(input_line, 42, "the reorientation came from the third point");
+    assert_eq!(
+        input_line, 42,
+        "the reorientation came from the third point"
+    );
     assert_eq!(output_line as usize, written.lines().count() + 1);
     let (r, free_out) = run(&unlimited(&spec));
     r.unwrap();
     let d = z_offset(&free_out);
     assert!(d > 0.0, "the header gives the Z axes' offset");
     let (line, letter, raw) = first_outside(&free_out, 5, &travel_of(&spec), d, "ZUV").unwrap();
-    assert_eq!((output_line as usize, axis.as_str()), (line, letter.to_string().as_str()));
+    assert_eq!(
+        (output_line as usize, axis.as_str()),
+        (line, letter.to_string().as_str())
+    );
     assert!((value - raw).abs() <= WRITTEN);
     assert!(axis == "X" || axis == "Y", "{axis}");
 }
@@ -334,11 +355,17 @@ fn rtn_rotate_around_respects_its_170_degree_range() {
         .into_iter()
         .filter(|(g92, g)| !g92 && a_of(g).is_some())
         .map(|(_, g)| {
-            let around = text.lines().nth(g.line - 1).unwrap().contains("; rotate-around");
+            let around = text
+                .lines()
+                .nth(g.line - 1)
+                .unwrap()
+                .contains("; rotate-around");
             (g, around)
         })
         .collect();
-    assert!(lines.iter().all(|(g, _)| a_of(g).unwrap().abs() <= 170.0 + WRITTEN));
+    assert!(lines
+        .iter()
+        .all(|(g, _)| a_of(g).unwrap().abs() <= 170.0 + WRITTEN));
     let arounds: Vec<&(G1, bool)> = lines.iter().filter(|l| l.1).collect();
     assert_eq!(arounds.len(), 3, "one rotate-around (lift, turn, descend)");
     let turn = (a_of(&arounds[0].0).unwrap(), a_of(&arounds[2].0).unwrap());
@@ -394,8 +421,16 @@ fn a_clean_file_reports_its_reach_margins() {
             .unwrap();
         assert_eq!((a.min, a.max), (Some(min), Some(max)));
         let (m0, m1) = (a.margin_min.unwrap(), a.margin_max.unwrap());
-        assert!((m0 - (lo - min)).abs() <= WRITTEN, "{letter}: {m0} vs {}", lo - min);
-        assert!((m1 - (max - hi)).abs() <= WRITTEN, "{letter}: {m1} vs {}", max - hi);
+        assert!(
+            (m0 - (lo - min)).abs() <= WRITTEN,
+            "{letter}: {m0} vs {}",
+            lo - min
+        );
+        assert!(
+            (m1 - (max - hi)).abs() <= WRITTEN,
+            "{letter}: {m1} vs {}",
+            max - hi
+        );
     }
     // the margins are in the file's last comment line
     let last = text.lines().rev().find(|l| l.starts_with(';')).unwrap();
@@ -410,35 +445,52 @@ fn a_clean_file_reports_its_reach_margins() {
     );
 }
 
-/// The triple-Z bed (Z axes 1900 mm/min, seed 001 §4.8) on a 20° belt job: the moves the
-/// report counts as slowed, and its time estimate, are those computed here from the written
-/// axes and F with docs/machines.md's feed rule (xyz: the move length is that of the linear
-/// axes, X Y Z U V) and each axis' max_feed.
-#[test]
-fn slowed_moves_and_print_time_match_an_independent_count() {
-    let spec = preset("ratrig-vcore3-3z").unwrap();
-    let feeds: Vec<(char, f64)> = serde_json::to_value(&spec).unwrap()["max_feed"]
-        .as_object()
-        .unwrap()
-        .iter()
-        .map(|(k, v)| (k.chars().next().unwrap(), v.as_f64().unwrap()))
-        .collect();
-    let job = box_job(1.0, 20.0, [0.0, 1.0]);
-    let input = synthetic::gcode(&job, true, 2.0);
-    let out = unwarp(input.as_bytes(), &job, &settings(spec)).unwrap();
-    let rep = out.report.machine.clone().unwrap();
-    let text = String::from_utf8(out.gcode).unwrap();
-    let letters = ['X', 'Y', 'Z', 'U', 'V'];
-    // the head's X Y before the printed region (the passed-through 3-axis moves); the region
-    // starts with the G92 of the Z axes (the level bed's heights + offset)
-    let mut xy = [0.0, 0.0];
-    let mut pos: Option<[f64; 5]> = None;
+/// What the oracle below counts in a written file.
+#[derive(Debug, Default)]
+struct Speeds {
+    slowed: u64,
+    /// Slowed moves within 0.1 % of a limit (the written values are rounded).
+    near: u64,
+    /// Slowed by less than 1.5×, and by more.
+    mild: u64,
+    strong: u64,
+    minutes: f64,
+}
+
+/// Slowed moves and time of `text` for a machine with axes `letters` (`rotary` per axis) and
+/// largest feeds `feeds`, written in feed mode `mode` — docs/machines.md "Feed": `xyz` F is
+/// the speed along the linear axes (a pure rotation: along the rotary ones), `all-axes` along
+/// all axes with degrees counted as mm, `inverse-time` F = 1/minutes — and the firmware's
+/// slow-down: a move takes `max(1, maxᵢ vᵢ/max_feedᵢ)` times its nominal time. Retractions
+/// take |E|/F (1/F in inverse time). The head starts where the passed-through 3-axis lines
+/// left it (X Y Z, rotary axes 0: the region starts vertical), the Z axes' `G92` included.
+fn speeds_of(
+    text: &str,
+    letters: &[char],
+    rotary: &[bool],
+    feeds: &[(char, f64)],
+    mode: FeedMode,
+) -> Speeds {
+    let k = letters.len();
+    let mut s = Speeds::default();
+    let mut head = [0.0; 3];
+    let mut pos: Option<Vec<f64>> = None;
     let mut f = 0.0;
-    let (mut slowed, mut near, mut minutes) = (0u64, 0u64, 0.0);
-    for (g92, g) in read(&text) {
+    for (g92, g) in read(text) {
         let has = |c: char| g.words.iter().find(|w| w.0 == c).map(|w| w.1);
+        let start = |head: &[f64; 3]| -> Vec<f64> {
+            letters
+                .iter()
+                .map(|c| match c {
+                    'X' => head[0],
+                    'Y' => head[1],
+                    'Z' => head[2],
+                    _ => 0.0,
+                })
+                .collect()
+        };
         if g92 {
-            let p = pos.get_or_insert([xy[0], xy[1], 0.0, 0.0, 0.0]);
+            let p = pos.get_or_insert_with(|| start(&head));
             for (i, c) in letters.iter().enumerate() {
                 if let Some(v) = has(*c) {
                     p[i] = v;
@@ -446,61 +498,176 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
             }
             continue;
         }
-        if pos.is_none() {
-            xy = [has('X').unwrap_or(xy[0]), has('Y').unwrap_or(xy[1])];
-        }
         if let Some(v) = g.f {
             f = v;
         }
-        if g.words.len() != 5 {
-            // an extruder-only move: |E| / F
-            if let Some(e) = g.e {
-                minutes += e.abs() / f;
+        if g.words.len() != k {
+            if pos.is_none() {
+                for (i, c) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+                    if let Some(v) = has(c) {
+                        head[i] = v;
+                    }
+                }
+            } else if let (Some(e), true) = (g.e, g.words.is_empty()) {
+                s.minutes += if mode == FeedMode::InverseTime {
+                    1.0 / f
+                } else {
+                    e.abs() / f
+                };
             }
             continue;
         }
-        let to: [f64; 5] = std::array::from_fn(|i| has(letters[i]).unwrap());
-        if let Some(from) = pos {
-            let d: Vec<f64> = (0..5).map(|i| to[i] - from[i]).collect();
-            let len = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if len > 0.0 {
-                let t = len / f;
-                let ratio = (0..5)
-                    .map(|i| {
-                        let m = feeds.iter().find(|x| x.0 == letters[i]).unwrap().1;
-                        d[i].abs() / t / m
-                    })
-                    .fold(0.0, f64::max);
-                if ratio > 1.0 {
-                    slowed += 1;
+        let from = pos.clone().unwrap_or_else(|| start(&head));
+        let to: Vec<f64> = letters.iter().map(|c| has(*c).unwrap()).collect();
+        let d: Vec<f64> = (0..k).map(|i| to[i] - from[i]).collect();
+        let len = |pick: &dyn Fn(usize) -> bool| {
+            (0..k)
+                .filter(|&i| pick(i))
+                .map(|i| d[i] * d[i])
+                .sum::<f64>()
+                .sqrt()
+        };
+        let (lin, all) = (len(&|i| !rotary[i]), len(&|_| true));
+        if all > 0.0 {
+            let t = match mode {
+                FeedMode::InverseTime => 1.0 / f,
+                FeedMode::Xyz if lin > 0.0 => lin / f,
+                _ => all / f,
+            };
+            let ratio = (0..k)
+                .map(|i| {
+                    let m = feeds.iter().find(|x| x.0 == letters[i]).unwrap().1;
+                    d[i].abs() / t / m
+                })
+                .fold(0.0, f64::max);
+            if ratio > 1.0 {
+                s.slowed += 1;
+                if ratio < 1.5 {
+                    s.mild += 1;
+                } else {
+                    s.strong += 1;
                 }
-                if (ratio - 1.0).abs() < 1e-3 {
-                    near += 1;
-                }
-                minutes += t * ratio.max(1.0);
             }
+            if (ratio - 1.0).abs() < 1e-3 {
+                s.near += 1;
+            }
+            s.minutes += t * ratio.max(1.0);
         }
         pos = Some(to);
     }
-    assert!(slowed > 10, "the Z lifts at 6000 mm/min are slowed: {slowed}");
+    s
+}
+
+fn feeds_of(spec: &MachineSpec) -> Vec<(char, f64)> {
+    serde_json::to_value(spec).unwrap()["max_feed"]
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| (k.chars().next().unwrap(), v.as_f64().unwrap()))
+        .collect()
+}
+
+/// The report against [`speeds_of`]: the same slowed moves (up to those within rounding of a
+/// limit), the same time, each slowed move counted for one axis.
+fn check_speeds(what: &str, rep: &warpslice::emit::MachineReport, want: &Speeds) {
     assert!(
-        rep.speed_limited_moves.abs_diff(slowed) <= near,
-        "report {} vs {slowed} counted here ({near} within 0.1 % of a limit)",
-        rep.speed_limited_moves
+        rep.speed_limited_moves.abs_diff(want.slowed) <= want.near,
+        "{what}: report {} vs {} counted here ({} within 0.1 % of a limit)",
+        rep.speed_limited_moves,
+        want.slowed,
+        want.near
     );
+    // the written values are rounded to 0.001 mm / 0.001° and F to 0.1 mm/min (some moves'
+    // times differ by a part in 10⁴ or so; their sum far less)
     assert!(
-        (rep.print_time_min - minutes).abs() < 1e-3 * minutes,
-        "{} vs {minutes} min",
-        rep.print_time_min
+        (rep.print_time_min - want.minutes).abs() < 1e-4 * want.minutes,
+        "{what}: {} vs {} min",
+        rep.print_time_min,
+        want.minutes
     );
     assert!(rep.slowdown_min > 0.0 && rep.slowdown_min < rep.print_time_min);
-    let by_z: u64 = rep
+    let by: u64 = rep.axes.iter().map(|a| a.speed_limited_moves).sum();
+    assert_eq!(
+        by, rep.speed_limited_moves,
+        "{what}: one axis per slowed move"
+    );
+}
+
+/// The triple-Z bed (Z axes 1900 mm/min, seed 001 §4.8) on a 20° belt job: the moves the
+/// report counts as slowed, and its time estimate, are those computed here from the written
+/// axes and F ([`speeds_of`]) and each axis' max_feed. X and Y are given 1500 mm/min here,
+/// below the synthetic slicer's 1800 mm/min walls, so slowed moves range from barely (a wall
+/// at an angle) to 3× (the Z axes on a 6000 mm/min lift).
+#[test]
+fn slowed_moves_and_print_time_match_an_independent_count() {
+    let mut spec = preset("ratrig-vcore3-3z").unwrap();
+    let feeds = spec.max_feed.as_mut().unwrap();
+    feeds.insert("X".into(), 1500.0);
+    feeds.insert("Y".into(), 1500.0);
+    let job = box_job(1.0, 20.0, [0.0, 1.0]);
+    let input = synthetic::gcode(&job, true, 2.0);
+    let out = unwarp(input.as_bytes(), &job, &settings(spec.clone())).unwrap();
+    let rep = out.report.machine.clone().unwrap();
+    let text = String::from_utf8(out.gcode).unwrap();
+    let want = speeds_of(
+        &text,
+        &['X', 'Y', 'Z', 'U', 'V'],
+        &[false; 5],
+        &feeds_of(&spec),
+        FeedMode::Xyz,
+    );
+    assert!(want.mild > 10 && want.strong > 10, "{want:?}");
+    check_speeds("3Z", &rep, &want);
+    assert!(rep
         .axes
         .iter()
-        .filter(|a| "ZUV".contains(a.axis.as_str()))
-        .map(|a| a.speed_limited_moves)
-        .sum();
-    assert_eq!(by_z, rep.speed_limited_moves, "only the Z axes are slow here");
+        .all(|a| a.speed_limited_moves > 0 || a.axis == "U" || a.axis == "V"));
+}
+
+/// The B head on a curved job (B turns along every wall), written with `--feed xyz` (the
+/// firmware's length leaves B out) and `--feed inverse-time`, its B limited to 600 °/min so
+/// the turning slows moves: the report against [`speeds_of`] again.
+#[test]
+fn slowed_moves_with_a_rotary_axis_match_an_independent_count() {
+    let mut spec = preset("fullcontrol-prusa-b").unwrap();
+    spec.max_feed.as_mut().unwrap().insert("B".into(), 600.0);
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let job = warp_model(
+        &stl,
+        &WarpOptions {
+            anchor: AnchorMode::Off,
+            ..WarpOptions::new(WarpParams {
+                spec: WarpSpec::Curved {
+                    strength: 0.3,
+                    direction: warpslice::warp::Direction::Outward,
+                    offset: 0.0,
+                    width: 0.0,
+                },
+                base: None,
+            })
+        },
+    )
+    .unwrap()
+    .job;
+    let input = synthetic::gcode(&job, true, 2.0);
+    for mode in [FeedMode::Xyz, FeedMode::InverseTime] {
+        let mut s = settings(spec.clone());
+        s.output.feed = mode;
+        let out = unwarp(input.as_bytes(), &job, &s).unwrap();
+        let rep = out.report.machine.clone().unwrap();
+        let text = String::from_utf8(out.gcode).unwrap();
+        let want = speeds_of(
+            &text,
+            &['X', 'Y', 'Z', 'B'],
+            &[false, false, false, true],
+            &feeds_of(&spec),
+            mode,
+        );
+        assert!(want.slowed > 10, "{mode:?}: {want:?}");
+        check_speeds(&format!("{mode:?}"), &rep, &want);
+        let b = rep.axes.iter().find(|a| a.axis == "B").unwrap();
+        assert!(b.speed_limited_moves > 0, "{mode:?}: B slows moves");
+    }
 }
 
 // ---- the machine file ----
@@ -513,6 +680,14 @@ fn machine_files_without_travel_load_and_bad_travel_is_refused() {
     let spec = MachineSpec::from_json(old, "old").unwrap();
     let em = MachineEmitter::new(&spec, None, FeedMode::Xyz).unwrap();
     assert!(em.report().axes.iter().all(|a| a.rotary || a.min.is_none()));
+    assert!(em.report().axes.iter().all(|a| a.max_feed.is_none()));
+    // a one-revolution RTN file without rotation_range_deg takes seed 002's ±170°
+    let rtn = MachineSpec::from_json(r#"{"kind":"rtn","revolution":"single"}"#, "old rtn")
+        .unwrap()
+        .build()
+        .unwrap();
+    let a = &rtn.limits()[3];
+    assert_eq!((a.min, a.max), (-170.0, 170.0));
     for (bad, want) in [
         (r#""travel":{"Q":[0,1]}"#, "names axis 'Q'"),
         (r#""travel":{"B":[0,1]}"#, "rotary axis 'B'"),

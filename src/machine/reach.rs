@@ -106,8 +106,14 @@ mod tests {
         assert_eq!(r.check(&[230.5, 0.0, 0.0]), Err(0));
         assert_eq!(r.check(&[1.0, 0.0, 90.5]), Err(2));
         let rep = r.report();
-        assert_eq!((rep[0].margin_min, rep[0].margin_max), (Some(10.0), Some(30.0)));
+        assert_eq!(
+            (rep[0].margin_min, rep[0].margin_max),
+            (Some(10.0), Some(30.0))
+        );
         assert_eq!((rep[1].margin_min, rep[1].lowest), (None, Some(-500.0)));
-        assert_eq!((rep[2].margin_min, rep[2].margin_max), (Some(45.0), Some(60.0)));
+        assert_eq!(
+            (rep[2].margin_min, rep[2].margin_max),
+            (Some(45.0), Some(60.0))
+        );
     }
 }

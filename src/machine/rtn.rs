@@ -309,8 +309,8 @@ impl Machine for Rtn {
             // midway in the shadow (or a 360° range's seam) the previous value picks the end
             let t = self.rotation_of(num::deg(num::atan2(n.y, n.x)));
             let [lo, hi] = self.params.rotation_range_deg;
-            let ends = [Some(lo), Some(hi)]
-                .map(|pr| self.axis_of(self.azimuth_of(self.in_range(t, pr))));
+            let ends =
+                [Some(lo), Some(hi)].map(|pr| self.axis_of(self.azimuth_of(self.in_range(t, pr))));
             num::angle_between(ends[0], ends[1])
         } else {
             0.0

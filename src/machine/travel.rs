@@ -127,7 +127,10 @@ mod tests {
         let travel = BTreeMap::from([("X".to_string(), [0.0, 230.0]), ("Z".into(), [-2.0, 210.0])]);
         let feed = BTreeMap::from([("B".to_string(), 3600.0)]);
         let b = resolve("m", &limits(), Some(&travel), Some(&feed)).unwrap();
-        assert_eq!((b[0].min, b[0].max, b[0].max_feed), (0.0, 230.0, f64::INFINITY));
+        assert_eq!(
+            (b[0].min, b[0].max, b[0].max_feed),
+            (0.0, 230.0, f64::INFINITY)
+        );
         assert_eq!((b[1].min, b[1].max), (-2.0, 150.0));
         assert_eq!((b[2].min, b[2].max, b[2].max_feed), (-90.0, 90.0, 3600.0));
         let none = resolve("m", &limits(), None, None).unwrap();
@@ -136,12 +139,36 @@ mod tests {
 
     #[test]
     fn bad_entries_are_refused_by_name() {
-        let cases: [(Option<BTreeMap<String, [f64; 2]>>, Option<BTreeMap<String, f64>>, &str); 5] = [
-            (Some(BTreeMap::from([("Q".into(), [0.0, 1.0])])), None, "names axis 'Q'"),
-            (Some(BTreeMap::from([("B".into(), [0.0, 1.0])])), None, "rotary axis 'B'"),
-            (Some(BTreeMap::from([("X".into(), [5.0, 1.0])])), None, "min < max"),
-            (None, Some(BTreeMap::from([("X".into(), 0.0)])), "positive number (mm/min)"),
-            (None, Some(BTreeMap::from([("B".into(), f64::NAN)])), "positive number (°/min)"),
+        let cases: [(
+            Option<BTreeMap<String, [f64; 2]>>,
+            Option<BTreeMap<String, f64>>,
+            &str,
+        ); 5] = [
+            (
+                Some(BTreeMap::from([("Q".into(), [0.0, 1.0])])),
+                None,
+                "names axis 'Q'",
+            ),
+            (
+                Some(BTreeMap::from([("B".into(), [0.0, 1.0])])),
+                None,
+                "rotary axis 'B'",
+            ),
+            (
+                Some(BTreeMap::from([("X".into(), [5.0, 1.0])])),
+                None,
+                "min < max",
+            ),
+            (
+                None,
+                Some(BTreeMap::from([("X".into(), 0.0)])),
+                "positive number (mm/min)",
+            ),
+            (
+                None,
+                Some(BTreeMap::from([("B".into(), f64::NAN)])),
+                "positive number (°/min)",
+            ),
         ];
         for (t, f, want) in cases {
             let e = resolve("m", &limits(), t.as_ref(), f.as_ref()).unwrap_err();

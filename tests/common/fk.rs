@@ -401,7 +401,11 @@ impl Fk {
                         None | Some(Value::Null) => [-170.0, 170.0],
                         Some(_) => match numbers(v, "rotation_range_deg")?[..] {
                             [lo, hi] => [lo, hi],
-                            _ => return Err("machine JSON: 'rotation_range_deg' is not 2 numbers".into()),
+                            _ => {
+                                return Err(
+                                    "machine JSON: 'rotation_range_deg' is not 2 numbers".into()
+                                )
+                            }
                         },
                     }),
                 },
@@ -878,11 +882,7 @@ impl Fk {
             // X = p_x + r sin B, Y = p_y, Z = p_z + r cos B − r
             Fk::BHead { r: l, .. } => {
                 let b = r.x.atan2(r.z);
-                xyz(DVec3::new(
-                    p.x + l * b.sin(),
-                    p.y,
-                    p.z + l * b.cos() - l,
-                ))
+                xyz(DVec3::new(p.x + l * b.sin(), p.y, p.z + l * b.cos() - l))
             }
             // (X, Y) = p_xy − R_z(φ)(e_par, e_perp), Z = p_z
             Fk::Rtn { e, .. } => {
@@ -941,10 +941,7 @@ impl Fk {
                 let rho = p.x.hypot(p.y);
                 let radial = DVec3::new(p.x / rho, p.y / rho, 0.0);
                 let b = r.dot(radial).atan2(r.z);
-                Some(vec![
-                    (0, rho + l * b.sin()),
-                    (2, p.z + l * b.cos() - l),
-                ])
+                Some(vec![(0, rho + l * b.sin()), (2, p.z + l * b.cos() - l)])
             }
             // q = c + R_x(A)(p − c) with n = (0, sin A, cos A)
             Fk::Lathe { c, with_y } => {
@@ -987,10 +984,9 @@ impl Limits {
                 let t = match v.get("travel").and_then(|t| t.get(&name)) {
                     None | Some(Value::Null) => None,
                     Some(pair) => match pair.as_array().map(|a| a.as_slice()) {
-                        Some([lo, hi]) => Some([
-                            lo.as_f64().ok_or("travel")?,
-                            hi.as_f64().ok_or("travel")?,
-                        ]),
+                        Some([lo, hi]) => {
+                            Some([lo.as_f64().ok_or("travel")?, hi.as_f64().ok_or("travel")?])
+                        }
                         _ => return Err(format!("machine JSON: travel of {name}")),
                     },
                 };
@@ -1014,15 +1010,12 @@ impl Limits {
     /// range, rails, radius), or a linear axis of [`Fk::linear_axes`] outside its travel.
     pub fn out_of_reach(&self, p: DVec3, n: DVec3) -> Option<String> {
         self.fk.out_of_reach(p, n).or_else(|| {
-            self.fk
-                .linear_axes(p, n)?
-                .into_iter()
-                .find_map(|(i, x)| {
-                    let (name, t) = &self.travel[i];
-                    let [lo, hi] = (*t)?;
-                    (x < lo - LENGTH_SLACK || x > hi + LENGTH_SLACK)
-                        .then(|| format!("axis {name} = {x:.4} outside its travel [{lo}, {hi}]"))
-                })
+            self.fk.linear_axes(p, n)?.into_iter().find_map(|(i, x)| {
+                let (name, t) = &self.travel[i];
+                let [lo, hi] = (*t)?;
+                (x < lo - LENGTH_SLACK || x > hi + LENGTH_SLACK)
+                    .then(|| format!("axis {name} = {x:.4} outside its travel [{lo}, {hi}]"))
+            })
         })
     }
 }
