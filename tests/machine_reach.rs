@@ -163,7 +163,7 @@ fn unlimited(spec: &MachineSpec) -> MachineSpec {
 
 // ---- refusals ----
 
-/// A box 240 mm wide (the B head's bed is 230 mm, seed 000 §4.1) centred by the slicer on
+/// A box 240 mm wide (the B head's bed is 230 mm, seed 000 §4.2.3) centred by the slicer on
 /// x = 100: its skirt and left wall are at x < 0. The refusal names the first output line
 /// beyond the travel — the one the same unwarp without `travel` writes there — and the input
 /// line being read when that move was written.
