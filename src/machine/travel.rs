@@ -137,13 +137,12 @@ mod tests {
         assert_eq!(none[0].min, f64::NEG_INFINITY);
     }
 
+    type Travel = Option<BTreeMap<String, [f64; 2]>>;
+    type Feeds = Option<BTreeMap<String, f64>>;
+
     #[test]
     fn bad_entries_are_refused_by_name() {
-        let cases: [(
-            Option<BTreeMap<String, [f64; 2]>>,
-            Option<BTreeMap<String, f64>>,
-            &str,
-        ); 5] = [
+        let cases: [(Travel, Feeds, &str); 5] = [
             (
                 Some(BTreeMap::from([("Q".into(), [0.0, 1.0])])),
                 None,
