@@ -35,9 +35,19 @@
 //! - **B head**: the collision clip is in the kinematics; the ramp and z-offset come from the
 //!   unwarp options.
 //!
+//! ## Reach and speeds
+//! Every G1 goes through `write_g1`, which first checks its raw axes against the machine
+//! file's travel and the rotary ranges ([`super::reach`]): a value outside is
+//! [`MachineError::Travel`] with the output line it would have been (1-based: the lines the
+//! caller reports through [`Emitter::lines_written`] plus those this call wrote) and the input
+//! line of the toolpath point ([`ToolPoint::line`]). It then adds the move to the speed
+//! accounting ([`super::speed`]: the firmware's duration at the F in force, slowed where an
+//! axis would exceed its `max_feed`). The report and the file's last comment line give the
+//! margins, the slowed moves and the estimated time.
+//!
 //! ## Errors
-//! Unreachable orientations and axis limits are returned from [`Emitter::point`]; the driver
-//! stops with `UnwarpError::Machine` naming the G-code line. Never a silently wrong file.
+//! Unreachable orientations, axis limits and travel are returned from [`Emitter::point`]; the
+//! driver stops with `UnwarpError::Emit` naming the G-code line. Never a silently wrong file.
 
 use glam::DVec3;
 
