@@ -735,3 +735,74 @@ fn the_test_kinematics_linear_axes_agree_with_every_preset() {
         assert!(checked > 100, "{name}: {checked} poses checked");
     }
 }
+
+// ---- the CLI ----
+
+/// `warpslice unwarp --machine …` in a scratch directory: (success, stdout, stderr, output).
+fn cli_unwarp(tag: &str, job: &Job, extra: &[&str]) -> (bool, String, String, String) {
+    let dir = std::env::temp_dir().join(format!("warpslice-reach-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (g, j, o) = (
+        dir.join("in.gcode"),
+        dir.join("job.json"),
+        dir.join("out.gcode"),
+    );
+    std::fs::write(&g, synthetic::gcode(job, true, 4.0)).unwrap();
+    std::fs::write(&j, job.to_json_pretty()).unwrap();
+    let mut args = vec![
+        "unwarp".to_string(),
+        g.display().to_string(),
+        "--job".into(),
+        j.display().to_string(),
+        "-o".into(),
+        o.display().to_string(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args(&args)
+        .output()
+        .unwrap();
+    let written = std::fs::read_to_string(&o).unwrap_or_default();
+    let _ = std::fs::remove_dir_all(&dir);
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        written,
+    )
+}
+
+/// Through the CLI: a clean file's summary line gives the slowed moves, the estimated time and
+/// the margins (as the file's last comment line does); a part beyond the travel fails with the
+/// output and input lines and the fix, and leaves no file behind.
+#[test]
+fn the_cli_reports_margins_and_speeds_and_refuses_beyond_the_travel() {
+    let job = box_job(1.0, 0.5, [1.0, 0.0]);
+    let (ok, stdout, stderr, written) =
+        cli_unwarp("clean", &job, &["--machine", "fullcontrol-prusa-b"]);
+    assert!(ok, "{stderr}");
+    let last = written.lines().rev().find(|l| l.starts_with(';')).unwrap();
+    for part in [
+        "moves slowed by axis feed limits",
+        "estimated time",
+        "reach margins (to min/max) X ",
+    ] {
+        assert!(
+            stdout.contains(part) && last.contains(part),
+            "{part}: {stdout}\n{last}"
+        );
+    }
+    let wide = box_job(12.0, 0.5, [1.0, 0.0]);
+    let (ok, _, stderr, written) = cli_unwarp("wide", &wide, &["--machine", "fullcontrol-prusa-b"]);
+    assert!(!ok);
+    for part in [
+        "output line ",
+        "from input line ",
+        "axis X = ",
+        "outside its travel [0, 230]",
+        "--place",
+    ] {
+        assert!(stderr.contains(part), "{part}: {stderr}");
+    }
+    assert!(written.is_empty(), "a refused file is not written");
+}
