@@ -109,8 +109,9 @@ pub struct MachineEmitter {
     speeds: AxisSpeeds,
     /// Lines the output held before the current call ([`Emitter::lines_written`]).
     line_base: u64,
-    /// Where in `out` the current call started writing, and the lines counted from there so
-    /// far (up to `scan.0`): the output line of the next G1 is `line_base + scan.1 + 1`.
+    /// `(start, upto, n)`: where in `out` the current call started writing, how far it has
+    /// been scanned, and the lines in `out[start..upto]`; the next line written is output line
+    /// `line_base + n + (lines in out[upto..]) + 1`.
     scan: (usize, usize, u64),
     /// The input line of the toolpath point being written.
     input_line: u64,
