@@ -19,7 +19,9 @@ pub struct MachineInfo {
     pub kind: String,
     /// The firmware flavour it is written for.
     pub flavour: &'static str,
-    /// Its axes in output order: `{ name, rotary, min, max }` (unbounded: `null`).
+    /// Its axes in output order: `{ name, rotary, min, max, max_feed }` (min, max: the travel of
+    /// a linear axis or the range of a rotary one; unbounded: `null`; max_feed mm/min or °/min,
+    /// `null` without a limit).
     pub axes: Vec<serde_json::Value>,
     /// What it can do.
     #[serde(flatten)]
@@ -81,11 +83,12 @@ pub fn machine_info(
         }
     };
     let machine = spec.build()?;
-    let axes = machine
-        .limits()
+    // the kinematic limits joined with the file's travel (linear axes) and largest feeds
+    let axes = spec
+        .axis_bounds(machine.limits())?
         .iter()
         .map(|l| {
-            serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": finite(l.min), "max": finite(l.max) })
+            serde_json::json!({ "name": l.name, "rotary": l.rotary, "min": finite(l.min), "max": finite(l.max), "max_feed": finite(l.max_feed) })
         })
         .collect();
     let value = serde_json::to_value(spec).map_err(|e| MachineError::BadJson {

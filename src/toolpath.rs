@@ -150,6 +150,11 @@ pub struct ToolPoint {
     pub feature: Feature,
     /// A non-extruding move (travel, lift, descent).
     pub travel: bool,
+    /// The input G-code line (1-based, as an editor shows it) this point came from: the
+    /// slicer's move, or the line being read when warpslice added the point (a lift, a
+    /// descent, the end of the region); 0 when there is none (points built by hand).
+    #[serde(default)]
+    pub line: u64,
 }
 
 #[cfg(test)]

@@ -17,8 +17,10 @@
 //!   (`compute_U_values`). Its outward cone is `z = z_layer − r`: warpslice's `outward`.
 //!
 //! Rotation values are compared modulo 360° (an unlimited axis may be on another turn), the
-//! one-revolution axis also for its range, the 5-axis head up to its equivalent branch
-//! `(A, B) ≡ (A + 180°, −B)`.
+//! 5-axis head up to its equivalent branch `(A, B) ≡ (A + 180°, −B)`. The one-revolution axis
+//! is compared as its firmware moves it: seed 002's prototype limits A with `M208 A-170 S1`
+//! and `M208 A170 S0`, and RepRapFirmware clamps a move to those limits (`M564 S1`, its
+//! default), so Slicer4RTN's A ∈ [−180°, 180°) becomes [`m208`] of it.
 
 use glam::DVec3;
 use warpslice::machine::{preset, Machine};
@@ -48,6 +50,12 @@ fn s4rtn_rot(p: DVec3, c: [f64; 2], inside: bool) -> f64 {
 /// Slicer4RTN, `--rot-revolv=1`: `fmod(rot + 360 + rot_offset, 360) − 180`.
 fn s4rtn_single(p: DVec3, c: [f64; 2], inside: bool) -> f64 {
     fmod(s4rtn_rot(p, c, inside) + 360.0 + S4RTN_ROT_OFFSET, 360.0) - 180.0
+}
+
+/// Seed 002's RTN prototype: A limited to [−170°, 170°] (`M208 A-170 S1`, `M208 A170 S0`);
+/// RepRapFirmware moves a target beyond a limit to the limit.
+fn m208(a: f64) -> f64 {
+    a.clamp(-170.0, 170.0)
 }
 
 /// Slicer4RTN, `--rot-revolv=0`: `rabs + rot_offset`, `rabs = rabs − fmod(rabs, 360) + 180 +
@@ -115,9 +123,9 @@ fn rtn_slicer4rtn_writes_slicer4rtns_a_on_outward_and_inward_cones() {
         for inward in [false, true] {
             for p in points(c) {
                 let a = m.inverse(p, cone_axis(p, c, inward), None).unwrap();
-                let want = s4rtn_single(p, c, inward);
+                let want = m208(s4rtn_single(p, c, inward));
                 assert!(
-                    mod360(a[3], want) < TOL && (-180.0..=180.0).contains(&a[3]),
+                    (a[3] - want).abs() < TOL,
                     "centre {c:?} inward {inward} at {p}: A = {} vs Slicer4RTN {want}",
                     a[3]
                 );
@@ -131,24 +139,27 @@ fn rtn_slicer4rtn_writes_slicer4rtns_a_on_outward_and_inward_cones() {
 #[test]
 fn a_few_values_written_out() {
     // Outward cone about (0, 0): a point on +X (azimuth 0°) has A = 0 + 180 − 90 = 90°; on +Y
-    // A = 180°; on −X A = −90°; on −Y A = 0°. Inward: the opposite side.
+    // A = 180°, written by Slicer4RTN as −180° and moved by the firmware to −170° (seed 002's
+    // M208 limit); on −X A = −90°; on −Y A = 0°. Inward: the opposite side. RotBot and the
+    // 5-axis head have no such limit.
     let m = machine("rtn-slicer4rtn");
     let rb = machine("rotbot");
     let pax = machine("pax-5axis");
     let c = [0.0, 0.0];
     for (p, out_a, in_a, out_u) in [
         (DVec3::new(10.0, 0.0, 1.0), 90.0, -90.0, 0.0),
-        (DVec3::new(0.0, 10.0, 1.0), 180.0, 0.0, 90.0),
+        (DVec3::new(0.0, 10.0, 1.0), -180.0, 0.0, 90.0),
         (DVec3::new(-10.0, 0.0, 1.0), -90.0, 90.0, 180.0),
-        (DVec3::new(0.0, -10.0, 1.0), 0.0, 180.0, -90.0),
+        (DVec3::new(0.0, -10.0, 1.0), 0.0, -180.0, -90.0),
     ] {
         assert!(mod360(s4rtn_single(p, c, false), out_a) < 1e-9);
         assert!(mod360(s4rtn_single(p, c, true), in_a) < 1e-9);
         assert!(mod360(rotbot_u(p, c, false), out_u) < 1e-9);
+        assert!((-180.0..180.0).contains(&s4rtn_single(p, c, false)));
         let a = m.inverse(p, cone_axis(p, c, false), None).unwrap()[3];
-        assert!(mod360(a, out_a) < 1e-9, "{p}: {a} vs {out_a}");
+        assert!((a - m208(out_a)).abs() < 1e-9, "{p}: {a} vs {out_a}");
         let a = m.inverse(p, cone_axis(p, c, true), None).unwrap()[3];
-        assert!(mod360(a, in_a) < 1e-9, "{p}: {a} vs {in_a}");
+        assert!((a - m208(in_a)).abs() < 1e-9, "{p}: {a} vs {in_a}");
         let u = rb.inverse(p, cone_axis(p, c, false), None).unwrap()[3];
         assert!(mod360(u, out_u) < 1e-9, "{p}: {u} vs {out_u}");
         let u = rb.inverse(p, cone_axis(p, c, true), None).unwrap()[3];

@@ -646,6 +646,7 @@ fn circle_path() -> Vec<ToolPoint> {
                 layer,
                 feature: warpslice::toolpath::Feature::OuterWall,
                 travel: false,
+                line: 0,
             });
         }
     }
@@ -740,6 +741,7 @@ fn split_halves_join_on_the_same_branch_near_the_pole() {
         layer: 1,
         feature: warpslice::toolpath::Feature::OuterWall,
         travel: false,
+        line: 0,
     };
     let mut rep = TessellationReport::default();
     let moves = tessellate_move(m.as_ref(), (&a0, p0, n0), &to, &DEFAULT_BOUNDS, &mut rep).unwrap();

@@ -34,6 +34,7 @@ fn dome_path(m: &dyn Machine) -> Vec<ToolPoint> {
                 layer,
                 feature: Feature::OuterWall,
                 travel: false,
+                line: 0,
             });
         }
     }

@@ -404,7 +404,7 @@ fn machine_case(
 ) -> Result<Option<common::machine::Measured>, String> {
     let (spec, place) = machine_setup(name);
     // the machine file's kinematics and limits, in the tests' own closed forms
-    let fk = common::machine::fk::Fk::from_spec(&spec)?;
+    let limits = common::machine::fk::Limits::from_spec(&spec)?;
     let axis_names = spec.axis_names().map_err(|e| e.to_string())?;
     // the core toolpath (slicer placement) moved to the preset's placement
     let shift = place.map_or(DVec3::ZERO, |[x, y]| {
@@ -426,11 +426,11 @@ fn machine_case(
                 return Err(format!("refused without a named limit: {text}"));
             }
             // independently: some pose of the core toolpath is beyond the machine file's limits
-            // (tilt, rotary travel, reach, rails: common::machine::fk::Fk::out_of_reach)
+            // (tilt, rotary travel, reach, rails, linear travel: common::machine::fk::Limits)
             let unreachable = core
                 .iter()
                 .filter(|t| !t.travel)
-                .any(|t| fk.out_of_reach(t.p + shift, t.n).is_some());
+                .any(|t| limits.out_of_reach(t.p + shift, t.n).is_some());
             return if unreachable {
                 Ok(None)
             } else {

@@ -24,7 +24,7 @@ mod report;
 
 pub use cartesian::Cartesian;
 pub use e_writer::{EWriter, E_QUANTUM};
-pub use report::{CollisionFinding, FeedMode, MachineReport};
+pub use report::{AxisReport, CollisionFinding, FeedMode, MachineReport};
 
 /// Feed for travels, lifts and descents warpslice adds when the slicer gave none, mm/min
 /// (100 mm/s).
@@ -79,6 +79,10 @@ pub trait Emitter: Send {
     fn check_job(&mut self, _job: &Job, _model_to_output: DVec3) -> Result<(), EmitError> {
         Ok(())
     }
+    /// The output holds `n` lines before whatever the next call writes (the caller counts every
+    /// line it writes, the emitter's included): an emitter that names output lines in its
+    /// errors (1-based, as written) counts from here.
+    fn lines_written(&mut self, _n: u64) {}
     /// Header lines after warpslice's own (`; warpslice machine = …`).
     fn header(&mut self, _out: &mut Vec<u8>) {}
     /// The printed region starts; the head is at `p` with tool axis `n` (output frame).

@@ -1,4 +1,5 @@
-//! What a machine emitter reports, and how it writes F.
+//! What a machine emitter reports (with each axis' reach and speed, [`AxisReport`]), and how
+//! it writes F.
 //!
 //! The feed modes are explained with their formulas in [`crate::machine::feed`].
 
@@ -70,6 +71,42 @@ pub struct MachineReport {
     /// Every collision found (with `allow_collisions`; otherwise the first stops the unwarp).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub collisions: Vec<CollisionFinding>,
+    /// Every axis: its travel, the range written and the margins, its largest feed and the
+    /// moves it slowed (machine order).
+    pub axes: Vec<AxisReport>,
+    /// Written moves on which some axis would exceed its largest feed at the written F: the
+    /// firmware slows the whole move so the fastest axis is at its limit (not an error).
+    pub speed_limited_moves: u64,
+    /// Estimated time of the moves written in the printed region, minutes, at the written
+    /// feeds with the firmware's slow-down for axis feed limits (no acceleration).
+    pub print_time_min: f64,
+    /// The part of `print_time_min` that the axis feed limits add, minutes.
+    pub slowdown_min: f64,
+}
+
+/// One axis over a machine file: travel, range written, margins, feed limit.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AxisReport {
+    /// The output letter.
+    pub axis: String,
+    /// Rotary (degrees) rather than linear (mm).
+    pub rotary: bool,
+    /// Lower end of the travel, mm or degrees (`None`: unlimited).
+    pub min: Option<f64>,
+    /// Upper end of the travel (`None`: unlimited).
+    pub max: Option<f64>,
+    /// Lowest raw value written (`None`: no move written).
+    pub lowest: Option<f64>,
+    /// Highest raw value written.
+    pub highest: Option<f64>,
+    /// Reach margin to the lower end, `lowest − min` (`None`: unlimited or nothing written).
+    pub margin_min: Option<f64>,
+    /// Reach margin to the upper end, `max − highest`.
+    pub margin_max: Option<f64>,
+    /// Largest feed, mm/min or °/min (`None`: no limit).
+    pub max_feed: Option<f64>,
+    /// Moves on which this axis was the one that limited the speed.
+    pub speed_limited_moves: u64,
 }
 
 /// One collision of a head part with the printed material or the bed (`crate::collision`).

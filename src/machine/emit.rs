@@ -32,15 +32,27 @@
 //! - **B head**: the collision clip is in the kinematics; the ramp and z-offset come from the
 //!   unwarp options.
 //!
+//! ## Reach and speeds
+//! Every G1 goes through `write_g1`, which first checks its raw axes against the machine
+//! file's travel and the rotary ranges ([`super::reach`]): a value outside is
+//! [`MachineError::Travel`] with the output line it would have been (1-based: the lines the
+//! caller reports through [`Emitter::lines_written`] plus those this call wrote) and the input
+//! line of the toolpath point ([`ToolPoint::line`]). It then adds the move to the speed
+//! accounting ([`super::speed`]: the firmware's duration at the F in force, slowed where an
+//! axis would exceed its `max_feed`). The report and the file's last comment line give the
+//! margins, the slowed moves and the estimated time.
+//!
 //! ## Errors
-//! Unreachable orientations and axis limits are returned from [`Emitter::point`]; the driver
-//! stops with `UnwarpError::Machine` naming the G-code line. Never a silently wrong file.
+//! Unreachable orientations, axis limits and travel are returned from [`Emitter::point`]; the
+//! driver stops with `UnwarpError::Emit` naming the G-code line. Never a silently wrong file.
 
 use glam::DVec3;
 
 use super::angles::wrap180;
 use super::feed::{output_feed, FeedMode};
 use super::flavour::Flavour;
+use super::reach::Reach;
+use super::speed::AxisSpeeds;
 use super::tessellate::{tessellate_move, Bounds, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, DEFAULT_TRAVEL_FEED};
@@ -86,6 +98,18 @@ pub struct MachineEmitter {
     report: MachineReport,
     /// Filament of a rotate-around's piece, given to the next extruding piece, mm.
     carry_e: f64,
+    /// Every written move's axes inside their travel; the range written.
+    reach: Reach,
+    /// Moves slowed by an axis' largest feed; the time estimate.
+    speeds: AxisSpeeds,
+    /// Lines the output held before the current call ([`Emitter::lines_written`]).
+    line_base: u64,
+    /// `(start, upto, n)`: where in `out` the current call started writing, how far it has
+    /// been scanned, and the lines in `out[start..upto]`; the next line written is output line
+    /// `line_base + n + (lines in out[upto..]) + 1`.
+    scan: (usize, usize, u64),
+    /// The input line of the toolpath point being written.
+    input_line: u64,
 }
 
 impl std::fmt::Debug for MachineEmitter {
@@ -107,6 +131,11 @@ impl MachineEmitter {
     ) -> Result<MachineEmitter, MachineError> {
         let machine = spec.build()?;
         let limits = machine.limits().to_vec();
+        let axis_bounds = spec.axis_bounds(&limits)?;
+        let speeds = AxisSpeeds::new(
+            axis_bounds.iter().map(|b| b.max_feed).collect(),
+            axis_bounds.iter().map(|b| b.rotary).collect(),
+        );
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
         flavour.check(machine.name(), &limits, feed)?;
         let unlimited = limits
@@ -134,6 +163,11 @@ impl MachineEmitter {
             carry_e: 0.0,
             tess: TessellationReport::default(),
             report,
+            reach: Reach::new(axis_bounds),
+            speeds,
+            line_base: 0,
+            scan: (0, 0, 0),
+            input_line: 0,
         })
     }
 
@@ -154,7 +188,28 @@ impl MachineEmitter {
         r.worst_dropped_deg = t.worst_dropped_deg;
         r.depth_limited = t.depth_limited as u64;
         r.reposes = t.reposes as u64;
+        r.axes = self.reach.report();
+        for (a, &n) in r.axes.iter_mut().zip(&self.speeds.limited_by) {
+            a.speed_limited_moves = n;
+        }
+        r.speed_limited_moves = self.speeds.limited;
+        r.print_time_min = self.speeds.minutes;
+        r.slowdown_min = self.speeds.slowdown_minutes;
         r
+    }
+
+    /// A call that writes G1 lines starts writing at the end of `out`.
+    fn start_lines(&mut self, out: &[u8]) {
+        self.scan = (out.len(), out.len(), 0);
+    }
+
+    /// The 1-based output line the next line written to `out` will be.
+    fn next_output_line(&mut self, out: &[u8]) -> u64 {
+        let (start, upto, n) = self.scan;
+        let upto = upto.clamp(start, out.len());
+        let more = out[upto..].iter().filter(|&&b| b == b'\n').count() as u64;
+        self.scan = (start, out.len(), n + more);
+        self.line_base + n + more + 1
     }
 
     fn write_feed(&mut self, out: &mut Vec<u8>, f: f64) {
@@ -178,11 +233,25 @@ impl MachineEmitter {
         out: &mut Vec<u8>,
         from: &[f64],
         axes: &[f64],
+        p: DVec3,
         e: Option<(f64, bool)>,
         tip_length: f64,
         f: f64,
         tag: &str,
     ) -> Result<(), MachineError> {
+        if let Err(i) = self.reach.check(axes) {
+            let b = &self.reach.bounds()[i];
+            return Err(MachineError::Travel {
+                machine: self.preset.clone(),
+                axis: b.name.clone(),
+                value: axes[i],
+                min: b.min,
+                max: b.max,
+                output_line: self.next_output_line(out),
+                input_line: self.input_line,
+                p,
+            });
+        }
         out.extend_from_slice(b"G1");
         // the move as the firmware reads it: the written (rounded) values
         let read =
@@ -204,6 +273,14 @@ impl MachineEmitter {
         }
         let fo = output_feed(self.feed, from, axes, tip_length, firmware_length, f);
         self.write_feed(out, fo);
+        // the feed in force: the one written, else the modal one
+        let f_fw = if fo.is_finite() && fo > 0.0 {
+            fo
+        } else {
+            self.last_f.unwrap_or(0.0)
+        };
+        self.speeds
+            .add_move(self.feed, from, axes, f_fw, firmware_length);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -247,10 +324,28 @@ impl MachineEmitter {
             .inverse(from.p + lift, from.n, Some(&from.axes))?;
         let up1 = self.machine.inverse(to.p + lift, to.n, Some(&to.axes))?;
         let tag = ROTATE_AROUND_TAG;
-        self.write_g1(out, &from.axes, &up0, None, ROTATE_AROUND_LIFT_MM, f, tag)?;
+        self.write_g1(
+            out,
+            &from.axes,
+            &up0,
+            from.p,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            f,
+            tag,
+        )?;
         let len = (to.p - from.p).length();
-        self.write_g1(out, &up0, &up1, None, len, f, tag)?;
-        self.write_g1(out, &up1, &to.axes, None, ROTATE_AROUND_LIFT_MM, f, tag)?;
+        self.write_g1(out, &up0, &up1, to.p, None, len, f, tag)?;
+        self.write_g1(
+            out,
+            &up1,
+            &to.axes,
+            to.p,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            f,
+            tag,
+        )?;
         self.report.rotate_arounds += 1;
         Ok(())
     }
@@ -265,7 +360,7 @@ impl MachineEmitter {
         let Some(prev) = self.prev.clone() else {
             let axes = self.machine.inverse(tp.p, tp.n, None)?;
             let e = (!tp.travel).then_some((tp.e, relative));
-            self.write_g1(out, &axes, &axes, e, 0.0, tp.f, "")?;
+            self.write_g1(out, &axes, &axes, tp.p, e, 0.0, tp.f, "")?;
             self.prev = Some(Pose {
                 axes,
                 p: tp.p,
@@ -304,7 +399,7 @@ impl MachineEmitter {
                 } else {
                     ""
                 };
-                self.write_g1(out, &from.axes, &m.axes, e, m.tip_length, m.f, tag)?;
+                self.write_g1(out, &from.axes, &m.axes, m.p, e, m.tip_length, m.f, tag)?;
             }
             from = Pose {
                 axes: m.axes.clone(),
@@ -353,7 +448,40 @@ impl Emitter for MachineEmitter {
                 self.bounds.max_position_mm, self.bounds.max_angle_deg
             ),
         ];
-        lines.extend(self.flavour.header(&self.limits, self.feed));
+        lines.push(format!(
+            "; warpslice machine travel (raw values, checked on every move) = {}",
+            self.reach
+                .bounds()
+                .iter()
+                .map(|b| {
+                    let unit = if b.rotary { "deg" } else { "mm" };
+                    let feed = if b.max_feed.is_finite() {
+                        format!(" max {} {unit}/min", crate::num::fmt_shortest(b.max_feed))
+                    } else {
+                        " no feed limit".to_string()
+                    };
+                    if b.min.is_finite() || b.max.is_finite() {
+                        format!("{} [{}, {}]{feed}", b.name, b.min, b.max)
+                    } else {
+                        format!("{} unlimited{feed}", b.name)
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        // the firmware's limits as checked: the kinematic ranges within the file's travel
+        let checked: Vec<AxisLimit> = self
+            .reach
+            .bounds()
+            .iter()
+            .map(|b| AxisLimit {
+                name: b.name.clone(),
+                rotary: b.rotary,
+                min: b.min,
+                max: b.max,
+            })
+            .collect();
+        lines.extend(self.flavour.header(&checked, self.feed));
         for l in lines {
             out.extend_from_slice(l.as_bytes());
             out.push(b'\n');
@@ -384,6 +512,8 @@ impl Emitter for MachineEmitter {
         tp: &ToolPoint,
         relative_e: bool,
     ) -> Result<(), EmitError> {
+        self.start_lines(out);
+        self.input_line = tp.line;
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");
@@ -394,6 +524,7 @@ impl Emitter for MachineEmitter {
                 tp.f
             };
             self.write_feed(out, f);
+            self.speeds.add_extruder_move(self.feed, tp.e, f);
             out.push(b'\n');
             return Ok(());
         }
@@ -406,7 +537,12 @@ impl Emitter for MachineEmitter {
         self.move_to(out, tp, relative_e).map_err(EmitError::new)
     }
 
+    fn lines_written(&mut self, n: u64) {
+        self.line_base = n;
+    }
+
     fn end_region(&mut self, out: &mut Vec<u8>) -> Result<(), EmitError> {
+        self.start_lines(out);
         if let Some(prev) = self.prev.clone() {
             if prev.n.angle_between(DVec3::Z) > 0.0 {
                 out.extend_from_slice(b"; warpslice: tool axis back to vertical\n");
@@ -418,6 +554,7 @@ impl Emitter for MachineEmitter {
                     layer: 0,
                     feature: Feature::Unknown,
                     travel: true,
+                    line: self.input_line,
                 };
                 self.move_to(out, &tp, true).map_err(EmitError::new)?;
             }
@@ -439,14 +576,66 @@ impl Emitter for MachineEmitter {
     fn finish(&mut self, out: &mut Vec<u8>) {
         let r = self.report();
         let line = format!(
-            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses\n",
+            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses; {}; {}\n",
             r.moves_in, r.moves_out, r.worst_position_mm, r.worst_angle_deg, r.worst_dropped_deg,
-            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes
+            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes,
+            speed_summary(&r),
+            margins_summary(&r.axes)
         );
         out.extend_from_slice(line.as_bytes());
     }
 
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
+    }
+}
+
+/// `N moves slowed by axis feed limits (A n, …); estimated time h:mm:ss (+s s slow-down)`: the
+/// speed part of the report line (CLI and the file's last comment).
+pub fn speed_summary(r: &MachineReport) -> String {
+    let by: Vec<String> = r
+        .axes
+        .iter()
+        .filter(|a| a.speed_limited_moves > 0)
+        .map(|a| format!("{} {}", a.axis, a.speed_limited_moves))
+        .collect();
+    let secs = (r.print_time_min * 60.0).round() as u64;
+    format!(
+        "{} moves slowed by axis feed limits{}; estimated time {}:{:02}:{:02} (+{:.1} s slow-down, no acceleration)",
+        r.speed_limited_moves,
+        if by.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", by.join(", "))
+        },
+        secs / 3600,
+        secs / 60 % 60,
+        secs % 60,
+        r.slowdown_min * 60.0
+    )
+}
+
+/// `reach margins X 12.300/45.600 mm, …` (to the lower/upper end of each limited axis), the
+/// margin part of the report line.
+pub fn margins_summary(axes: &[crate::emit::AxisReport]) -> String {
+    let m: Vec<String> = axes
+        .iter()
+        .filter_map(|a| {
+            let f = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
+            (a.margin_min.is_some() || a.margin_max.is_some()).then(|| {
+                format!(
+                    "{} {}/{} {}",
+                    a.axis,
+                    f(a.margin_min),
+                    f(a.margin_max),
+                    if a.rotary { "deg" } else { "mm" }
+                )
+            })
+        })
+        .collect();
+    if m.is_empty() {
+        "reach margins: no axis limited".to_string()
+    } else {
+        format!("reach margins (to min/max) {}", m.join(", "))
     }
 }

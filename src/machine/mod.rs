@@ -32,6 +32,10 @@
 //!   0.02 mm / 0.1° of the intended path (seed 001 §4.5); reports the worst error.
 //! - [`feed`]: output F for `tip`, `xyz`, `all-axes` and `inverse-time` (G93) feed modes;
 //!   [`length_rule`]: how each firmware measures a move's length (what `tip` divides by).
+//! - [`travel`]: the machine file's linear travel and per-axis largest feed; [`reach`]: every
+//!   written move inside the travel (a violation is [`MachineError::Travel`], naming the output
+//!   and input lines) and the margins; [`speed`]: moves an axis' feed limit slows, and the
+//!   print-time estimate with that slow-down.
 
 use core::fmt;
 
@@ -52,11 +56,14 @@ pub mod laws;
 pub mod length_rule;
 pub mod options;
 pub mod pax;
+pub mod reach;
 pub mod rtheta;
 pub mod rtn;
 pub mod spec;
+pub mod speed;
 pub mod tessellate;
 pub mod threez;
+pub mod travel;
 pub mod view;
 
 pub use crate::emit::FeedMode;
@@ -242,6 +249,26 @@ pub enum MachineError {
         /// The tool tip being reached, output frame, mm.
         p: DVec3,
     },
+    /// A written move would take an axis outside its travel (machine file `travel`, or a
+    /// rotary axis' range).
+    Travel {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// The axis' letter in the G-code.
+        axis: String,
+        /// The value the move would write (mm, or degrees).
+        value: f64,
+        /// Lower end of the travel.
+        min: f64,
+        /// Upper end of the travel.
+        max: f64,
+        /// The output G-code line (1-based, as written) the move would be.
+        output_line: u64,
+        /// The input G-code line (1-based, the slicer's) the move came from; 0: none.
+        input_line: u64,
+        /// The tool tip at the end of the move, output frame, mm.
+        p: DVec3,
+    },
     /// A zero or non-finite tool axis or position.
     InvalidInput {
         /// Name of the machine (preset or JSON `name`).
@@ -345,6 +372,18 @@ impl fmt::Display for MachineError {
                 "machine {machine}: axis {axis} = {value:.6} is outside its travel [{min}, {max}] at point ({:.4}, {:.4}, {:.4}); move the part or widen the limit in the machine JSON",
                 p.x, p.y, p.z
             ),
+            MachineError::Travel { machine, axis, value, min, max, output_line, input_line, p } => {
+                let input = if *input_line > 0 {
+                    format!("from input line {input_line}")
+                } else {
+                    "added by warpslice".to_string()
+                };
+                write!(
+                    f,
+                    "machine {machine}: output line {output_line} ({input}): axis {axis} = {value:.3} is outside its travel [{min}, {max}] with the tip at ({:.3}, {:.3}, {:.3}); move the part with --place x,y, print a smaller part or use another warp (or correct the travel in the machine JSON)",
+                    p.x, p.y, p.z
+                )
+            }
             MachineError::InvalidInput { machine, p, n } => write!(
                 f,
                 "machine {machine}: invalid input point ({}, {}, {}) / tool axis ({}, {}, {}): the position must be finite and the tool axis a finite non-zero vector",
@@ -402,6 +441,7 @@ impl std::error::Error for MachineError {}
 crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     UnreachableOrientation => "machine.unreachable-orientation", "the machine cannot give this tool axis here";
     AxisLimit => "machine.axis-limit", "an axis would leave its travel";
+    Travel => "machine.travel", "a written move would take an axis outside its travel";
     InvalidInput => "machine.invalid-input", "a non-finite point or a zero tool axis";
     WrongAxisCount => "machine.wrong-axis-count", "the wrong number of axis values";
     InvalidAxes => "machine.invalid-axes", "a non-finite axis value";

@@ -24,9 +24,17 @@
 //! from the previous point (0 without one).
 //!
 //! ## Revolutions (`--rot-revolv`)
-//! - `single` (1): R ∈ [−180°, 180°] (the cables allow one turn). When consecutive points cross
-//!   ±180° the head must turn around the other way: [`Rtn::must_rotate_around`] tells the
-//!   emitter to insert Slicer4RTN's lifted rotate-around move.
+//! - `single` (1): R ∈ `rotation_range_deg` = [lo, hi] (the cables allow one turn; default
+//!   [−170°, 170°], seed 002's prototype: "rotation 170°..180° and −170°..−180° were not
+//!   reliable …: limiting A to −170°..170°: `M208 A-170 S1` and `M208 A170 S0`"). The target
+//!   `R₀ = φ + c + rot_offset` is taken modulo 360° into [lo, hi]; inside the rotation shadow
+//!   (hi, lo + 360°) the machine stops at the nearer end, as the firmware clamps a move to its
+//!   `M208` limits (the nozzle then leans up to half the shadow, 10°, off the requested
+//!   azimuth: reported as the dropped tool-axis angle); at equal distance, or when both ends
+//!   are the same direction (a 360° range), the end nearer the previous value (`lo` without
+//!   one, as Slicer4RTN's wrap into [−180°, 180°) followed by the firmware's clamp). When consecutive values jump by more than 180° the head must turn around the other
+//!   way: [`Rtn::must_rotate_around`] tells the emitter to insert Slicer4RTN's lifted
+//!   rotate-around move.
 //! - `unlimited` (0, RotBot's slip ring): R is unwrapped continuously next to the previous value
 //!   (the emitter may `G92` it back modulo 360° at a layer change).
 //!
@@ -88,6 +96,10 @@ pub struct RtnParams {
     pub rot_offset_deg: f64,
     /// Single or unlimited revolutions.
     pub revolution: Revolution,
+    /// `[lo, hi]` of the rotation with `revolution: single`, degrees: lo < hi,
+    /// 180° < hi − lo ≤ 360° (seed 002's prototype: [−170, 170]; Slicer4RTN writes
+    /// [−180, 180]). Ignored for `unlimited`.
+    pub rotation_range_deg: [f64; 2],
     /// Tip offset along the azimuth direction, mm (RotBot calibration).
     pub e_parallel_mm: f64,
     /// Tip offset 90° counter-clockwise from the azimuth direction, mm.
@@ -101,6 +113,7 @@ impl Default for RtnParams {
             rot_convention: RotConvention::Slicer4rtn,
             rot_offset_deg: -90.0,
             revolution: Revolution::Single,
+            rotation_range_deg: [-170.0, 170.0],
             e_parallel_mm: 0.0,
             e_perpendicular_mm: 0.0,
         }
@@ -122,8 +135,17 @@ impl Rtn {
             params.tilt_deg > 0.0 && params.tilt_deg < 90.0,
             format!("tilt_deg = {} must be in (0, 90)", params.tilt_deg),
         )?;
+        let [lo, hi] = params.rotation_range_deg;
+        require(
+            name,
+            params.revolution == Revolution::Unlimited
+                || (lo.is_finite() && hi.is_finite() && hi - lo > 180.0 && hi - lo <= 360.0),
+            format!(
+                "rotation_range_deg = [{lo}, {hi}] must be finite with 180 < max − min ≤ 360 (degrees; seed 002's RTN: [-170, 170])"
+            ),
+        )?;
         let r = match params.revolution {
-            Revolution::Single => (-180.0, 180.0),
+            Revolution::Single => (lo, hi),
             Revolution::Unlimited => UNLIMITED,
         };
         let axis_set = AxisSet::linear_then_rotary(name, names, &[r]);
@@ -140,6 +162,39 @@ impl Rtn {
     /// nozzle and rotates around, Slicer4RTN's move at radius + 1 mm).
     pub fn must_rotate_around(&self, from: f64, to: f64) -> bool {
         self.params.revolution == Revolution::Single && (to - from).abs() > 180.0
+    }
+
+    /// `single` revolution: the value of rotation `target` (degrees, any turn) within
+    /// `rotation_range_deg` (see the module documentation: modulo 360°, the nearer end in the
+    /// shadow, ties to the end nearer `previous`).
+    pub fn in_range(&self, target: f64, previous: Option<f64>) -> f64 {
+        let [lo, hi] = self.params.rotation_range_deg;
+        let slack = super::LIMIT_SLACK_DEG;
+        let base = lo + (target - lo).rem_euclid(360.0);
+        let nearer = |a: f64, b: f64, da: f64, db: f64| {
+            if (da - db).abs() > slack {
+                if da < db {
+                    a
+                } else {
+                    b
+                }
+            } else {
+                match previous {
+                    Some(pr) if (pr - a).abs() < (pr - b).abs() => a,
+                    Some(_) => b,
+                    None => a.min(b),
+                }
+            }
+        };
+        if base <= hi + slack {
+            // a 360° range has both ends for the same direction
+            if base - lo <= slack && lo + 360.0 <= hi + slack {
+                return nearer(lo, hi, 0.0, 0.0);
+            }
+            return base.min(hi);
+        }
+        // the shadow (hi, lo + 360°)
+        nearer(hi, lo, base - hi, lo + 360.0 - base)
     }
 
     /// The rotation value (degrees, not wrapped) for the tool-axis azimuth `phi_deg`.
@@ -202,11 +257,18 @@ impl Machine for Rtn {
             fixed_tilt_deg: Some(self.params.tilt_deg),
             moving_bed: false,
             warps: vec!["conic"],
-            notes: vec![format!(
-                "nozzle fixed at {}° and rotating about Z ({:?} revolution): conic layers at that angle",
-                self.params.tilt_deg,
-                format!("{:?}", self.params.revolution).to_lowercase()
-            )],
+            notes: vec![match self.params.revolution {
+                Revolution::Single => format!(
+                    "nozzle fixed at {}° and rotating about Z (single revolution, {}° to {}°; in the shadow between the ends the nozzle stops at the nearer end): conic layers at that angle",
+                    self.params.tilt_deg,
+                    self.params.rotation_range_deg[0],
+                    self.params.rotation_range_deg[1]
+                ),
+                Revolution::Unlimited => format!(
+                    "nozzle fixed at {}° and rotating about Z (unlimited revolution): conic layers at that angle",
+                    self.params.tilt_deg
+                ),
+            }],
         }
     }
     fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
@@ -219,16 +281,8 @@ impl Machine for Rtn {
         };
         let r = match (self.params.revolution, prev) {
             (Revolution::Unlimited, Some(pr)) => unwrap_near(target, pr),
-            (Revolution::Single, Some(pr)) => {
-                // Exactly on the seam (+180° ≡ −180°): keep the side of the previous value.
-                let w = wrap180(target);
-                if w == 180.0 && pr < 0.0 {
-                    -180.0
-                } else {
-                    w
-                }
-            }
-            _ => wrap180(target),
+            (Revolution::Unlimited, None) => wrap180(target),
+            (Revolution::Single, _) => self.in_range(target, prev),
         };
         let phi = self.azimuth_of(r);
         let o = self.offset(phi);
@@ -249,11 +303,24 @@ impl Machine for Rtn {
         } else {
             num::atan2(n.y, n.x)
         };
-        self.axis_of(phi)
+        match self.params.revolution {
+            // within the range, or stopped at its nearer end
+            Revolution::Single => {
+                self.axis_of(self.azimuth_of(self.in_range(self.rotation_of(num::deg(phi)), None)))
+            }
+            Revolution::Unlimited => self.axis_of(phi),
+        }
     }
     fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
         if (n.x * n.x + n.y * n.y).sqrt() < POLE_EPSILON * n.length() {
             core::f64::consts::PI
+        } else if self.params.revolution == Revolution::Single {
+            // midway in the shadow (or a 360° range's seam) the previous value picks the end
+            let t = self.rotation_of(num::deg(num::atan2(n.y, n.x)));
+            let [lo, hi] = self.params.rotation_range_deg;
+            let ends =
+                [Some(lo), Some(hi)].map(|pr| self.axis_of(self.azimuth_of(self.in_range(t, pr))));
+            num::angle_between(ends[0], ends[1])
         } else {
             0.0
         }

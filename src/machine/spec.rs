@@ -6,6 +6,8 @@
 //! `three-z`, `r-theta`, `lathe-a`. Presets are compiled in with `include_str!` so they work in
 //! wasm; [`preset`] loads one by name, [`MachineSpec::from_json`] parses a user's file.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use super::{Machine, MachineError};
@@ -95,6 +97,17 @@ pub struct MachineSpec {
     /// [`super::head`]).
     #[serde(default)]
     pub bed: Option<super::head::BedSpec>,
+    /// Travel `[min, max]` of linear axes, by axis letter, in machine coordinates (mm, raw
+    /// values as written: the triple-Z bed's Z axes are its motor heights). An axis not listed is
+    /// unlimited (files written before `travel` existed load unchanged). Rotary ranges are
+    /// the kind's own parameters. See [`super::travel`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub travel: Option<BTreeMap<String, [f64; 2]>>,
+    /// Largest feed of an axis, by axis letter: mm/min for a linear axis, °/min for a rotary
+    /// one. An axis not listed has no limit (its moves are never counted as slowed). See
+    /// [`super::travel`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_feed: Option<BTreeMap<String, f64>>,
     /// Kinematics and parameters.
     #[serde(flatten)]
     pub kinematics: Kinematics,
@@ -229,9 +242,25 @@ impl MachineSpec {
         Ok(b)
     }
 
-    /// Build the machine.
+    /// Build the machine (the `travel` and `max_feed` entries are checked too).
     pub fn build(&self) -> Result<Box<dyn Machine>, MachineError> {
         let names = self.axis_names()?;
-        self.kinematics.params().build(&self.name, &names)
+        let machine = self.kinematics.params().build(&self.name, &names)?;
+        self.axis_bounds(machine.limits())?;
+        Ok(machine)
+    }
+
+    /// Every axis of the machine (whose kinematic limits are `limits`) with this file's travel
+    /// and largest feed ([`super::travel::resolve`]).
+    pub fn axis_bounds(
+        &self,
+        limits: &[super::AxisLimit],
+    ) -> Result<Vec<super::travel::AxisBounds>, MachineError> {
+        super::travel::resolve(
+            &self.name,
+            limits,
+            self.travel.as_ref(),
+            self.max_feed.as_ref(),
+        )
     }
 }

@@ -105,8 +105,10 @@ impl Core {
         self.counted(|c| c.emit.header(&mut c.out));
     }
 
-    /// Run `f` (which writes to `out`) and count the lines it wrote.
+    /// Run `f` (which writes to `out`) and count the lines it wrote; the emitter is told first
+    /// how many lines the output already has (so its errors can name their output line).
     pub(super) fn counted<R>(&mut self, f: impl FnOnce(&mut Core) -> R) -> R {
+        self.emit.lines_written(self.report.lines_out);
         let start = self.out.len();
         let r = f(self);
         self.report.lines_out += self.out[start..].iter().filter(|&&b| b == b'\n').count() as u64;
@@ -196,10 +198,11 @@ impl Core {
     }
 
     /// Hand a point to the emitter (counting the lines it writes) and keep it.
-    fn emit_point(&mut self, tp: ToolPoint, relative: bool) {
+    fn emit_point(&mut self, mut tp: ToolPoint, relative: bool) {
         if self.emit_error.is_some() {
             return;
         }
+        tp.line = self.report.lines_in;
         let r = self.counted(|c| c.emit.point(&mut c.out, &tp, relative));
         self.keep_error(r);
         if !tp.travel || tp.e == 0.0 {
@@ -394,6 +397,7 @@ impl Core {
                 layer: 0,
                 feature: Feature::Unknown,
                 travel: true,
+                line: 0,
             },
             relative,
         );
@@ -428,6 +432,7 @@ impl Core {
                 layer: m.layer,
                 feature,
                 travel: false,
+                line: 0,
             },
             relative,
         );
@@ -443,6 +448,7 @@ impl Core {
                 layer: 0,
                 feature: Feature::Unknown,
                 travel: true,
+                line: 0,
             },
             true,
         );

@@ -47,6 +47,12 @@ fn perp(v: DVec2) -> DVec2 {
     DVec2::new(-v.y, v.x)
 }
 
+/// The 2-D vector turned by `a` radians counter-clockwise.
+fn rot_z2(v: DVec2, a: f64) -> DVec2 {
+    let (s, c) = a.sin_cos();
+    DVec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
+}
+
 /// Wrap radians into (−π, π].
 fn wrap_pi(a: f64) -> f64 {
     let t = std::f64::consts::TAU;
@@ -184,6 +190,39 @@ impl ThreeZ {
         Ok((p, DVec3::new(-np.x, -np.y, np.z), u))
     }
 
+    /// The bed pose realising tool axis `n` (seed 001 §3.1: bed normal `n' = (n̂)_{−x,−y,z}`,
+    /// least in-plane turn): every rotation with R e₃ = n' is R_min·R_z(θ), R_min the minimal
+    /// rotation e₃ → n' (axis, tilt): the ball offsets in the world are R_min(cos θ l̂ᵢ + sin θ
+    /// e₃ × l̂ᵢ); θ and ball 0's slide t along d₀ from the rails of balls 1 and 2 (Eqs. 7–11).
+    /// Returns (axis, tilt, θ, t).
+    fn pose_of(&self, n: DVec3) -> Option<(DVec3, f64, f64, f64)> {
+        let np = DVec3::new(-n.x, -n.y, n.z).normalize();
+        let (axis, tilt) = minimal_rotation(DVec3::Z, np);
+        let (d0, n1, n2) = (self.d[0], self.nr[1], self.nr[2]);
+        let a = |i: usize| rotate(self.l[i].extend(0.0), axis, tilt).truncate();
+        let b = |i: usize| rotate(perp(self.l[i]).extend(0.0), axis, tilt).truncate();
+        let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
+        let alpha = dn1 * n2.dot(a(2)) - dn2 * n1.dot(a(1));
+        let beta = dn1 * n2.dot(b(2)) - dn2 * n1.dot(b(1));
+        let gamma = dn1 * self.k[2] - dn2 * self.k[1];
+        let th = least_root(alpha, beta, gamma)?;
+        let (s, c) = th.sin_cos();
+        let t = -(n1.dot(a(1) * c + b(1) * s) + self.k[1]) / dn1;
+        Some((axis, tilt, th, t))
+    }
+
+    /// The machine axes (x, y, z₀, z₁, z₂) putting the tip at bed point `p` with tool axis `n`:
+    /// Eq. 23 read backwards, `(x − t d₀ₓ, y − t d₀ᵧ, z₀) = R(p̂ − b̂₀) + b̂₀` and
+    /// `zᵢ = z₀ − (R l̂ᵢ)_z` (Eqs. 1, 15), R = R_min·R_z(θ) of [`ThreeZ::pose_of`].
+    fn axes_of(&self, p: DVec3, n: DVec3) -> Option<[f64; 5]> {
+        let (axis, tilt, th, t) = self.pose_of(n)?;
+        let r = |v: DVec3| rotate(rotate(v, DVec3::Z, th), axis, tilt);
+        let q = r(p - self.b0) + self.b0;
+        let b0w = self.d[0] * t;
+        let z = |i: usize| q.z - r(self.l[i].extend(0.0)).z;
+        Some([q.x + b0w.x, q.y + b0w.y, q.z, z(1), z(2)])
+    }
+
     /// Whether the bed pose realising tool axis `n` (seed 001 §3.1: bed normal
     /// `n' = (n̂)_{−x,−y,z}`, least in-plane turn) is beyond the tilt limit or slides a ball
     /// beyond its rail's travel (§4.1: from the planar position, inward towards the balls'
@@ -197,24 +236,11 @@ impl ThreeZ {
             ));
         }
         let [inward, outward] = self.rails?;
-        let np = DVec3::new(-n.x, -n.y, n.z).normalize();
-        // every rotation with R e₃ = n' is R_min·R_z(θ), R_min the minimal rotation e₃ → n':
-        // the ball offsets in the world are R_min(cos θ l̂ᵢ + sin θ e₃ × l̂ᵢ); θ and ball 0's
-        // slide t from the rails of balls 1 and 2 (Eqs. 7–11)
-        let (axis, tilt) = minimal_rotation(DVec3::Z, np);
-        let (d0, n1, n2) = (self.d[0], self.nr[1], self.nr[2]);
-        let a = |i: usize| rotate(self.l[i].extend(0.0), axis, tilt).truncate();
-        let b = |i: usize| rotate(perp(self.l[i]).extend(0.0), axis, tilt).truncate();
-        let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
-        let alpha = dn1 * n2.dot(a(2)) - dn2 * n1.dot(a(1));
-        let beta = dn1 * n2.dot(b(2)) - dn2 * n1.dot(b(1));
-        let gamma = dn1 * self.k[2] - dn2 * self.k[1];
-        let Some(th) = least_root(alpha, beta, gamma) else {
+        let Some((axis, tilt, th, t)) = self.pose_of(n) else {
             return Some("no bed pose puts the balls on their rails".into());
         };
-        let (s, c) = th.sin_cos();
-        let world = |i: usize| a(i) * c + b(i) * s;
-        let t = -(n1.dot(world(1)) + self.k[1]) / dn1;
+        let d0 = self.d[0];
+        let world = |i: usize| rotate(rot_z2(self.l[i], th).extend(0.0), axis, tilt).truncate();
         let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
         for i in 0..3 {
             let now = d0 * t + world(i);
@@ -253,6 +279,9 @@ pub enum Fk {
         offset_deg: f64,
         /// (e_parallel, e_perpendicular), mm.
         e: DVec2,
+        /// `revolution: single`: the range `[lo, hi]` of R, degrees (`rotation_range_deg`,
+        /// docs/machines.md: default [−170, 170], seed 002); `None`: unlimited.
+        range: Option<[f64; 2]>,
     },
     /// `pax` (5-axis head).
     Pax {
@@ -366,6 +395,20 @@ impl Fk {
                     number(v, "e_parallel_mm")?,
                     number(v, "e_perpendicular_mm")?,
                 ),
+                range: match v.get("revolution").and_then(Value::as_str) {
+                    Some("unlimited") => None,
+                    _ => Some(match v.get("rotation_range_deg") {
+                        None | Some(Value::Null) => [-170.0, 170.0],
+                        Some(_) => match numbers(v, "rotation_range_deg")?[..] {
+                            [lo, hi] => [lo, hi],
+                            _ => {
+                                return Err(
+                                    "machine JSON: 'rotation_range_deg' is not 2 numbers".into()
+                                )
+                            }
+                        },
+                    }),
+                },
             },
             "pax" => Fk::Pax {
                 l: number(v, "pivot_to_tip_mm")?,
@@ -495,6 +538,7 @@ impl Fk {
                 tilt,
                 offset_deg,
                 e,
+                ..
             } => {
                 let phi = (x[3] - offset_deg).to_radians();
                 let (s, c) = phi.sin_cos();
@@ -595,7 +639,18 @@ impl Fk {
         match self {
             Fk::Cartesian { .. } | Fk::Pax { .. } | Fk::ThreeZ(_) => false,
             Fk::BHead { .. } => n.x.hypot(n.z) < POLE,
-            Fk::Rtn { .. } => n.x.hypot(n.y) < POLE,
+            // or, with one revolution, a rotation midway in the shadow (hi, lo + 360°): the
+            // previous R picks the end
+            Fk::Rtn {
+                offset_deg, range, ..
+            } => {
+                n.x.hypot(n.y) < POLE
+                    || range.is_some_and(|[lo, hi]| {
+                        let k = (offset_deg + n.y.atan2(n.x).to_degrees() - lo).rem_euclid(360.0);
+                        let mid = (hi - lo + 360.0) / 2.0;
+                        k > hi - lo && (k - mid).abs() <= 1e-9
+                    })
+            }
             Fk::AbTable { b_dir, hold, .. } => n.cross(*b_dir).length() < hold.sin(),
             Fk::RTheta { .. } => {
                 let rho = p.x.hypot(p.y);
@@ -636,13 +691,45 @@ impl Fk {
             }
             // docs/machines.md: "Only the azimuth of a requested axis is realised (a vertical
             // request keeps the previous azimuth)".
+            // With one revolution R stays in [lo, hi]: a rotation in the shadow between hi and
+            // lo + 360° stops at the nearer end (the firmware's clamp to its M208 limits), at
+            // equal distance the end nearer the previous R (lo without one).
             Fk::Rtn {
-                tilt, offset_deg, ..
+                tilt,
+                offset_deg,
+                range,
+                ..
             } => {
                 let phi = if n.x.hypot(n.y) < POLE {
                     prev_axis(3).map_or(0.0, |r| (r - offset_deg).to_radians())
                 } else {
-                    n.y.atan2(n.x)
+                    let az = n.y.atan2(n.x);
+                    match range {
+                        Some([lo, hi]) => {
+                            let r = *offset_deg + az.to_degrees();
+                            // r modulo 360° measured from lo
+                            let k = (r - lo).rem_euclid(360.0);
+                            let r = if k <= hi - lo + LIMIT_SLACK_DEG {
+                                lo + k
+                            } else {
+                                let (to_hi, to_lo) = (lo + k - hi, lo + 360.0 - (lo + k));
+                                if (to_hi - to_lo).abs() > LIMIT_SLACK_DEG {
+                                    if to_hi < to_lo {
+                                        *hi
+                                    } else {
+                                        *lo
+                                    }
+                                } else {
+                                    match prev_axis(3) {
+                                        Some(pr) if (pr - hi).abs() < (pr - lo).abs() => *hi,
+                                        _ => *lo,
+                                    }
+                                }
+                            };
+                            (r - offset_deg).to_radians()
+                        }
+                        None => az,
+                    }
                 };
                 DVec3::new(tilt.sin() * phi.cos(), tilt.sin() * phi.sin(), tilt.cos())
             }
@@ -775,5 +862,160 @@ impl Fk {
                 }
             }
         }
+    }
+}
+
+impl Fk {
+    /// The linear axes that put the tip at `p` with the realised tool axis for `n` (no
+    /// previous pose), as `(axis index, value)` in machine order, read backwards from the
+    /// forward kinematics above (docs/machines.md per kind); `None` where the pose is not fixed
+    /// by `(p, n)` alone ([`Fk::free`]) or the kind has no closed form here.
+    pub fn linear_axes(&self, p: DVec3, n: DVec3) -> Option<Vec<(usize, f64)>> {
+        let n = n.normalize();
+        if self.free(p, n) {
+            return None;
+        }
+        let r = self.realised(p, n, None);
+        let xyz = |q: DVec3| Some(vec![(0, q.x), (1, q.y), (2, q.z)]);
+        match self {
+            Fk::Cartesian { .. } => xyz(p),
+            // X = p_x + r sin B, Y = p_y, Z = p_z + r cos B − r
+            Fk::BHead { r: l, .. } => {
+                let b = r.x.atan2(r.z);
+                xyz(DVec3::new(p.x + l * b.sin(), p.y, p.z + l * b.cos() - l))
+            }
+            // (X, Y) = p_xy − R_z(φ)(e_par, e_perp), Z = p_z
+            Fk::Rtn { e, .. } => {
+                let (s, c) = r.y.atan2(r.x).sin_cos();
+                xyz(DVec3::new(
+                    p.x - (e.x * c - e.y * s),
+                    p.y - (e.x * s + e.y * c),
+                    p.z,
+                ))
+            }
+            // (X, Y, Z) = p + L n − L e_z
+            Fk::Pax { l, .. } => xyz(p + r * *l - DVec3::Z * *l),
+            // v = R_A(−A) e_z with v·a = e_z·a, v·b = n·b (the |A| smallest branch, as
+            // out_of_reach), B turns n into v about b; then q = T_A(A) T_B(B)(p + offset) and
+            // Z gets the wobble back.
+            Fk::AbTable {
+                a_pos,
+                a_dir,
+                b_pos,
+                b_dir,
+                part_offset,
+                z_d,
+                ..
+            } => {
+                let (ca, cb, ab) = (a_dir.z, r.dot(*b_dir), a_dir.dot(*b_dir));
+                let det = 1.0 - ab * ab;
+                let base = *a_dir * ((ca - ab * cb) / det) + *b_dir * ((cb - ab * ca) / det);
+                let w = a_dir.cross(*b_dir);
+                let z2 = (1.0 - base.length_squared()) / w.length_squared();
+                if z2 < -1e-12 {
+                    return None;
+                }
+                let z = z2.max(0.0).sqrt();
+                let about = |axis: DVec3, from: DVec3, to: DVec3| {
+                    let f = from - axis * axis.dot(from);
+                    let t = to - axis * axis.dot(to);
+                    axis.dot(f.cross(t)).atan2(f.dot(t))
+                };
+                // A: the turn about a taking v to e_z; of the two branches the larger A (the
+                // A/B table's choice without a previous pose, src/machine/abtable.rs's
+                // documentation)
+                let (v1, v2) = (base + w * z, base - w * z);
+                let (a1, a2) = (about(*a_dir, v1, DVec3::Z), about(*a_dir, v2, DVec3::Z));
+                let (v, a) = if a1 >= a2 { (v1, a1) } else { (v2, a2) };
+                let b = about(*b_dir, r, v);
+                let y = *b_pos + rotate(p + *part_offset - *b_pos, *b_dir, b);
+                let q = *a_pos + rotate(y - *a_pos, *a_dir, a);
+                xyz(q + DVec3::Z * Fk::z_wobble(*z_d, a.to_degrees()))
+            }
+            Fk::ThreeZ(t) => {
+                let x = t.axes_of(p, n)?;
+                Some(x.iter().copied().enumerate().collect())
+            }
+            // X = ρ + L sin B, Z = p_z + L cos B − L (B the tilt in the radial plane)
+            Fk::RTheta { l, .. } => {
+                let rho = p.x.hypot(p.y);
+                let radial = DVec3::new(p.x / rho, p.y / rho, 0.0);
+                let b = r.dot(radial).atan2(r.z);
+                Some(vec![(0, rho + l * b.sin()), (2, p.z + l * b.cos() - l)])
+            }
+            // q = c + R_x(A)(p − c) with n = (0, sin A, cos A)
+            Fk::Lathe { c, with_y } => {
+                let a = r.y.atan2(r.z);
+                let q = *c + rotate(p - *c, DVec3::X, a);
+                Some(if *with_y {
+                    vec![(0, q.x), (1, q.y), (2, q.z)]
+                } else {
+                    vec![(0, q.x), (1, q.z)]
+                })
+            }
+        }
+    }
+}
+
+/// A machine file's kinematics ([`Fk`]) with the travel of its linear axes (the JSON's
+/// `travel`, by the letters of `axis_names`; docs/machines.md: an axis not listed is
+/// unlimited).
+#[derive(Clone, Debug)]
+pub struct Limits {
+    /// The kinematics.
+    pub fk: Fk,
+    /// Per axis (machine order): its letter and `[min, max]` when limited.
+    travel: Vec<(String, Option<[f64; 2]>)>,
+}
+
+impl Limits {
+    /// From a machine file's JSON (every parameter present, `axis_names` included).
+    pub fn from_json(v: &Value) -> Result<Limits, String> {
+        let fk = Fk::from_json(v)?;
+        let names: Vec<String> = field(v, "axis_names")?
+            .as_array()
+            .ok_or("machine JSON: 'axis_names'")?
+            .iter()
+            .map(|s| s.as_str().map(str::to_string).ok_or("axis_names"))
+            .collect::<Result<_, _>>()?;
+        let travel = names
+            .into_iter()
+            .map(|name| {
+                let t = match v.get("travel").and_then(|t| t.get(&name)) {
+                    None | Some(Value::Null) => None,
+                    Some(pair) => match pair.as_array().map(|a| a.as_slice()) {
+                        Some([lo, hi]) => {
+                            Some([lo.as_f64().ok_or("travel")?, hi.as_f64().ok_or("travel")?])
+                        }
+                        _ => return Err(format!("machine JSON: travel of {name}")),
+                    },
+                };
+                Ok((name, t))
+            })
+            .collect::<Result<_, String>>()?;
+        Ok(Limits { fk, travel })
+    }
+
+    /// From a spec, through its JSON form.
+    pub fn from_spec(spec: &warpslice::machine::MachineSpec) -> Result<Limits, String> {
+        let mut v = serde_json::to_value(spec).map_err(|e| e.to_string())?;
+        if v.get("axis_names").is_none_or(Value::is_null) {
+            let names = spec.axis_names().map_err(|e| e.to_string())?;
+            v["axis_names"] = serde_json::json!(names);
+        }
+        Limits::from_json(&v)
+    }
+
+    /// Why `(p, n)` is beyond the machine file's limits: [`Fk::out_of_reach`] (tilt, rotary
+    /// range, rails, radius), or a linear axis of [`Fk::linear_axes`] outside its travel.
+    pub fn out_of_reach(&self, p: DVec3, n: DVec3) -> Option<String> {
+        self.fk.out_of_reach(p, n).or_else(|| {
+            self.fk.linear_axes(p, n)?.into_iter().find_map(|(i, x)| {
+                let (name, t) = &self.travel[i];
+                let [lo, hi] = (*t)?;
+                (x < lo - LENGTH_SLACK || x > hi + LENGTH_SLACK)
+                    .then(|| format!("axis {name} = {x:.4} outside its travel [{lo}, {hi}]"))
+            })
+        })
     }
 }

@@ -27,6 +27,7 @@ export const ADVICE = {
   'job.stl-mismatch': 'The warped STL is not this job\'s: warp the model again and slice the STL of that warp.',
   'job.hash': 'Use the job file of this exact warped STL; warp again if in doubt.',
   'machine.axis-limit': 'The part needs more travel than an axis has: lower the warp, place the part elsewhere (“place”), or pick a machine with the range.',
+  'machine.travel': 'A move would leave an axis\'s travel (the message gives the output and input line, the axis and its limit): place the part elsewhere (“place”), print a smaller part or use another warp, or correct the travel in the custom machine JSON.',
   'machine.unreachable-orientation': 'The machine cannot tilt the nozzle that far here: lower the warp or pick a warp this machine prints.',
   'machine.mandrel-mismatch': 'Set the cylindrical warp\'s axis to the machine\'s mandrel axis.',
   'machine.bad-json': 'The custom machine JSON does not parse: fix it or switch it off (the message says where).',

@@ -106,7 +106,8 @@ export function machineViewArgument() {
   return customOn() ? JSON.stringify(customSpec()) : selectedPreset().name;
 }
 
-/** `X, Y, Z, A −30…30°` */
+/** `X 0…230 mm, Y, Z 0…210 mm, A −30…30°`: each axis' travel (describe's `min`/`max`). */
 export function axesText(m) {
-  return m.axes.map((a) => (a.rotary ? `${a.name} ${a.min ?? '−∞'}…${a.max ?? '∞'}°` : a.name)).join(', ');
+  const range = (a, unit) => (!a.rotary && a.min == null && a.max == null ? a.name : `${a.name} ${a.min ?? '−∞'}…${a.max ?? '∞'}${unit}`);
+  return m.axes.map((a) => range(a, a.rotary ? '°' : ' mm')).join(', ');
 }

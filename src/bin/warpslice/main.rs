@@ -248,8 +248,10 @@ mod cli {
         say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
         if let Some(m) = &r.machine {
             say!(
-                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets",
-                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets
+                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets; {}; {}",
+                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets,
+                warpslice::machine::emit::speed_summary(m),
+                warpslice::machine::emit::margins_summary(&m.axes)
             );
         }
         say!("wrote {}", output.display());
