@@ -642,6 +642,8 @@ fn klipper_refuses_an_axis_named_e_by_name() {
     let mut spec = warpslice::machine::preset("pax-5axis").unwrap();
     spec.axis_names = Some(["X", "Y", "Z", "E", "B"].map(String::from).to_vec());
     spec.flavour = None;
+    // (the preset's feed limits name the letters it renames)
+    spec.max_feed = None;
     let file = part.dir.join("pax-e.json");
     std::fs::write(&file, spec.to_json()).unwrap();
     let e = part.unwarp_err(

@@ -292,6 +292,7 @@ fn tip_speed_case(
                 machine: Some(spec.clone()),
                 feed,
                 flavour: Flavour::parse(flavour.flavour()),
+                ..MachineOptions::default()
             },
         };
         let o = unwarp(input, job, &opts).map_err(|e| format!("{feed:?}: {e}"))?;
@@ -525,6 +526,7 @@ fn unwarp_errors_are_named() {
             machine: Some(preset("pax-5axis").unwrap()),
             flavour: Some(warpslice::machine::Flavour::Klipper),
             feed: FeedMode::InverseTime,
+            ..MachineOptions::default()
         },
     };
     let e = unwarp(&input, &job, &klipper).unwrap_err().to_string();

@@ -239,7 +239,7 @@ fn cylindrical_job_off_the_mandrel_axis_is_refused() {
     assert!(ok.is_ok(), "{:?}", ok.err().map(|e| e.to_string()));
 }
 
-/// Found by the flavour tests: a refused unwarp (here Klipper for a 5-axis head) left an empty
+/// Found by the flavour tests: a refused unwarp (here Klipper asked for G93 inverse time) left an empty
 /// G-code under the output's name. The file is written beside it and renamed when complete, so
 /// a refusal leaves nothing behind, and an older output of the same name is kept.
 #[cfg(not(target_arch = "wasm32"))]
@@ -258,6 +258,7 @@ fn a_refused_unwarp_leaves_no_output_file() {
         output: MachineOptions {
             machine: Some(warpslice::machine::preset("pax-5axis").unwrap()),
             flavour: Some(warpslice::machine::Flavour::Klipper),
+            feed: warpslice::emit::FeedMode::InverseTime,
             ..MachineOptions::default()
         },
     };

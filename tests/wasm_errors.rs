@@ -581,16 +581,16 @@ fn an_unknown_machine_is_refused_with_its_code_by_every_function_that_takes_one(
         "options.invalid",
         &["machine", "preset name or a machine object", "5"],
     );
-    // Klipper cannot drive a 5-axis head
+    // Klipper has no G93
     refused(
-        "klipper on pax-5axis",
+        "klipper with inverse time",
         wasm::unwarp(
             g.as_bytes(),
             &job_json,
-            r#"{"machine":"pax-5axis","flavour":"klipper"}"#,
+            r#"{"machine":"pax-5axis","flavour":"klipper","feed":"inverse-time"}"#,
         ),
         "machine.unsupported-flavour",
-        &["pax-5axis", "klipper", "reprapfirmware or marlin"],
+        &["pax-5axis", "klipper", "has no G93", "--feed tip"],
     );
     wasm::unwarp(
         g.as_bytes(),
