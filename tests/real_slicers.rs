@@ -28,7 +28,8 @@
 //! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
 //! how many cases it skipped and why. To reproduce one case: `WARPSLICE_CASES=model:warp,…`
 //! (substrings; add `WARPSLICE_FULL_MATRIX=1` for a case outside the rotation) runs only those,
-//! saying so, and `WARPSLICE_KEEP_FAILED=DIR` keeps a failed machine case's G-code and toolpath.
+//! saying so, `WARPSLICE_KEEP_FAILED=DIR` keeps a failed machine case's G-code and toolpath, and
+//! `WARPSLICE_DEBUG_WALK=1` prints the lines and toolpath points around a machine walk failure.
 #![cfg(not(target_arch = "wasm32"))]
 
 mod common;
