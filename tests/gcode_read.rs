@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 use warpslice::gcode::{
-    Command, GcodeError, Line, Move, ReadOptions, Reader, State, MAX_LINE_BYTES,
+    Command, GcodeError, HeadMove, Line, Move, ReadOptions, Reader, State, MAX_LINE_BYTES,
 };
 use warpslice::toolpath::Feature;
 
@@ -139,7 +139,7 @@ fn sample_lines_commands_and_moves() {
     assert_eq!(r[18].state.layer, 1);
     assert_eq!(r[20].moves[0].layer, 1);
     assert_eq!(r[21].command, Command::RegionMarker { begin: false });
-    assert_eq!(r[22].command, Command::Other);
+    assert_eq!(r[22].command, Command::HeadMove(HeadMove::ToolChange));
     assert_eq!(r[23].raw, b"");
     assert_eq!(r[24].raw, b"G1 X5 E1");
     assert_eq!(r[24].number, 25);
@@ -259,7 +259,7 @@ fn inches_are_converted_to_mm() {
 fn checksums_are_verified() {
     // RepRap wiki example: N3 T0*57.
     let r = read("N3 T0*57\n");
-    assert_eq!(r[0].command, Command::Other);
+    assert_eq!(r[0].command, Command::HeadMove(HeadMove::ToolChange));
     let xor = b"N4 G1 X10".iter().fold(0u8, |a, b| a ^ b);
     let r = read(&format!("N4 G1 X10*{xor}\n"));
     assert_eq!(r[0].moves[0].to.x, 10.0);
@@ -706,6 +706,35 @@ fn g28_homes_the_named_axes_even_without_values() {
     assert_eq!(r[1].state.position, DVec3::new(0.0, 6.0, 7.0));
     assert_eq!(r[3].state.position, DVec3::ZERO);
     assert_eq!(r[5].state.position, DVec3::new(5.0, 0.0, 0.0));
+}
+
+/// Issue 12 items 1 and 5: the commands after which the firmware has moved the head on its own
+/// (homing, parking, probing, tool changes of every spelling) and firmware retraction are told
+/// apart from other lines; RepRapFirmware's `G10 P… S…` (tool temperatures) is not a retraction.
+#[test]
+fn head_moves_and_firmware_retraction_are_named() {
+    let r = read(
+        "G28\nG28 X Y\nG28 W\nG27\nG29\nG30 X1\nT1\nT?\ntx\nG10\nG11\nG10 P0 S200\nG10 L2 P1 X0\nM600\n",
+    );
+    let home = |z| Command::HeadMove(HeadMove::Home { z });
+    let expect = [
+        home(true),
+        home(false),
+        home(true),
+        Command::HeadMove(HeadMove::Park),
+        Command::HeadMove(HeadMove::Probe),
+        Command::HeadMove(HeadMove::Probe),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::FirmwareRetract { retract: true },
+        Command::FirmwareRetract { retract: false },
+        Command::Other,
+        Command::Other,
+        Command::Other,
+    ];
+    let got: Vec<Command> = r.iter().map(|l| l.command).collect();
+    assert_eq!(got, expect);
 }
 
 /// Issue 12 item 7: `E3.21325e0` was read as E0 (the `e0` taken as a second E word: 3.4× over-

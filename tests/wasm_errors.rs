@@ -320,6 +320,11 @@ fn gcode_that_cannot_be_unwarped_is_refused_by_both_unwarp_paths() {
     let (ok20, _) = insert_after(&g, "G28\n", 1, "G20\n");
     wasm::unwarp(ok20.as_bytes(), &job_json, "{}").expect("G20 then G21 before the region");
 
+    // issue 12 item 1: homing Z inside the region (the nozzle or the probe goes down where
+    // the part stands)
+    let (g28, line28) = insert_after(&g, ";LAYER_CHANGE\n", 3, "G28\n");
+    assert!(g28.lines().nth(line28 - 1) == Some("G28"));
+
     // the G-code of another job (the overhang block with the same warp)
     let (_, _, other) = warped("overhang", BELT);
     let foreign = synthetic::gcode(&other, true, 2.0);
@@ -343,6 +348,16 @@ fn gcode_that_cannot_be_unwarped_is_refused_by_both_unwarp_paths() {
                 format!("G-code line {line20}:"),
                 "G20".into(),
                 "millimetres".into(),
+            ],
+        ),
+        (
+            "G28 in the region",
+            g28.as_str(),
+            "unwarp.probe-in-region",
+            vec![
+                format!("G-code line {line28}:"),
+                "G28".into(),
+                "start G-code".into(),
             ],
         ),
         (

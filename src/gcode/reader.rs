@@ -19,7 +19,12 @@
 //! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
 //!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
 //! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
-//!   machine's home; slicers move absolutely after homing.
+//!   machine's home; slicers move absolutely after homing. G28, G27 (park), G29/G30 (probing)
+//!   and tool changes (`T0`, `T?`) are [`Command::HeadMove`]: the firmware moves the head to a
+//!   place the file does not give.
+//! - G10/G11 without P or L words are [`Command::FirmwareRetract`] (Marlin, RepRapFirmware,
+//!   Klipper firmware retraction); RepRapFirmware's `G10 P… S…` (tool temperatures) and
+//!   `G10 L…` (offsets) are [`Command::Other`].
 //! - G20/G21: inch values (X Y Z E I J R F) are converted to mm; positions are always mm.
 //! - F is modal, mm/min; F ≤ 0 is ignored (as Marlin does).
 //! - [`super::Move::e`] is always the filament delta of the piece, mm, whatever the E mode.
@@ -52,7 +57,7 @@ use glam::{DVec2, DVec3};
 
 use super::arc::{self, Centre};
 use super::lexer::{self, BadWord, Word, Words};
-use super::{Command, GcodeError, Line, Move};
+use super::{Command, GcodeError, HeadMove, Line, Move};
 use crate::toolpath::Feature;
 
 /// Longest accepted line, bytes (without its terminator). G-code lines are under 100 bytes;
@@ -284,6 +289,12 @@ impl Default for Reader {
     }
 }
 
+/// Whether a word the lexer could not read is a tool word (`T?`, `Tx`, `tc`).
+fn is_tool_word(s: &[u8]) -> bool {
+    let s = trim_start(s);
+    matches!(s.first(), Some(b'T' | b't'))
+}
+
 /// Position of the first `\n`.
 #[inline]
 fn find_newline(s: &[u8]) -> Option<usize> {
@@ -376,6 +387,10 @@ impl Core {
                 None => break None,
                 Some(Ok(Word { letter: b'N', .. })) => continue,
                 Some(Ok(w)) => break Some(w),
+                // `T?`, `Tx`, `Tc` (Prusa MMU): a tool change without a number
+                Some(Err(BadWord { start, .. })) if is_tool_word(&split.code[start..]) => {
+                    return Ok((Command::HeadMove(HeadMove::ToolChange), false))
+                }
                 Some(Err(_)) => return Ok((Command::Other, false)),
             }
         };
@@ -385,6 +400,9 @@ impl Core {
         };
         let code = match first.value.and_then(code_number) {
             Some(c) => c,
+            None if first.letter == b'T' => {
+                return Ok((Command::HeadMove(HeadMove::ToolChange), false))
+            }
             None => return Ok((Command::Other, false)),
         };
         let s = &mut self.state;
@@ -410,8 +428,29 @@ impl Core {
                         s.position[k] = 0.0;
                     }
                 }
-                Command::Other
+                Command::HeadMove(HeadMove::Home {
+                    z: w.axis_seen[2] || !any,
+                })
             }
+            (b'G', 27) => Command::HeadMove(HeadMove::Park),
+            (b'G', 29 | 30) => Command::HeadMove(HeadMove::Probe),
+            // RepRapFirmware's `G10 P<tool> S<temp>` and `G10 L…` (offsets) are not retraction
+            (b'G', 10 | 11)
+                if !words.any(|w| {
+                    matches!(
+                        w,
+                        Ok(Word {
+                            letter: b'P' | b'L',
+                            ..
+                        })
+                    )
+                }) =>
+            {
+                Command::FirmwareRetract {
+                    retract: code == 10,
+                }
+            }
+            (b'T', _) => Command::HeadMove(HeadMove::ToolChange),
             (b'G', 90 | 91) => {
                 let relative = code == 91;
                 s.positioning_relative = relative;

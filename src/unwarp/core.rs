@@ -1,12 +1,32 @@
 //! Pass 2's state: one G-code line at a time, every object extrusion split, mapped and
 //! metered, travels re-planned, everything else passed through in order.
+//!
+//! ## Order of non-move lines around travels
+//! A travel is written when its destination is known (the start of the next extrusion), so
+//! the lines that follow a travel in the file wait for it ([`Held`]): a fan, a dwell, a tool
+//! change or a firmware unretract (`G11`) after a travel is written after the travel, never in
+//! front of it. When another travel follows such a line, the first travel stops where the file
+//! said (an intermediate stop, [`Core::stop_point`]) and the lines run there. Only a pushed-back
+//! filament (`G1 E+`) with no line around it is carried to the end of merged travels.
+//! Retractions (`G1 E-` in place, `G10`) after a travel with nothing held run at once: a
+//! retraction moved earlier only oozes less. Mode lines (G90/G91, M82/M83, G20/G21, `G92 E`)
+//! and comments take effect at once: they say how the words that follow read.
+//!
+//! ## Head moves the file does not give
+//! After `G28 X/Y`, `G27` (park) or a tool change `T…` the head is where the firmware put it.
+//! The next travel then climbs straight up, wherever the head is, to above everything printed
+//! so far ([`Core::printed_top`] + clearance), crosses at that height and descends onto its
+//! target ([`Emitter::lift_from_unknown`]; a machine emitter refuses, its pose is lost).
+//! `G28` homing Z, `G29` and `G30` inside the region are refused
+//! ([`UnwarpError::ProbeInRegion`]): the nozzle or the probe goes down to the bed where the
+//! part stands.
 
 use glam::DVec3;
 
 use super::{segment, travel, UnwarpError, UnwarpOptions, UnwarpReport, RETRACT_FEED};
 use crate::emit::{EmitError, Emitter, DEFAULT_TRAVEL_FEED, E_QUANTUM};
 use crate::gcode::write::push_e;
-use crate::gcode::{Command, Line, Move, State};
+use crate::gcode::{Command, HeadMove, Line, Move, State};
 use crate::job::Job;
 use crate::num::fmt_shortest as fmt;
 use crate::register::Registration;
@@ -26,10 +46,32 @@ pub(super) enum Kind {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pending {
     f: f64,
-    /// Unretraction the slicer wrote during the travel, mm.
-    unretract: f64,
-    /// Feed of that unretraction.
-    unretract_f: f64,
+    /// The file's last travel piece (its end: where the slicer's head is), and its line.
+    last: Option<(u64, Move)>,
+}
+
+/// What a held line does when it is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Effect {
+    None,
+    /// The head moves somewhere the file does not say.
+    HeadMove(HeadMove),
+    /// G10 (true) or G11.
+    FirmwareRetract(bool),
+}
+
+/// Something after a pending travel, in file order, written when the travel is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Held {
+    /// A non-move line: its bytes in `held_bytes`, its line number, what it does.
+    Line {
+        start: usize,
+        end: usize,
+        line: u64,
+        effect: Effect,
+    },
+    /// Filament moved in place (`G1 E`), mm, its feed and the E mode.
+    E { e: f64, f: f64, relative: bool },
 }
 
 /// Pass 2 state.
@@ -51,6 +93,15 @@ pub(super) struct Core {
     /// Output position and tool axis, output frame.
     pub(super) cur: Option<(DVec3, DVec3)>,
     pub(super) pending: Option<Pending>,
+    /// What came after the pending travel, in order ([`Held`]).
+    pub(super) held: Vec<Held>,
+    pub(super) held_bytes: Vec<u8>,
+    /// The head moved where the file does not say, on this line (the next travel is a full lift).
+    pub(super) lost: Option<(u64, HeadMove)>,
+    /// A firmware retraction (G10) is in force.
+    pub(super) fw_retracted: bool,
+    /// The highest extrusion point written so far, output frame z (−∞ before any).
+    pub(super) printed_top: f64,
     /// Filament the slicer retracted and has not yet pushed back, mm.
     pub(super) retracted: f64,
     pub(super) grid: travel::HeightGrid,
@@ -185,9 +236,118 @@ impl Core {
                     self.piece(n, m, state.e_relative)?;
                 }
             }
+            Command::HeadMove(HeadMove::Home { z: true } | HeadMove::Probe) => {
+                return Err(UnwarpError::ProbeInRegion {
+                    line: n,
+                    command: String::from_utf8_lossy(line.raw).trim().to_string(),
+                })
+            }
+            Command::HeadMove(h) => self.action(n, line.raw, Effect::HeadMove(h)),
+            Command::FirmwareRetract { retract } => {
+                if retract && !self.holds_lines() {
+                    // a retraction moved in front of a pending travel only oozes less
+                    self.passthrough(line.raw);
+                    self.fw_retracted = true;
+                } else {
+                    self.action(n, line.raw, Effect::FirmwareRetract(retract));
+                }
+            }
+            Command::Other => self.action(n, line.raw, Effect::None),
+            // comments, markers and mode lines take effect at once
             _ => self.passthrough(line.raw),
         }
         Ok(())
+    }
+
+    /// A non-move line that acts: after a pending travel it waits for it, otherwise it is
+    /// written now.
+    fn action(&mut self, line: u64, raw: &[u8], effect: Effect) {
+        if self.pending.is_some() {
+            let start = self.held_bytes.len();
+            self.held_bytes.extend_from_slice(raw);
+            self.held.push(Held::Line {
+                start,
+                end: self.held_bytes.len(),
+                line,
+                effect,
+            });
+        } else {
+            self.passthrough(raw);
+            self.apply(line, effect);
+        }
+    }
+
+    /// What a written line does to the unwarp's idea of the head.
+    fn apply(&mut self, line: u64, effect: Effect) {
+        match effect {
+            Effect::None => {}
+            Effect::HeadMove(h) => {
+                self.lost = Some((line, h));
+                self.cur = None;
+            }
+            Effect::FirmwareRetract(r) => self.fw_retracted = r,
+        }
+    }
+
+    /// Whether a non-move line waits behind the pending travel.
+    fn holds_lines(&self) -> bool {
+        self.held.iter().any(|h| matches!(h, Held::Line { .. }))
+    }
+
+    /// Write what waited behind the travel just written, in order.
+    fn write_held(&mut self) {
+        let held = std::mem::take(&mut self.held);
+        let bytes = std::mem::take(&mut self.held_bytes);
+        for h in &held {
+            match *h {
+                Held::Line {
+                    start,
+                    end,
+                    line,
+                    effect,
+                } => {
+                    self.passthrough(&bytes[start..end]);
+                    self.apply(line, effect);
+                }
+                Held::E { e, f, relative } => {
+                    self.retracted = (self.retracted - e).max(0.0);
+                    self.write_e_only(e, f, relative);
+                }
+            }
+        }
+        // keep the buffers' capacity
+        self.held = held;
+        self.held.clear();
+        self.held_bytes = bytes;
+        self.held_bytes.clear();
+    }
+
+    /// Where a travel that stops before another travel (lines ran at its end) goes: its end
+    /// mapped as an extrusion of its feature would be, never below the slicer's own height
+    /// there (a point far from the part maps below the bed under most warps).
+    pub(super) fn stop_point(&self, line: u64, m: &Move) -> (DVec3, DVec3) {
+        let flat = self.map_point(Kind::Flat, m.to);
+        match self.kind(line, m) {
+            Kind::Object => {
+                let (p, n) = self.map_point(Kind::Object, m.to);
+                (DVec3::new(p.x, p.y, p.z.max(flat.0.z)), n)
+            }
+            _ => flat,
+        }
+    }
+
+    /// The pending travel stops at the file's last travel point; the held lines run there.
+    /// Not on a dropped layer (the anchor's, a dropped skirt's): the head does not go there,
+    /// the lines stay held for the next stop.
+    fn stop_here(&mut self, relative: bool) {
+        let Some((line, m)) = self.pending.and_then(|p| p.last) else {
+            return;
+        };
+        if self.kind(line, &m) == Kind::Dropped {
+            return;
+        }
+        let (p, n) = self.stop_point(line, &m);
+        self.travel_to(p, n, relative);
     }
 
     fn passthrough(&mut self, raw: &[u8]) {
@@ -272,29 +432,40 @@ impl Core {
                 // a feed-only G1: keep the feed modal state ours
                 return Ok(());
             }
-            if m.e > 0.0 {
-                if let Some(p) = self.pending.as_mut() {
-                    p.unretract += m.e;
-                    p.unretract_f = m.f;
-                    return Ok(());
+            // after a travel: an unretraction waits for it (and a retraction too when lines
+            // wait, to keep their order); a retraction alone runs at once (earlier is safe)
+            if self.pending.is_some() && (m.e > 0.0 || self.holds_lines()) {
+                match self.held.last_mut() {
+                    // consecutive pushes back merge into one (a dropped layer's travels)
+                    Some(Held::E { e, f, .. }) if m.e > 0.0 && *e > 0.0 => {
+                        *e += m.e;
+                        *f = m.f;
+                    }
+                    _ => self.held.push(Held::E {
+                        e: m.e,
+                        f: m.f,
+                        relative,
+                    }),
                 }
+                return Ok(());
             }
             self.retracted = (self.retracted - m.e).max(0.0);
             self.write_e_only(m.e, m.f, relative);
             return Ok(());
         }
         if m.e <= 0.0 {
+            if self.holds_lines() {
+                // lines ran at the end of the previous travel: it stops there
+                self.stop_here(relative);
+            }
             if m.e < 0.0 {
                 // a wipe: retract in place
                 self.retracted -= m.e;
                 self.write_e_only(m.e, m.f, relative);
             }
-            let p = self.pending.get_or_insert(Pending {
-                f: m.f,
-                unretract: 0.0,
-                unretract_f: m.f,
-            });
+            let p = self.pending.get_or_insert(Pending { f: m.f, last: None });
             p.f = m.f;
+            p.last = Some((line, *m));
             return Ok(());
         }
         // An extrusion.
@@ -309,12 +480,9 @@ impl Core {
             } else {
                 self.report.e_skirt += m.e;
             }
-            // the head does not go there: what follows starts with a travel
-            self.pending.get_or_insert(Pending {
-                f: m.f,
-                unretract: 0.0,
-                unretract_f: m.f,
-            });
+            // the head does not go there: what follows starts with a travel (lines held
+            // behind it stay held: the dropped layer is not a place to stop at)
+            self.pending.get_or_insert(Pending { f: m.f, last: None });
             return Ok(());
         }
         let (start, n0) = self.map_point(kind, m.from);
@@ -419,6 +587,7 @@ impl Core {
         if let Some((a, _)) = self.cur {
             self.grid.mark_segment(a, p);
         }
+        self.printed_top = self.printed_top.max(p.z);
         self.emit_point(
             ToolPoint {
                 p,
@@ -448,51 +617,92 @@ impl Core {
         );
     }
 
-    /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend.
+    /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend;
+    /// then write what waited behind the travel.
     fn travel_to(&mut self, target: DVec3, n: DVec3, relative: bool) {
         let pending = self.pending.take();
-        let Some((cur, cur_n)) = self.cur else {
-            self.write_travel(target, n, pending.map_or(DEFAULT_TRAVEL_FEED, |p| p.f));
-            return;
-        };
         let f = pending.map_or(DEFAULT_TRAVEL_FEED, |p| p.f);
-        if (target - cur).length() > LENGTH_EPSILON {
-            match travel::plan(&self.grid, cur, target, self.opts.travel_clearance) {
-                travel::TravelPlan::Direct => self.write_travel(target, n, f),
-                travel::TravelPlan::Lift(z) => {
-                    self.report.lifts += 1;
-                    let add = self.retracted <= LENGTH_EPSILON && self.opts.retract_length > 0.0;
-                    if add {
-                        self.report.retracts_added += 1;
-                        self.write_e_only(-self.opts.retract_length, RETRACT_FEED, relative);
-                    }
-                    self.write_travel(DVec3::new(cur.x, cur.y, z), cur_n, f);
-                    self.write_travel(DVec3::new(target.x, target.y, z), n, f);
-                    self.write_travel(target, n, f);
-                    if add {
-                        self.write_e_only(self.opts.retract_length, RETRACT_FEED, relative);
+        if let Some((line, what)) = self.lost.take() {
+            self.travel_from_unknown(line, what, target, n, f, relative);
+        } else if let Some((cur, cur_n)) = self.cur {
+            if (target - cur).length() > LENGTH_EPSILON {
+                match travel::plan(&self.grid, cur, target, self.opts.travel_clearance) {
+                    travel::TravelPlan::Direct => self.write_travel(target, n, f),
+                    travel::TravelPlan::Lift(z) => {
+                        self.lifted(relative, |c| {
+                            c.write_travel(DVec3::new(cur.x, cur.y, z), cur_n, f);
+                            c.write_travel(DVec3::new(target.x, target.y, z), n, f);
+                            c.write_travel(target, n, f);
+                        });
                     }
                 }
             }
+        } else {
+            self.write_travel(target, n, f);
         }
-        if let Some(p) = pending {
-            if p.unretract > 0.0 {
-                self.retracted = (self.retracted - p.unretract).max(0.0);
-                self.write_e_only(p.unretract, p.unretract_f, relative);
+        self.write_held();
+        // a held line moved the head (a tool change after the travel): back from wherever
+        if let Some((line, what)) = self.lost.take() {
+            self.travel_from_unknown(line, what, target, n, f, relative);
+        }
+    }
+
+    /// A lift written by `moves`, with a retraction around it if the slicer did not retract.
+    fn lifted(&mut self, relative: bool, moves: impl FnOnce(&mut Core)) {
+        self.report.lifts += 1;
+        let add = self.retracted <= LENGTH_EPSILON
+            && !self.fw_retracted
+            && self.opts.retract_length > 0.0;
+        if add {
+            self.report.retracts_added += 1;
+            self.write_e_only(-self.opts.retract_length, RETRACT_FEED, relative);
+        }
+        moves(self);
+        if add {
+            self.write_e_only(self.opts.retract_length, RETRACT_FEED, relative);
+        }
+    }
+
+    /// The head is where a `what` on `line` left it: straight up (or down) to above everything
+    /// printed so far, across, and down onto `target`.
+    fn travel_from_unknown(
+        &mut self,
+        line: u64,
+        what: HeadMove,
+        target: DVec3,
+        n: DVec3,
+        f: f64,
+        relative: bool,
+    ) {
+        let z = self.printed_top.max(target.z) + self.opts.travel_clearance;
+        self.lifted(relative, |c| {
+            if c.emit_error.is_some() {
+                return;
             }
-        }
+            let r = c.counted(|c| c.emit.lift_from_unknown(&mut c.out, z, f, what.name()));
+            if let Err(error) = r {
+                c.emit_error = Some(UnwarpError::Emit {
+                    line: Some(line),
+                    error,
+                });
+                return;
+            }
+            c.write_travel(DVec3::new(target.x, target.y, z), n, f);
+            c.write_travel(target, n, f);
+        });
     }
 
     /// Leave the region: lift clear of the part and re-synchronise absolute E.
     pub(super) fn end_region(&mut self) {
         self.done_region = true;
-        if let Some(p) = self.pending.take() {
-            if p.unretract > 0.0 {
-                // the slicer pushed filament back at the end of a travel that leads out of the
-                // region: keep it, in place
-                self.write_e_only(p.unretract, p.unretract_f, true);
-            }
+        if self.holds_lines() {
+            // lines ran at the end of the last travel: it stops there
+            self.stop_here(self.e_relative);
         }
+        // what is still held (filament the slicer pushed back at the end of a travel that
+        // leads out of the region, lines on a dropped layer) is written in place
+        self.pending = None;
+        self.write_held();
         if let Some((cur, n)) = self.cur {
             let (_, top) = self.grid.clearance_needed(cur, cur);
             let z = top.max(cur.z) + self.opts.travel_clearance;
