@@ -5,6 +5,7 @@
 //! CLI, and checks the written file with a reader of its own (below: it shares nothing with
 //! `warpslice::gcode`), or the refusal's code and the line it names.
 
+mod common;
 #[path = "common/synthetic.rs"]
 mod synthetic;
 
@@ -345,4 +346,283 @@ fn a_head_move_in_the_region_is_refused_for_a_multi_axis_machine() {
         named == line,
         "names line {named}, the T1 is on {line}: {m}"
     );
+}
+
+// ── item 5: non-move lines around travels ───────────────────────────────────────────────────
+
+/// The tests' own reading of the order of action lines (not a move, not a comment) from the
+/// second `;LAYER_CHANGE` (the first layer is the anchor's: its extrusions are dropped, so its
+/// lines come before travels) to the last extrusion of a file with relative E: for each, its
+/// text, whether the head moved in X/Y between the extrusion before it and it (it follows a
+/// travel), and whether it moves in X/Y between it and the next extrusion (a travel follows it).
+/// An extrusion is a move in X/Y with an E word ≥ 0 (a point clamped to the bed gets E0).
+fn action_order(text: &str) -> Vec<(String, bool, bool)> {
+    struct Ev {
+        action: Option<String>,
+        xy: bool,
+        extrudes: bool,
+    }
+    let mut evs = Vec::new();
+    let (mut x, mut y) = (f64::NAN, f64::NAN);
+    let mut layers = 0;
+    for s in steps(text) {
+        if s.text.starts_with(";LAYER_CHANGE") {
+            layers += 1;
+        }
+        if layers < 2 {
+            if let Some(('G', 0 | 1)) = s.cmd {
+                x = s.words.get(&'X').copied().unwrap_or(x);
+                y = s.words.get(&'Y').copied().unwrap_or(y);
+            }
+            continue;
+        }
+        match s.cmd {
+            Some(('G', 0 | 1)) => {
+                let nx = s.words.get(&'X').copied().unwrap_or(x);
+                let ny = s.words.get(&'Y').copied().unwrap_or(y);
+                let xy = !(nx == x && ny == y);
+                let e = s.words.get(&'E').copied();
+                evs.push(Ev {
+                    action: None,
+                    xy,
+                    extrudes: xy && e.is_some_and(|e| e >= 0.0),
+                });
+                (x, y) = (nx, ny);
+            }
+            // mode lines say how the words after them read: not actions
+            Some(('G', 20 | 21 | 90 | 91 | 92) | ('M', 82 | 83)) => {}
+            Some(_) => evs.push(Ev {
+                action: Some(s.text.split(';').next().unwrap().trim().to_string()),
+                xy: false,
+                extrudes: false,
+            }),
+            None => {}
+        }
+    }
+    let first = evs.iter().position(|e| e.extrudes).unwrap_or(0);
+    let last = evs.iter().rposition(|e| e.extrudes).unwrap_or(0);
+    let mut out = Vec::new();
+    for k in first..=last {
+        let Some(a) = &evs[k].action else { continue };
+        let before = evs[..k]
+            .iter()
+            .rev()
+            .take_while(|e| !e.extrudes)
+            .any(|e| e.xy);
+        let after = evs[k + 1..]
+            .iter()
+            .take_while(|e| !e.extrudes)
+            .any(|e| e.xy);
+        out.push((a.clone(), before, after));
+    }
+    out
+}
+
+/// Every action line of `input`'s printed region is in `output` in the same order, and none
+/// moved across a travel: one that followed a travel still follows one (except a retraction,
+/// `G10`: in front of a travel it only oozes less), one that came right before an extrusion
+/// (no travel between) still does. Err names the first that moved.
+fn order_kept(input: &str, output: &str) -> Result<usize, String> {
+    let (a, b) = (action_order(input), action_order(output));
+    let texts = |v: &[(String, bool, bool)]| v.iter().map(|x| x.0.clone()).collect::<Vec<_>>();
+    if texts(&a) != texts(&b) {
+        return Err(format!(
+            "the action lines differ:\n in: {:?}\nout: {:?}",
+            texts(&a),
+            texts(&b)
+        ));
+    }
+    for (k, (i, o)) in a.iter().zip(&b).enumerate() {
+        if i.1 && !o.1 && i.0 != "G10" {
+            return Err(format!(
+                "action {k} '{}' followed a travel, now comes before it",
+                i.0
+            ));
+        }
+        if !i.2 && o.2 {
+            return Err(format!(
+                "action {k} '{}' came right before an extrusion, now a travel follows it",
+                i.0
+            ));
+        }
+    }
+    Ok(a.len())
+}
+
+/// Issue 12 item 5: travels wait for the next extrusion while other lines were written at once,
+/// so with firmware retraction every `G11` came before the travel it ended (stringing), and
+/// `M106`, `G4` moved in front of travels. The synthetic file with `G10`/`G11` instead of E
+/// retractions and a fan, a dwell and a detour after travels keeps every line's place.
+#[test]
+fn lines_after_a_travel_stay_after_it() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0)
+        .replace("G1 E-0.8 F2400\n", "G10\n")
+        .replace("G1 E0.8 F2400\n", "G11\n");
+    assert!(g.contains("G11\n"));
+    // the travel lines of the infill: a fan after one, a dwell and a detour after another
+    let travels: Vec<&str> = g
+        .lines()
+        .filter(|l| l.starts_with("G0 ") && l.ends_with("F6000"))
+        .collect();
+    let (g, _) = insert_after(&g, &format!("{}\n", travels[30]), 1, "M106 S128\n");
+    let detour = format!("G4 P10\nG0 X100 Y100 F6000\n{}\n", travels[55]);
+    let (g, _) = insert_after(&g, &format!("{}\n", travels[55]), 1, &detour);
+    let (d, job) = scratch("order", &w.job);
+    let lib = run_lib(&g, &w.job, None).unwrap();
+    let out = String::from_utf8(lib.gcode).unwrap();
+    let n = order_kept(&g, &out).unwrap_or_else(|e| panic!("library: {e}"));
+    assert!(n > 100, "{n} action lines checked");
+    // a firmware retraction counts: no retraction of warpslice's own on top of a G10
+    assert_eq!(lib.report.retracts_added, 0);
+    let cli = run_cli(&d, &job, &g, &[]).unwrap().0;
+    order_kept(&g, &cli).unwrap_or_else(|e| panic!("CLI: {e}"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The order check must catch the bug it is for: the unwarp's output with each `G11` moved in
+/// front of the travel before it fails it.
+#[test]
+fn the_order_check_catches_an_unretract_before_its_travel() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0)
+        .replace("G1 E-0.8 F2400\n", "G10\n")
+        .replace("G1 E0.8 F2400\n", "G11\n");
+    let out = String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap();
+    // each G11 moved in front of the travel (one G0 or a lift's three) before it
+    let mut planted: Vec<&str> = out.lines().collect();
+    let mut moved = 0;
+    for k in 1..planted.len() {
+        if planted[k] == "G11" && planted[k - 1].starts_with("G0") {
+            let mut j = k - 1;
+            while j > 0 && planted[j - 1].starts_with("G0") {
+                j -= 1;
+            }
+            let l = planted.remove(k);
+            planted.insert(j, l);
+            moved += 1;
+        }
+    }
+    assert!(moved > 100, "{moved} G11 moved");
+    assert!(order_kept(&g, &planted.join("\n")).is_err());
+}
+
+/// Issue 12 item 5 with a real slicer: PrusaSlicer with `--use-firmware-retraction` writes
+/// `G10`/`G11` around its travels; the unwarp keeps each where it was relative to the motion,
+/// and adds no retraction of its own inside a firmware retraction.
+#[test]
+fn prusaslicer_firmware_retraction_keeps_its_place() {
+    use common::skip;
+    use warpslice::slicer::{SliceOptions, SlicerKind};
+    let model =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/stl/ps_20mmbox_ascii.stl");
+    if !model.exists() {
+        return skip::skip_or_fail("firmware retraction", "no corpus at ../shared/corpus/stl");
+    }
+    if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
+        return skip::skip_or_fail("firmware retraction", &e.to_string());
+    }
+    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-fwretract", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let out = d.join("box.gcode");
+    let warp = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    let slice = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        extra_args: vec!["--use-firmware-retraction".into()],
+        ..SliceOptions::default()
+    };
+    let report = warpslice::pipeline::files::run(
+        &model,
+        &warp,
+        &slice,
+        &UnwarpSettings::default(),
+        &out,
+        &mut (),
+    )
+    .unwrap();
+    let sliced =
+        std::fs::read_to_string(warpslice::pipeline::files::RunFiles::next_to(&out).sliced)
+            .unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    let count = |t: &str, w: &str| {
+        t.lines()
+            .filter(|l| l.split(';').next().unwrap().trim() == w)
+            .count()
+    };
+    assert!(
+        count(&sliced, "G11") > 20,
+        "PrusaSlicer wrote firmware retraction"
+    );
+    assert_eq!(count(&written, "G10"), count(&sliced, "G10"));
+    assert_eq!(count(&written, "G11"), count(&sliced, "G11"));
+    let n = order_kept(&sliced, &written).unwrap();
+    assert!(n >= count(&sliced, "G11"));
+    assert!(report.retracts_added < report.lifts.max(1), "{report:?}");
+    // and the file passes the project's independent checker (placement, surfaces, E, travels,
+    // retraction balance with G10/G11)
+    let files = warpslice::pipeline::files::RunFiles::next_to(&out);
+    let job =
+        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
+            .unwrap();
+    let (warped, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
+    let c = job.warped_bbox.center();
+    let d0 = UnwarpOptions::default();
+    let expect = common::check::Expect {
+        job: &job,
+        warped: &warped,
+        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
+        max_segment: d0.max_segment,
+        tolerance: d0.tolerance,
+        clearance: d0.travel_clearance,
+    };
+    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── items 9 and the arc hang: arcs ──────────────────────────────────────────────────────────
+
+/// Issue 12 item 9 and the arc hang, through the unwarp: an arc with full turns (`P2`) inside
+/// the region, and 3,000 arcs of radius 9 km in the start G-code, are refused by name (the
+/// code, the line of the first), by the library and the CLI.
+#[test]
+fn arcs_with_turns_or_absurd_radii_are_refused_by_the_unwarp() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let (d, job) = scratch("arcs", &w.job);
+    // a full circle with two turns, at the end of a perimeter
+    let (turns, line_p) = insert_after(
+        &g,
+        ";TYPE:Internal infill\n",
+        9,
+        "G3 X100 Y100 I1 J0 P2 E0.5\n",
+    );
+    let huge: String = (0..3000)
+        .map(|k| format!("G2 X{} Y0 I-9000000 J0 ; arc {k}\n", 10 + k % 2))
+        .collect();
+    let (hang, line_h) = insert_after(&g, "G28\n", 1, &format!("G1 X10 Y0 F6000\n{huge}"));
+    for (what, bad, line, words) in [
+        ("P2", &turns, line_p, "P word"),
+        ("I-9000000", &hang, line_h + 1, "larger than any machine"),
+    ] {
+        let e = refused(what, run_lib(bad, &w.job, None));
+        assert_eq!(e.code(), "gcode.bad-arc", "{what}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.contains(&format!("G-code line {line}:")) && m.contains(words),
+            "{what}: {m}"
+        );
+        let cli = run_cli(&d, &job, bad, &[]).unwrap_err();
+        assert!(
+            cli.contains(&format!("G-code line {line}:")) && cli.contains(words),
+            "{what}: {cli}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
 }

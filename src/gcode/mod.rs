@@ -78,6 +78,9 @@ pub enum Command {
         /// `true` for G10 (retract), `false` for G11 (unretract).
         retract: bool,
     },
+    /// A dwell or a pause that must happen where the head is: `G4`, `M0`, `M1`, `M25`, `M125`
+    /// (park and pause), `M226`, `M600` (filament change), `M601`.
+    Dwell,
     /// Anything else (temperatures, fans, M-codes, unknown commands): pass through verbatim.
     Other,
 }

@@ -15,7 +15,11 @@
 //!   came last decides the E mode (Marlin 2 `set_relative_mode` clears the M82/M83 bits; RRF
 //!   behaves the same). So `M83` then `G91 … G90` leaves E absolute, as the printer would.
 //! - I/J are always offsets from the arc's start (not affected by G90/G91); a missing one of
-//!   I, J is 0; when R is given it wins over I/J (as in Marlin); `P` (turns) is not supported.
+//!   I, J is 0; when R is given it wins over I/J (as in Marlin). An arc with a `P` word (full
+//!   turns) is refused ([`GcodeError::BadArc`]): Marlin (with `ARC_P_CIRCLES`) adds P full
+//!   circles, LinuxCNC makes P the number of turns, Klipper and RepRapFirmware ignore it, so
+//!   the file prints differently on each and no reading is safe. A radius above
+//!   [`super::arc::MAX_ARC_RADIUS`] is refused too.
 //! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
 //!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
 //! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
@@ -79,12 +83,18 @@ const TYPE_CACHE_SIZE: usize = 32;
 pub struct ReadOptions {
     /// Largest distance between an arc and its chords, mm.
     pub arc_chord_tolerance: f64,
+    /// Lines (1-based, inclusive) whose arcs are expanded; outside them an arc is checked but
+    /// given as one straight piece from its start to its end (with its E): for a reader whose
+    /// lines outside a range pass through verbatim (the unwarp's pass 2 outside the warped
+    /// region). `None`: every arc is expanded.
+    pub arcs_in: Option<[u64; 2]>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
         ReadOptions {
             arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE,
+            arcs_in: None,
         }
     }
 }
@@ -321,6 +331,8 @@ struct MoveWords {
     i: Option<f64>,
     j: Option<f64>,
     r: Option<f64>,
+    /// A `P` word (an arc's full turns) appeared.
+    p_seen: bool,
     /// Which of X Y Z appeared (even without a value, `G28 X`).
     axis_seen: [bool; 3],
 }
@@ -433,6 +445,7 @@ impl Core {
                 })
             }
             (b'G', 27) => Command::HeadMove(HeadMove::Park),
+            (b'G', 4) | (b'M', 0 | 1 | 25 | 125 | 226 | 600 | 601) => Command::Dwell,
             (b'G', 29 | 30) => Command::HeadMove(HeadMove::Probe),
             // RepRapFirmware's `G10 P<tool> S<temp>` and `G10 L…` (offsets) are not retraction
             (b'G', 10 | 11)
@@ -620,9 +633,16 @@ impl Core {
             rapid: code == 0,
         };
         let arc = code >= 2;
+        let chord_only = self.opts.arcs_in.is_some_and(|[a, b]| line < a || line > b);
         if !arc {
             self.moves.push(template);
         } else {
+            if w.p_seen {
+                return Err(GcodeError::BadArc {
+                    line,
+                    reason: "its P word (full turns) means extra circles to Marlin (ARC_P_CIRCLES), the number of turns to LinuxCNC and nothing to Klipper or RepRapFirmware, so what it prints depends on the firmware".into(),
+                });
+            }
             if !self.plane_xy {
                 return Err(GcodeError::BadArc {
                     line,
@@ -643,22 +663,22 @@ impl Core {
             };
             let moves = &mut self.moves;
             let mut prev = from;
-            arc::linearise(
-                from,
-                to,
-                centre,
-                code == 2,
-                self.opts.arc_chord_tolerance,
-                |p| {
-                    moves.push(Move {
-                        from: prev,
-                        to: p,
-                        e: 0.0,
-                        ..template
-                    });
-                    prev = p;
-                },
-            )
+            // outside `arcs_in` (lines that pass through verbatim) the arc is checked, not
+            // expanded: one piece from its start to its end carries its E
+            let tolerance = if chord_only {
+                f64::INFINITY
+            } else {
+                self.opts.arc_chord_tolerance
+            };
+            arc::linearise(from, to, centre, code == 2, tolerance, |p| {
+                moves.push(Move {
+                    from: prev,
+                    to: p,
+                    e: 0.0,
+                    ..template
+                });
+                prev = p;
+            })
             .map_err(|reason| GcodeError::BadArc { line, reason })?;
             spread_e(moves, e);
         }
@@ -746,6 +766,7 @@ fn read_words(
             b'I' => w.i = v,
             b'J' => w.j = v,
             b'R' => w.r = v,
+            b'P' => w.p_seen = true,
             _ => {}
         }
     }

@@ -3,14 +3,16 @@
 //!
 //! ## Order of non-move lines around travels
 //! A travel is written when its destination is known (the start of the next extrusion), so
-//! the lines that follow a travel in the file wait for it ([`Held`]): a fan, a dwell, a tool
-//! change or a firmware unretract (`G11`) after a travel is written after the travel, never in
-//! front of it. When another travel follows such a line, the first travel stops where the file
-//! said (an intermediate stop, [`Core::stop_point`]) and the lines run there. Only a pushed-back
-//! filament (`G1 E+`) with no line around it is carried to the end of merged travels.
-//! Retractions (`G1 E-` in place, `G10`) after a travel with nothing held run at once: a
-//! retraction moved earlier only oozes less. Mode lines (G90/G91, M82/M83, G20/G21, `G92 E`)
-//! and comments take effect at once: they say how the words that follow read.
+//! the lines that follow a travel in the file wait for it ([`Held`]): a fan, a firmware
+//! unretract (`G11`), pushed-back filament (`G1 E+`) after a travel are written after the
+//! travel, never in front of it; consecutive travels merge into one, and what waited runs at
+//! its end. A line that must run where the file put it — a dwell or pause (`G4`, `M0`, `M1`,
+//! `M25`, `M125`, `M226`, `M600`, `M601`) or a head move (`T…`, `G27`, `G28 X Y`) — makes the
+//! travel stop there ([`Core::stop_point`]) when another travel follows. A retraction (`G1 E-`
+//! in place, `G10`) runs at once: in front of a travel it only oozes less; a `G10` after lines
+//! that wait makes the travel stop there first, so the lines keep their order. G10/G11 count as retracted/pushed back (no retraction of warpslice's own
+//! inside a G10). Mode lines (G90/G91, M82/M83, G20/G21, `G92 E`) take effect at once: they
+//! say how the words that follow read; comments wait only behind lines that wait.
 //!
 //! ## Head moves the file does not give
 //! After `G28 X/Y`, `G27` (park) or a tool change `T…` the head is where the firmware put it.
@@ -34,6 +36,11 @@ use crate::tolerance::{BED_Z, LENGTH_EPSILON};
 use crate::toolpath::{Feature, ToolPoint};
 use crate::warp::Warp;
 
+/// A travel's stop within this distance (XY, mm) of the object's extrusions' box is mapped as
+/// the object's point (a slicer's wipe or inward move before a retraction lies on the layer);
+/// farther out it is a park or purge position and stays at least at the slicer's height.
+pub(super) const STOP_MARGIN: f64 = 5.0;
+
 /// What kind of extrusion a move piece is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Kind {
@@ -46,7 +53,8 @@ pub(super) enum Kind {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pending {
     f: f64,
-    /// The file's last travel piece (its end: where the slicer's head is), and its line.
+    /// The file's last travel piece that moved in X/Y (its end: where the slicer's head went),
+    /// and its line.
     last: Option<(u64, Move)>,
 }
 
@@ -58,17 +66,21 @@ pub(super) enum Effect {
     HeadMove(HeadMove),
     /// G10 (true) or G11.
     FirmwareRetract(bool),
+    /// `G92 E<v>`: the firmware's E is now v.
+    ResetE(f64),
 }
 
 /// Something after a pending travel, in file order, written when the travel is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) enum Held {
-    /// A non-move line: its bytes in `held_bytes`, its line number, what it does.
+    /// A non-move line: its bytes in `held_bytes`, its line number, what it does, whether it
+    /// must run where the file put it (see [`Core::action`]).
     Line {
         start: usize,
         end: usize,
         line: u64,
         effect: Effect,
+        stop: bool,
     },
     /// Filament moved in place (`G1 E`), mm, its feed and the E mode.
     E { e: f64, f: f64, relative: bool },
@@ -224,8 +236,18 @@ impl Core {
             Command::SetPosition { xyz: true, .. } => {
                 return Err(UnwarpError::AxisReset { line: n })
             }
+            Command::SetPosition { e: Some(v), .. } if self.holds_line() => {
+                // after lines that wait: waits too, and resets E when it is written
+                self.action(n, line.raw, Effect::ResetE(v), false)
+            }
             Command::SetPosition { e: Some(v), .. } => {
                 self.emit.reset_e(v);
+                self.passthrough(line.raw);
+            }
+            Command::ExtrusionMode { .. } if self.holds_line() => {
+                // the E mode must change where the E words after it are written: what waits
+                // runs now, in front of the travel
+                self.write_held();
                 self.passthrough(line.raw);
             }
             Command::Move { .. } => {
@@ -242,18 +264,24 @@ impl Core {
                     command: String::from_utf8_lossy(line.raw).trim().to_string(),
                 })
             }
-            Command::HeadMove(h) => self.action(n, line.raw, Effect::HeadMove(h)),
-            Command::FirmwareRetract { retract } => {
-                if retract && !self.holds_lines() {
-                    // a retraction moved in front of a pending travel only oozes less
-                    self.passthrough(line.raw);
-                    self.fw_retracted = true;
-                } else {
-                    self.action(n, line.raw, Effect::FirmwareRetract(retract));
+            Command::HeadMove(h) => self.action(n, line.raw, Effect::HeadMove(h), true),
+            Command::FirmwareRetract { retract: true } => {
+                // a retraction runs at once (in front of a pending travel it only oozes less);
+                // after lines that wait, the travel stops where they run, then it retracts
+                if self.holds_line() {
+                    self.stop_here(state.e_relative);
                 }
+                self.passthrough(line.raw);
+                self.fw_retracted = true;
             }
-            Command::Other => self.action(n, line.raw, Effect::None),
-            // comments, markers and mode lines take effect at once
+            Command::FirmwareRetract { retract: false } => {
+                self.action(n, line.raw, Effect::FirmwareRetract(false), false)
+            }
+            Command::Dwell => self.action(n, line.raw, Effect::None, true),
+            Command::Other => self.action(n, line.raw, Effect::None, false),
+            // comments, markers and mode lines take effect at once (a comment waits only
+            // behind lines that wait, to keep their order)
+            _ if self.holds_line() => self.action(n, line.raw, Effect::None, false),
             _ => self.passthrough(line.raw),
         }
         Ok(())
@@ -261,7 +289,9 @@ impl Core {
 
     /// A non-move line that acts: after a pending travel it waits for it, otherwise it is
     /// written now.
-    fn action(&mut self, line: u64, raw: &[u8], effect: Effect) {
+    /// `stop`: the line must run where the file put it (a dwell, a pause, a head move), so a
+    /// further travel makes the pending one stop there first.
+    fn action(&mut self, line: u64, raw: &[u8], effect: Effect, stop: bool) {
         if self.pending.is_some() {
             let start = self.held_bytes.len();
             self.held_bytes.extend_from_slice(raw);
@@ -270,6 +300,7 @@ impl Core {
                 end: self.held_bytes.len(),
                 line,
                 effect,
+                stop,
             });
         } else {
             self.passthrough(raw);
@@ -286,12 +317,20 @@ impl Core {
                 self.cur = None;
             }
             Effect::FirmwareRetract(r) => self.fw_retracted = r,
+            Effect::ResetE(v) => self.emit.reset_e(v),
         }
     }
 
-    /// Whether a non-move line waits behind the pending travel.
-    fn holds_lines(&self) -> bool {
-        self.held.iter().any(|h| matches!(h, Held::Line { .. }))
+    /// Whether a line waits behind the pending travel.
+    fn holds_line(&self) -> bool {
+        self.pending.is_some() && self.held.iter().any(|h| matches!(h, Held::Line { .. }))
+    }
+
+    /// Whether a line that must run where the file put it waits behind the pending travel.
+    fn holds_stop(&self) -> bool {
+        self.held
+            .iter()
+            .any(|h| matches!(h, Held::Line { stop: true, .. }))
     }
 
     /// Write what waited behind the travel just written, in order.
@@ -305,6 +344,7 @@ impl Core {
                     end,
                     line,
                     effect,
+                    ..
                 } => {
                     self.passthrough(&bytes[start..end]);
                     self.apply(line, effect);
@@ -323,31 +363,40 @@ impl Core {
     }
 
     /// Where a travel that stops before another travel (lines ran at its end) goes: its end
-    /// mapped as an extrusion of its feature would be, never below the slicer's own height
-    /// there (a point far from the part maps below the bed under most warps).
+    /// mapped as an extrusion of its feature would be; beyond [`STOP_MARGIN`] of the object's
+    /// extrusions (a park or purge position), never below the slicer's own height there (a
+    /// point far from the part maps below the bed under most warps).
     pub(super) fn stop_point(&self, line: u64, m: &Move) -> (DVec3, DVec3) {
         let flat = self.map_point(Kind::Flat, m.to);
         match self.kind(line, m) {
             Kind::Object => {
                 let (p, n) = self.map_point(Kind::Object, m.to);
-                (DVec3::new(p.x, p.y, p.z.max(flat.0.z)), n)
+                let b = self.reg.gcode_bbox;
+                let near = m.to.x >= b.min.x - STOP_MARGIN
+                    && m.to.x <= b.max.x + STOP_MARGIN
+                    && m.to.y >= b.min.y - STOP_MARGIN
+                    && m.to.y <= b.max.y + STOP_MARGIN;
+                if near {
+                    (p, n)
+                } else {
+                    (DVec3::new(p.x, p.y, p.z.max(flat.0.z)), n)
+                }
             }
             _ => flat,
         }
     }
 
     /// The pending travel stops at the file's last travel point; the held lines run there.
-    /// Not on a dropped layer (the anchor's, a dropped skirt's): the head does not go there,
-    /// the lines stay held for the next stop.
+    /// On a dropped layer (the anchor's, a dropped skirt's) the head does not go there: they
+    /// run where the head is, and the travel stays pending.
     fn stop_here(&mut self, relative: bool) {
-        let Some((line, m)) = self.pending.and_then(|p| p.last) else {
-            return;
-        };
-        if self.kind(line, &m) == Kind::Dropped {
-            return;
+        match self.pending.and_then(|p| p.last) {
+            Some((line, m)) if self.kind(line, &m) != Kind::Dropped => {
+                let (p, n) = self.stop_point(line, &m);
+                self.travel_to(p, n, relative);
+            }
+            _ => self.write_held(),
         }
-        let (p, n) = self.stop_point(line, &m);
-        self.travel_to(p, n, relative);
     }
 
     fn passthrough(&mut self, raw: &[u8]) {
@@ -432,12 +481,12 @@ impl Core {
                 // a feed-only G1: keep the feed modal state ours
                 return Ok(());
             }
-            // after a travel: an unretraction waits for it (and a retraction too when lines
-            // wait, to keep their order); a retraction alone runs at once (earlier is safe)
-            if self.pending.is_some() && (m.e > 0.0 || self.holds_lines()) {
+            // after a travel a push-back waits for it; a retraction runs at once (earlier
+            // only oozes less)
+            if self.pending.is_some() && m.e > 0.0 {
                 match self.held.last_mut() {
                     // consecutive pushes back merge into one (a dropped layer's travels)
-                    Some(Held::E { e, f, .. }) if m.e > 0.0 && *e > 0.0 => {
+                    Some(Held::E { e, f, .. }) => {
                         *e += m.e;
                         *f = m.f;
                     }
@@ -454,7 +503,7 @@ impl Core {
             return Ok(());
         }
         if m.e <= 0.0 {
-            if self.holds_lines() {
+            if self.holds_stop() {
                 // lines ran at the end of the previous travel: it stops there
                 self.stop_here(relative);
             }
@@ -465,7 +514,11 @@ impl Core {
             }
             let p = self.pending.get_or_insert(Pending { f: m.f, last: None });
             p.f = m.f;
-            p.last = Some((line, *m));
+            // a stop goes where the head last moved in X/Y, at that height: a Z move after it
+            // (a layer change, a z-hop) is the next travel's business, replanned anyway
+            if m.from.truncate() != m.to.truncate() {
+                p.last = Some((line, *m));
+            }
             return Ok(());
         }
         // An extrusion.
@@ -695,7 +748,7 @@ impl Core {
     /// Leave the region: lift clear of the part and re-synchronise absolute E.
     pub(super) fn end_region(&mut self) {
         self.done_region = true;
-        if self.holds_lines() {
+        if self.holds_stop() {
             // lines ran at the end of the last travel: it stops there
             self.stop_here(self.e_relative);
         }

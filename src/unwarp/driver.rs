@@ -148,6 +148,11 @@ impl Unwarper {
         };
         core.header();
         self.core = Some(core);
+        // pass 2 expands arcs only inside the region: the lines outside pass through verbatim
+        self.reader = Reader::new(ReadOptions {
+            arcs_in: Some(reg.region),
+            ..ReadOptions::default()
+        });
         Ok(reg)
     }
 
