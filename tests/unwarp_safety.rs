@@ -3,7 +3,9 @@
 //! around travels, arcs, truncated files, a wipe tower beside the part. Each test mutates the
 //! synthetic slicer's G-code of a conic cube (`common/synthetic.rs`), runs the library and the
 //! CLI, and checks the written file with a reader of its own (below: it shares nothing with
-//! `warpslice::gcode`), or the refusal's code and the line it names.
+//! `warpslice::gcode`), or the refusal's code and the line it names. Native only (the CLI, a
+//! real slicer); the wasm report's warnings are checked in `wasm_errors.rs`.
+#![cfg(not(target_arch = "wasm32"))]
 
 mod common;
 #[path = "common/synthetic.rs"]
@@ -565,6 +567,7 @@ fn prusaslicer_firmware_retraction_keeps_its_place() {
     let n = order_kept(&sliced, &written).unwrap();
     assert!(n >= count(&sliced, "G11"));
     assert!(report.retracts_added < report.lifts.max(1), "{report:?}");
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     // and the file passes the project's independent checker (placement, surfaces, E, travels,
     // retraction balance with G10/G11)
     let files = warpslice::pipeline::files::RunFiles::next_to(&out);
@@ -624,5 +627,196 @@ fn arcs_with_turns_or_absurd_radii_are_refused_by_the_unwarp() {
             "{what}: {cli}"
         );
     }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 10: truncated files ────────────────────────────────────────────────────────────────
+
+/// Issue 12 item 10: a G-code cut short (in its last layers, or in its end G-code) was unwarped
+/// without a word, heaters left on. The report (and the CLI) warns when the last line has no
+/// line end, and when nothing after the last layer ends the print; a whole file, and one whose
+/// end G-code is only an end macro, get no warning.
+#[test]
+fn a_truncated_gcode_is_unwarped_with_a_warning() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    assert!(
+        g.ends_with("M104 S0\nM84\n"),
+        "the synthetic file's end G-code"
+    );
+    let (d, job) = scratch("cut", &w.job);
+    let whole = run_lib(&g, &w.job, None).unwrap();
+    assert!(
+        whole.report.warnings.is_empty(),
+        "{:?}",
+        whole.report.warnings
+    );
+    let (_, stdout) = run_cli(&d, &job, &g, &[]).unwrap();
+    assert!(!stdout.contains("warning"), "{stdout}");
+    // the end macro of Klipper users instead of the end G-code
+    let klipper = g.replace("M104 S0\nM84\n", "END_PRINT\n");
+    assert!(run_lib(&klipper, &w.job, None)
+        .unwrap()
+        .report
+        .warnings
+        .is_empty());
+    // cut in the last layers, at a line end: no end
+    let lines: Vec<&str> = g.lines().collect();
+    let cut_layers = lines[..lines.len() * 9 / 10].join("\n") + "\n";
+    // cut in the middle of a line of the last layers (`G1 X1` of `G1 X105.3 …`)
+    let at = g.len() * 9 / 10;
+    let at = at + g[at..].find("G1 X").unwrap() + 5;
+    let cut_mid = &g[..at];
+    let n_mid = cut_mid.matches('\n').count() + 1;
+    // the end G-code gone after the last extrusion (its lift and M104 S0 … lost)
+    let cut_end = g.replace("M104 S0\nM84\n", "");
+    for (what, text, unterminated) in [
+        ("cut in the last layers", cut_layers.as_str(), None),
+        ("cut mid-line", cut_mid, Some(n_mid)),
+        ("no end G-code", cut_end.as_str(), None),
+    ] {
+        let r = run_lib(text, &w.job, None)
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+            .report;
+        let ends = r
+            .warnings
+            .iter()
+            .filter(|w| w.contains("ends the print"))
+            .count();
+        assert_eq!(ends, 1, "{what}: {:?}", r.warnings);
+        let line_end = r.warnings.iter().find(|w| w.contains("has no line end"));
+        match unterminated {
+            Some(n) => assert!(
+                line_end.is_some_and(|w| w.contains(&format!("({n})"))),
+                "{what}: {:?}",
+                r.warnings
+            ),
+            None => assert!(line_end.is_none(), "{what}: {:?}", r.warnings),
+        }
+        let (_, stdout) = run_cli(&d, &job, text, &[]).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert!(
+            stdout.contains("warning: nothing after the last layer"),
+            "{what}: {stdout}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 4: a wipe tower beside the part ────────────────────────────────────────────────────
+
+/// The synthetic file with a flat "wipe tower" (a 10 mm square, outline and infill, `;TYPE:Wipe
+/// tower`) printed on every layer `dx` mm beside the part's centre, and the travels to it and
+/// back that a slicer writes.
+fn with_tower(g: &str, h: f64, dx: f64) -> String {
+    let (x0, x1, y0, y1) = (100.0 + dx, 110.0 + dx, 95.0, 105.0);
+    let mut out = String::new();
+    let mut layer = 0;
+    for l in g.lines() {
+        if l == ";LAYER_CHANGE" {
+            if layer > 0 {
+                let z = layer as f64 * h;
+                out += &format!(";TYPE:Wipe tower\nG1 E-0.8 F2400\nG0 X{x0} Y{y0} Z{z:.3} F6000\nG1 E0.8 F2400\n");
+                for (x, y) in [(x1, y0), (x1, y1), (x0, y1), (x0, y0)] {
+                    out += &format!("G1 X{x} Y{y} E0.4 F1800\n");
+                }
+                let mut y = y0 + 1.0;
+                while y < y1 {
+                    out += &format!("G0 X{x0} Y{y:.3}\nG1 X{x1} Y{y:.3} E0.4\n");
+                    y += 1.0;
+                }
+            }
+            layer += 1;
+        }
+        out += l;
+        out.push('\n');
+    }
+    out
+}
+
+/// The tests' own obstacle check of a 3-axis output: every extruding move (E > 0) is a bead,
+/// sampled every 0.25 mm into 0.5 mm cells keeping the highest z; every travel (the moves
+/// between two extrusions) is sampled likewise and must not pass more than 0.1 mm below a bead
+/// printed before it within 0.5 mm, except within 3.5 mm of the travel's two ends (where the
+/// nozzle just printed or is about to print). Returns (travels checked, deepest dip) or the
+/// first travel that passes through material.
+fn travels_clear_every_bead(out: &str) -> Result<(usize, f64), String> {
+    use glam::DVec3;
+    let cell = |x: f64, y: f64| ((x / 0.5).floor() as i64, (y / 0.5).floor() as i64);
+    let samples = |a: DVec3, b: DVec3| {
+        let n = (((b - a).length() / 0.25).ceil() as usize).max(1);
+        (0..=n).map(move |k| a.lerp(b, k as f64 / n as f64))
+    };
+    let mut top: HashMap<(i64, i64), f64> = HashMap::new();
+    let mut p = DVec3::splat(f64::NAN);
+    // the travel moves since the last bead: (line, from, to)
+    let mut gap: Vec<(usize, DVec3, DVec3)> = Vec::new();
+    let (mut travels, mut worst) = (0, f64::NEG_INFINITY);
+    for (i, s) in steps(out).iter().enumerate() {
+        if !matches!(s.cmd, Some(('G', 0 | 1))) {
+            continue;
+        }
+        let w = |c: char, v: f64| s.words.get(&c).copied().unwrap_or(v);
+        let q = DVec3::new(w('X', p.x), w('Y', p.y), w('Z', p.z));
+        let e = s.words.get(&'E').copied().unwrap_or(0.0);
+        if q == p || !p.is_finite() {
+            p = q;
+            continue;
+        }
+        if e <= 0.0 {
+            gap.push((i + 1, p, q));
+            p = q;
+            continue;
+        }
+        if let (Some(&(_, a, _)), b) = (gap.first(), p) {
+            travels += 1;
+            for &(line, m0, m1) in &gap {
+                for t in samples(m0, m1) {
+                    if (t - a).truncate().length() < 3.5 || (t - b).truncate().length() < 3.5 {
+                        continue;
+                    }
+                    let (cx, cy) = cell(t.x, t.y);
+                    let hi = (-1..=1)
+                        .flat_map(|dx| (-1..=1).map(move |dy| (cx + dx, cy + dy)))
+                        .filter_map(|c| top.get(&c).copied())
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    worst = worst.max(hi - t.z);
+                    if hi - t.z > 0.1 {
+                        return Err(format!(
+                            "line {line}: a travel at {t} passes {:.3} mm below a bead printed before it",
+                            hi - t.z
+                        ));
+                    }
+                }
+            }
+            gap.clear();
+        }
+        for t in samples(p, q) {
+            let c = top.entry(cell(t.x, t.y)).or_insert(f64::NEG_INFINITY);
+            *c = c.max(t.z);
+        }
+        p = q;
+    }
+    Ok((travels, worst))
+}
+
+/// Issue 12 item 4: the travel height grid covered the object's box + 20 mm only, so travels
+/// between a low non-planar part and a flat tower beside it went through the tower (41
+/// travels, up to 1.44 mm deep, with PrusaSlicer's wipe tower). Everything printed in the
+/// region is an obstacle now: a tower 40 mm from the part's centre (beyond the old grid) is
+/// cleared by every travel, through the library and the CLI.
+#[test]
+fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
+    let w = conic_cube();
+    let g = with_tower(
+        &synthetic::gcode(&w.job, true, 2.0),
+        w.job.layer_height,
+        40.0,
+    );
+    let (d, job) = scratch("tower", &w.job);
+    let lib = String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap();
+    let (n, worst) = travels_clear_every_bead(&lib).unwrap_or_else(|e| panic!("library: {e}"));
+    assert!(n > 200 && worst.is_finite(), "{n} travels, deepest {worst}");
+    let cli = run_cli(&d, &job, &g, &[]).unwrap().0;
+    travels_clear_every_bead(&cli).unwrap_or_else(|e| panic!("CLI: {e}"));
     let _ = std::fs::remove_dir_all(&d);
 }

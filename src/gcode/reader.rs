@@ -166,6 +166,8 @@ pub struct Reader {
     /// The unfinished last line of the previous chunks.
     pending: Vec<u8>,
     core: Core,
+    /// After [`Reader::finish`]: the number of the last line when it had no line end.
+    unterminated: Option<u64>,
 }
 
 /// Everything but the tail buffer (so a line borrowed from it can be interpreted).
@@ -195,6 +197,7 @@ impl Reader {
     pub fn new(opts: ReadOptions) -> Reader {
         Reader {
             pending: Vec::new(),
+            unterminated: None,
             core: Core {
                 opts,
                 state: State::default(),
@@ -214,6 +217,12 @@ impl Reader {
     /// The modal state after the last line delivered.
     pub fn state(&self) -> &State {
         &self.core.state
+    }
+
+    /// After [`Reader::finish`]: the number of the file's last line if it had no line end
+    /// (a file cut short ends so, possibly in the middle of a number).
+    pub fn unterminated_line(&self) -> Option<u64> {
+        self.unterminated
     }
 
     /// Feed a chunk; `sink` is called for every complete line, in order.
@@ -268,6 +277,7 @@ impl Reader {
         }
         self.core.magic_checked = true;
         if !self.pending.is_empty() {
+            self.unterminated = Some(self.core.line_no);
             let r = self.core.line(&self.pending, sink);
             self.pending.clear();
             r?;

@@ -35,6 +35,7 @@ use crate::gcode::{Command, GcodeError, Line, ReadOptions, Reader, State};
 use crate::job::Job;
 use crate::mesh::{Aabb, Mesh};
 
+pub mod ending;
 pub mod refine;
 pub mod sample;
 
@@ -151,6 +152,10 @@ pub struct Registration {
     pub overridden: bool,
     /// Bounding box of the object's extrusions in G-code coordinates.
     pub gcode_bbox: Aabb,
+    /// Bounding box of everything extruded from the region's start on (skirt, brim, a wipe or
+    /// prime tower too), G-code coordinates: what a travel may meet.
+    #[serde(default)]
+    pub printed_bbox: Aabb,
     /// First and last line of the warped region (1-based, inclusive).
     pub region: [u64; 2],
     /// Line ranges (inclusive) of first-layer runs found to be skirt by geometry (files
@@ -168,6 +173,13 @@ pub struct Registration {
     /// The fine registration, when the warped mesh was given.
     #[serde(default)]
     pub fit: Option<FitReport>,
+    /// The file's last line had no line end: its number (a file cut short).
+    #[serde(default)]
+    pub unterminated_line: Option<u64>,
+    /// No line after the region ends the print (heaters off, motors off, an end macro: see
+    /// [`ending`]): the end G-code is missing, or the file was cut short.
+    #[serde(default)]
+    pub end_gcode_missing: bool,
 }
 
 /// What the fine registration found ([`refine`]).
@@ -203,6 +215,8 @@ struct Acc {
     last_obj: Option<u64>,
     /// Object extrusions above the first layer.
     bbox_upper: Aabb,
+    /// Every extrusion counted (skirt, brim, wipe tower too; not the start G-code's purge).
+    bbox_any: Aabb,
     /// Object extrusion runs on the first layer.
     runs0: Vec<Run>,
     in_run: bool,
@@ -219,6 +233,8 @@ impl Acc {
         if self.first_any.is_none() {
             self.first_any = Some(line);
         }
+        self.bbox_any.include(m.from);
+        self.bbox_any.include(m.to);
         if !m.feature.is_object() {
             self.in_run = false;
             return;
@@ -270,6 +286,8 @@ pub struct Scanner {
     sample: Sample,
     /// The first `;TYPE:` line.
     first_typed: Option<u64>,
+    /// The last line that ends the print ([`ending::ends_print`]).
+    last_end: Option<u64>,
 }
 
 impl Scanner {
@@ -285,6 +303,7 @@ impl Scanner {
             lines: 0,
             sample: Sample::new(),
             first_typed: None,
+            last_end: None,
         }
     }
 
@@ -301,6 +320,7 @@ impl Scanner {
                     self.markers[slot] = Some(line.number);
                 }
             }
+            Command::Other if ending::ends_print(line.raw) => self.last_end = Some(line.number),
             _ => {}
         }
         for m in line.moves {
@@ -358,6 +378,7 @@ impl Scanner {
             self.line(&l, s);
             Ok(())
         })?;
+        let unterminated_line = reader.unterminated_line();
         let acc = if self.typed {
             &self.typed_acc
         } else {
@@ -461,6 +482,7 @@ impl Scanner {
             residual,
             overridden: offset.is_some(),
             gcode_bbox: bbox,
+            printed_bbox: acc.bbox_any,
             region,
             skirt_runs: skirt,
             typed: self.typed,
@@ -468,6 +490,8 @@ impl Scanner {
             first_layer: acc.first_layer.unwrap_or(0),
             lines: self.lines,
             fit,
+            unterminated_line,
+            end_gcode_missing: self.last_end.is_none_or(|l| l <= region[1]),
         })
     }
 }

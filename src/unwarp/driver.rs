@@ -104,7 +104,13 @@ impl Unwarper {
         })?;
         emit.check_job(&self.job, model_to_output)
             .map_err(|error| UnwarpError::Emit { line: None, error })?;
-        let b = reg.gcode_bbox;
+        // the travel planner's grid covers everything printed (the object, and a skirt, brim or
+        // wipe tower beside it: issue 12 item 4)
+        let mut b = reg.gcode_bbox;
+        if !reg.printed_bbox.is_empty() {
+            b.include(reg.printed_bbox.min);
+            b.include(reg.printed_bbox.max);
+        }
         let mut core = Core {
             job: self.job.clone(),
             warp,
@@ -135,6 +141,7 @@ impl Unwarper {
                 residual: reg.residual,
                 fit: reg.fit,
                 model_to_output: model_to_output.to_array(),
+                warnings: UnwarpReport::end_warnings(&reg),
                 skirt: if self.opts.drop_skirt {
                     "dropped".into()
                 } else {

@@ -252,6 +252,9 @@ mod cli {
                 m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets
             );
         }
+        for w in &r.warnings {
+            say!("warning: {w}");
+        }
         say!("wrote {}", output.display());
     }
 
