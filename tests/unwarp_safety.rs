@@ -820,3 +820,54 @@ fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
     travels_clear_every_bead(&cli).unwrap_or_else(|e| panic!("CLI: {e}"));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+// ── item 6: RotBot at a cone apex ───────────────────────────────────────────────────────────
+
+/// Issue 12 item 6: on RotBot (unlimited rotation) each in-place reorientation at a cone's apex
+/// (the tool axis flips 180° there) repeated an identical no-op line about 20 times. The conic
+/// cube with a zig-zag whose corners are the apex: no G1 line repeats the one before it, the
+/// reorientations are still written, and no extruding line turns U by more than 30° (read
+/// here, `G92 U` resets followed).
+#[test]
+fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
+    let w = conic_cube();
+    let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
+    let g = synthetic::gcode(&w.job, true, 1.96).replace(
+        ";TYPE:Internal infill\n",
+        &format!(";TYPE:Internal infill\n{zigzag}"),
+    );
+    let out = String::from_utf8(run_lib(&g, &w.job, Some("rotbot")).unwrap().gcode).unwrap();
+    let (mut prev, mut u): (&str, Option<f64>) = ("", None);
+    let mut reorients = 0;
+    for (i, l) in out.lines().enumerate() {
+        let code = l.split(';').next().unwrap().trim();
+        let word = |c: char| {
+            code.split_whitespace()
+                .find_map(|w| w.strip_prefix(c))
+                .map(|v| v.parse::<f64>().unwrap())
+        };
+        if code.starts_with("G92") {
+            u = word('U').or(u);
+            continue;
+        }
+        if !code.starts_with("G1") {
+            continue;
+        }
+        assert!(
+            code != prev,
+            "line {}: '{code}' repeats the line before it",
+            i + 1
+        );
+        reorients += l.contains("reorient") as usize;
+        if let (Some(a), Some(b)) = (u, word('U')) {
+            assert!(
+                word('E').unwrap_or(0.0) <= 0.0 || (b - a).abs() <= 30.0,
+                "line {}: an extruding line turns U from {a} to {b}",
+                i + 1
+            );
+        }
+        u = word('U').or(u);
+        prev = code;
+    }
+    assert!(reorients > 50, "{reorients} reorientation lines");
+}
