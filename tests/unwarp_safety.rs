@@ -189,9 +189,9 @@ fn climbs_after_head_moves(out: &str, clearance: f64) -> Result<usize, String> {
                     .filter(|(_, c)| s.words.contains_key(c))
                     .map(|(k, _)| k)
                     .collect();
-                for k in 0..3 {
+                for (k, known) in known.iter_mut().enumerate() {
                     if named.is_empty() || named.contains(&k) {
-                        known[k] = false;
+                        *known = false;
                     }
                 }
                 unknown_since = Some(n);
