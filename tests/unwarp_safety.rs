@@ -698,7 +698,28 @@ fn a_truncated_gcode_is_unwarped_with_a_warning() {
             stdout.contains("warning: nothing after the last layer"),
             "{what}: {stdout}"
         );
+        // without the placement, a file cut in its last layers is lower than the warped mesh:
+        // named as cut short (it was "does not match the warped model")
+        let cut_in_layers = what != "no end G-code";
+        let reg = UnwarpSettings::default();
+        match (cut_in_layers, unwarp(text.as_bytes(), &w.job, &reg)) {
+            (true, r) => {
+                let e = refused(what, r);
+                assert_eq!(e.code(), "register.cut-short", "{what}: {e}");
+                assert!(e.to_string().contains("cut short"), "{e}");
+            }
+            (false, r) => assert!(r.is_ok(), "{what}: the whole object is there"),
+        }
     }
+    // another model's G-code is still a mismatch, cut short or not
+    let mut other = w.job.clone();
+    other.warped_bbox.max.x += 3.0;
+    let foreign = synthetic::gcode(&other, true, 2.0).replace("M104 S0\nM84\n", "");
+    let e = refused(
+        "another model",
+        unwarp(foreign.as_bytes(), &w.job, &UnwarpSettings::default()),
+    );
+    assert_eq!(e.code(), "register.mismatch", "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
 

@@ -62,6 +62,16 @@ pub enum RegisterError {
         /// Size (x, y, z) of the warped mesh (`job.warped_bbox`), mm.
         mesh_size: [f64; 3],
     },
+    /// The G-code's object matches the warped mesh in X and Y but stops below its top, and the
+    /// file looks cut short ([`ending`]): a truncated file, not another model.
+    CutShort {
+        /// Top of the G-code's object extrusions, mm.
+        gcode_top: f64,
+        /// Top of the warped mesh, mm.
+        mesh_top: f64,
+        /// What looks cut short.
+        why: &'static str,
+    },
     /// With an anchor, the slicer's first layer must be exactly the anchor's thickness.
     AnchorLayer {
         /// Z of the first extrusion: the slicer's first layer height, mm.
@@ -103,6 +113,10 @@ impl std::fmt::Display for RegisterError {
                  original model), or give the placement with --offset dx,dy",
                 gcode_size[0], gcode_size[1], gcode_size[2], mesh_size[0], mesh_size[1], mesh_size[2], residual, MAX_REGISTRATION_RESIDUAL
             ),
+            RegisterError::CutShort { gcode_top, mesh_top, why } => write!(
+                f,
+                "this G-code stops at z = {gcode_top:.2} mm but the warped mesh is {mesh_top:.2} mm tall, and the file looks cut short ({why}): export or copy the G-code again (a copy or download that did not finish?)"
+            ),
             RegisterError::AnchorLayer { first_layer_z, anchor } => write!(
                 f,
                 "the slicer's first layer is at z = {first_layer_z:.3} mm but the warped STL's anchor is {anchor:.3} mm thick: \
@@ -129,6 +143,7 @@ impl std::error::Error for RegisterError {
 crate::error_codes!(RegisterError, ERROR_CODES, "register" {
     NoExtrusions => "register.no-object-extrusions", "the G-code prints nothing of the model";
     Mismatch => "register.mismatch", "the G-code's object does not match the warped mesh";
+    CutShort => "register.cut-short", "the G-code stops below the mesh's top and looks cut short";
     AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
     Undetermined => "register.undetermined", "the printed walls do not pin the placement";
 } wraps { Gcode });
@@ -470,7 +485,34 @@ impl Scanner {
         .fold(0.0, f64::max);
         // with a fit, the walls matched the mesh (a box that differs is a feature the slicer
         // did not print); without one, the boxes must agree
+        let end_gcode_missing = self.last_end.is_none_or(|l| l <= region[1]);
         if offset.is_none() && fit.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
+            // the sides agree and the top is low in a file that looks cut short: say so
+            let xy = [
+                (shifted_min.x - mesh.min.x).abs(),
+                (shifted_max.x - mesh.max.x).abs(),
+                (shifted_min.y - mesh.min.y).abs(),
+                (shifted_max.y - mesh.max.y).abs(),
+            ]
+            .into_iter()
+            .fold(0.0, f64::max);
+            let why = if unterminated_line.is_some() {
+                Some("its last line has no line end")
+            } else if end_gcode_missing {
+                Some("nothing after its last layer ends the print")
+            } else {
+                None
+            };
+            if let (true, Some(why)) = (
+                xy <= MAX_REGISTRATION_RESIDUAL && bbox.max.z < mesh.max.z,
+                why,
+            ) {
+                return Err(RegisterError::CutShort {
+                    gcode_top: bbox.max.z,
+                    mesh_top: mesh.max.z,
+                    why,
+                });
+            }
             return Err(RegisterError::Mismatch {
                 residual,
                 gcode_size: gs.to_array(),
@@ -491,7 +533,7 @@ impl Scanner {
             lines: self.lines,
             fit,
             unterminated_line,
-            end_gcode_missing: self.last_end.is_none_or(|l| l <= region[1]),
+            end_gcode_missing,
         })
     }
 }

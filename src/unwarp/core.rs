@@ -22,6 +22,8 @@
 //! `G28` homing Z, `G29` and `G30` inside the region are refused
 //! ([`UnwarpError::ProbeInRegion`]): the nozzle or the probe goes down to the bed where the
 //! part stands.
+//! Not treated as head moves: `G12` (nozzle clean) and `G60`/`G61` (save/return to a
+//! position): slicers do not write them inside a print; they pass through like other lines.
 
 use glam::DVec3;
 

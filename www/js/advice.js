@@ -17,6 +17,7 @@ export const ADVICE = {
   'warp.base-not-supported': 'This warp cannot blend into a flat base: switch the flat base off.',
   'register.no-object-extrusions': 'This G-code prints nothing of the model: slice the warped STL downloaded in step 3 (not the original) and open the slicer\'s output.',
   'register.mismatch': 'The placement is always detected here: slice the warped STL downloaded in step 3, not the original model, with first layer height = layer height.',
+  'register.cut-short': 'The G-code stops before the top of the part and its end is missing: the file was cut short (an interrupted export, copy or download). Export it from the slicer again.',
   'register.undetermined': 'The printed walls do not pin the part\'s placement (a part without walls in some direction?): give the slicer\'s placement (“Slicer placement dx,dy”) or slice with walls.',
   'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
   'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
