@@ -169,18 +169,24 @@ fn steps(out: &str) -> Vec<Step> {
 }
 
 /// Walks a 3-axis output as a firmware would (relative E) and checks that after a command that
-/// moves the head where the file does not say (`G28 X/Y`, `G27`, `T<n>`), nothing extrudes and
-/// nothing moves in X/Y until the head has climbed, by a Z-only move, above every extrusion
-/// written so far by at least `clearance`; returns how many such climbs there were.
+/// moves the head where the file does not say (`G28 X/Y`, `G27`, `T<n>`) from the first
+/// `;LAYER_CHANGE` on (the start G-code before it is the slicer's, passed through), nothing
+/// extrudes and nothing moves in X/Y until the head has climbed, by a Z-only move, above every
+/// extrusion written so far by at least `clearance`; returns how many such climbs there were.
 fn climbs_after_head_moves(out: &str, clearance: f64) -> Result<usize, String> {
-    // known[k]: X, Y, Z known; pos: where they are
-    let mut known = [false; 3];
+    // known[k]: X, Y, Z known
+    let mut known = [true; 3];
     let mut top = f64::NEG_INFINITY;
     let mut z = 0.0;
     let mut climbs = 0;
     let mut unknown_since: Option<usize> = None;
+    let mut printing = false;
     for (i, s) in steps(out).iter().enumerate() {
         let n = i + 1;
+        printing |= s.text.starts_with(";LAYER_CHANGE");
+        if !printing {
+            continue;
+        }
         match s.cmd {
             Some(('G', 28)) => {
                 let named: Vec<usize> = "XYZ"
@@ -891,4 +897,97 @@ fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
         prev = code;
     }
     assert!(reorients > 50, "{reorients} reorientation lines");
+}
+
+/// Issue 12 item 4 with a real slicer: PrusaSlicer with two extruders (perimeters from the
+/// second) and its wipe tower at (180, 140), 80 mm from the part — beyond the old grid. Every
+/// travel of the unwarp clears every bead printed before it (the tests' own walk), every tool
+/// change is kept and followed by a climb, and the file passes the independent checker.
+#[test]
+fn prusaslicer_wipe_tower_travels_clear_the_tower() {
+    use common::skip;
+    use warpslice::slicer::{SliceOptions, SlicerKind};
+    let model =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/stl/ps_20mmbox_ascii.stl");
+    if !model.exists() {
+        return skip::skip_or_fail("wipe tower", "no corpus at ../shared/corpus/stl");
+    }
+    if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
+        return skip::skip_or_fail("wipe tower", &e.to_string());
+    }
+    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-tower", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let out = d.join("box.gcode");
+    let warp = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    let two = |v: &str| format!("{v},{v}");
+    let extra: Vec<String> = [
+        "--nozzle-diameter".to_string(),
+        two("0.4"),
+        "--filament-diameter".into(),
+        two("1.75"),
+        "--temperature".into(),
+        two("210"),
+        "--first-layer-temperature".into(),
+        two("210"),
+        "--extrusion-multiplier".into(),
+        two("1"),
+        "--retract-length".into(),
+        two("0.8"),
+        "--wipe-tower".into(),
+        "--perimeter-extruder".into(),
+        "2".into(),
+        "--infill-extruder".into(),
+        "1".into(),
+        "--solid-infill-extruder".into(),
+        "1".into(),
+    ]
+    .into();
+    let slice = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        extra_args: extra,
+        ..SliceOptions::default()
+    };
+    let settings = UnwarpSettings::default();
+    let report =
+        warpslice::pipeline::files::run(&model, &warp, &slice, &settings, &out, &mut ()).unwrap();
+    let files = warpslice::pipeline::files::RunFiles::next_to(&out);
+    let sliced = std::fs::read_to_string(&files.sliced).unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    let tools = |t: &str| t.lines().filter(|l| l.starts_with('T')).count();
+    assert!(
+        sliced.contains(";TYPE:Wipe tower") && tools(&sliced) > 20,
+        "PrusaSlicer printed a wipe tower and changed tools"
+    );
+    assert_eq!(tools(&written), tools(&sliced));
+    let (n, worst) = travels_clear_every_bead(&written).unwrap();
+    assert!(n > 100, "{n} travels, deepest {worst}");
+    let climbs = climbs_after_head_moves(&written, settings.unwarp.travel_clearance).unwrap();
+    // one climb per tool change after the start G-code (its prime lines change tools too)
+    let printing = &written[written.find(";LAYER_CHANGE").unwrap()..];
+    assert_eq!(climbs, tools(printing), "a climb after every tool change");
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let job = warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(
+        &files.warped,
+    ))
+    .unwrap();
+    let (mesh, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
+    let c = job.warped_bbox.center();
+    let d0 = UnwarpOptions::default();
+    let expect = common::check::Expect {
+        job: &job,
+        warped: &mesh,
+        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
+        max_segment: d0.max_segment,
+        tolerance: d0.tolerance,
+        clearance: d0.travel_clearance,
+    };
+    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    let _ = std::fs::remove_dir_all(&d);
 }
