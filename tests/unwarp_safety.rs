@@ -915,7 +915,7 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
         return skip::skip_or_fail("wipe tower", &e.to_string());
     }
-    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-tower", std::process::id()));
+    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-ps-wipe-tower", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     let out = d.join("box.gcode");
     let warp = WarpOptions::new(WarpParams {
