@@ -915,7 +915,10 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
         return skip::skip_or_fail("wipe tower", &e.to_string());
     }
-    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-ps-wipe-tower", std::process::id()));
+    let d = std::env::temp_dir().join(format!(
+        "warpslice-safety-{}-ps-wipe-tower",
+        std::process::id()
+    ));
     std::fs::create_dir_all(&d).unwrap();
     let out = d.join("box.gcode");
     let warp = WarpOptions::new(WarpParams {
@@ -973,10 +976,9 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     let printing = &written[written.find(";LAYER_CHANGE").unwrap()..];
     assert_eq!(climbs, tools(printing), "a climb after every tool change");
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
-    let job = warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(
-        &files.warped,
-    ))
-    .unwrap();
+    let job =
+        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
+            .unwrap();
     let (mesh, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
     let c = job.warped_bbox.center();
     let d0 = UnwarpOptions::default();
