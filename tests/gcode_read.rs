@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 use warpslice::gcode::{
-    Command, GcodeError, Line, Move, ReadOptions, Reader, State, MAX_LINE_BYTES,
+    Command, GcodeError, HeadMove, Line, Move, ReadOptions, Reader, State, MAX_LINE_BYTES,
 };
 use warpslice::toolpath::Feature;
 
@@ -139,7 +139,7 @@ fn sample_lines_commands_and_moves() {
     assert_eq!(r[18].state.layer, 1);
     assert_eq!(r[20].moves[0].layer, 1);
     assert_eq!(r[21].command, Command::RegionMarker { begin: false });
-    assert_eq!(r[22].command, Command::Other);
+    assert_eq!(r[22].command, Command::HeadMove(HeadMove::ToolChange));
     assert_eq!(r[23].raw, b"");
     assert_eq!(r[24].raw, b"G1 X5 E1");
     assert_eq!(r[24].number, 25);
@@ -259,7 +259,7 @@ fn inches_are_converted_to_mm() {
 fn checksums_are_verified() {
     // RepRap wiki example: N3 T0*57.
     let r = read("N3 T0*57\n");
-    assert_eq!(r[0].command, Command::Other);
+    assert_eq!(r[0].command, Command::HeadMove(HeadMove::ToolChange));
     let xor = b"N4 G1 X10".iter().fold(0u8, |a, b| a ^ b);
     let r = read(&format!("N4 G1 X10*{xor}\n"));
     assert_eq!(r[0].moves[0].to.x, 10.0);
@@ -395,6 +395,7 @@ fn arcs_ij_and_r_cw_and_ccw_within_tolerance() {
         &[b"G1 X10 Y0\nG3 X0 Y10 I-10 J0\n"],
         ReadOptions {
             arc_chord_tolerance: 0.1,
+            ..ReadOptions::default()
         },
     );
     check_arc(&coarse[1].moves, DVec2::ZERO, 10.0, true, 0.1);
@@ -708,6 +709,38 @@ fn g28_homes_the_named_axes_even_without_values() {
     assert_eq!(r[5].state.position, DVec3::new(5.0, 0.0, 0.0));
 }
 
+/// Issue 12 items 1 and 5: the commands after which the firmware has moved the head on its own
+/// (homing, parking, probing, tool changes of every spelling) and firmware retraction are told
+/// apart from other lines, and so are dwells and pauses; RepRapFirmware's `G10 P… S…` (tool
+/// temperatures) is not a retraction.
+#[test]
+fn head_moves_and_firmware_retraction_are_named() {
+    let r = read(
+        "G28\nG28 X Y\nG28 W\nG27\nG29\nG30 X1\nT1\nT?\ntx\nG10\nG11\nG10 P0 S200\nG10 L2 P1 X0\nM600\nG4 P10\nM106 S255\n",
+    );
+    let home = |z| Command::HeadMove(HeadMove::Home { z });
+    let expect = [
+        home(true),
+        home(false),
+        home(true),
+        Command::HeadMove(HeadMove::Park),
+        Command::HeadMove(HeadMove::Probe),
+        Command::HeadMove(HeadMove::Probe),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::HeadMove(HeadMove::ToolChange),
+        Command::FirmwareRetract { retract: true },
+        Command::FirmwareRetract { retract: false },
+        Command::Other,
+        Command::Other,
+        Command::Dwell,
+        Command::Dwell,
+        Command::Other,
+    ];
+    let got: Vec<Command> = r.iter().map(|l| l.command).collect();
+    assert_eq!(got, expect);
+}
+
 /// Issue 12 item 7: `E3.21325e0` was read as E0 (the `e0` taken as a second E word: 3.4× over-
 /// extrusion on the next move), `XNaN`/`Xinf` left X unmoved, `Enan` made an extrusion a travel.
 /// Each is a named error naming the line and the letter; G28's bare axes stay legal.
@@ -735,4 +768,99 @@ fn exponents_nan_and_bare_motion_words_are_refused_by_line() {
     // homing names bare axes; plain decimals in every spelling still read
     let recs = read("G28 X Y\nG1 X.5 Y-1. Z+2 E0.1 F1200\n");
     assert_eq!(moves(&recs).last().unwrap().to, DVec3::new(0.5, -1.0, 2.0));
+}
+
+/// Issue 12 item 9: `G3 … P2` printed one turn with two turns' filament. P means extra circles
+/// to Marlin, the number of turns to LinuxCNC and nothing to Klipper or RepRapFirmware: refused
+/// by name, naming the line and the word.
+#[test]
+fn an_arc_with_turns_is_refused_naming_the_line() {
+    for text in [
+        "G1 X10 Y0\nG3 X10 Y0 I-10 J0 P2 E5\n",
+        "G1 X10 Y0\nG2 X0 Y10 R10 P1 E1\n",
+    ] {
+        match read_err(text) {
+            GcodeError::BadArc { line: 2, reason } => {
+                assert!(reason.contains("P word"), "{reason}")
+            }
+            e => panic!("{text:?}: {e:?}"),
+        }
+    }
+    // a P on a straight move is no arc's (RepRapFirmware's G1 … P is a port number)
+    assert_eq!(read("G1 X10 Y0 P2\n")[0].moves.len(), 1);
+}
+
+/// Issue 12, hangs: 3,000 arcs of radius 9 km (`I-9000000`) took 21 s to expand. A radius
+/// beyond 10 m is refused by name; ArcWelder's largest (9999 mm) is expanded, its pieces on the
+/// circle and its length that of the arc, both computed here from the chord and the radius.
+#[test]
+fn an_arc_larger_than_any_machine_is_refused_and_a_large_one_is_exact() {
+    match read_err("G1 X10 Y10\nG2 X10 Y10 I-9000000 J0 E1\n") {
+        GcodeError::BadArc { line: 2, reason } => {
+            assert!(reason.contains("larger than any machine"), "{reason}")
+        }
+        e => panic!("{e:?}"),
+    }
+    assert!(matches!(
+        read_err("G1 X0 Y0\nG2 X20 Y0 R20000 E1\n"),
+        GcodeError::BadArc { line: 2, .. }
+    ));
+    // R 9999, chord 20 along x, clockwise short arc: the centre lies below the chord at
+    // (10, −√(R² − 10²)); the arc's angle is 2·asin(10/R), its length R·angle
+    let r = 9999.0_f64;
+    let recs = read("G1 X0 Y0\nG2 X20 Y0 R9999 E1\n");
+    let pieces = &recs[1].moves;
+    let c = DVec2::new(10.0, -(r * r - 100.0).sqrt());
+    let length: f64 = pieces.iter().map(|m| (m.to - m.from).length()).sum();
+    let arc = r * 2.0 * (10.0 / r).asin();
+    assert!(pieces.len() > 1);
+    for m in pieces {
+        assert!(((m.to.truncate() - c).length() - r).abs() < 1e-6);
+    }
+    assert!(
+        length <= arc + 1e-9 && arc - length < 1e-4,
+        "{length} vs {arc}"
+    );
+    assert_eq!(pieces.last().unwrap().to, DVec3::new(20.0, 0.0, 0.0));
+    let e: f64 = pieces.iter().map(|m| m.e).sum();
+    assert!((e - 1.0).abs() < 1e-12);
+}
+
+/// Issue 12, hangs: lines outside the warped region pass through verbatim, so the unwarp's
+/// pass 2 does not expand their arcs (`arcs_in`): one piece from start to end with all its E;
+/// inside, the arc is expanded as before.
+#[test]
+fn arcs_outside_the_given_lines_are_one_piece() {
+    let text = b"G1 X10 Y0\nG3 X0 Y10 I-10 J0 E2\nG3 X-10 Y0 I0 J-10 E2\n";
+    let (recs, r) = read_chunks(
+        &[text],
+        ReadOptions {
+            arcs_in: Some([3, 3]),
+            ..ReadOptions::default()
+        },
+    );
+    r.unwrap();
+    assert_eq!(recs[1].moves.len(), 1);
+    let m = recs[1].moves[0];
+    assert_eq!(
+        (m.from, m.to, m.e),
+        (DVec3::new(10.0, 0.0, 0.0), DVec3::new(0.0, 10.0, 0.0), 2.0)
+    );
+    assert!(recs[2].moves.len() > 10);
+    check_arc(
+        &recs[2].moves,
+        DVec2::ZERO,
+        10.0,
+        true,
+        ReadOptions::default().arc_chord_tolerance,
+    );
+    // and an absurd arc is refused outside them too (the firmware would run it)
+    let (_, r) = read_chunks(
+        &[b"G1 X10 Y10\nG2 X10 Y10 I-9000000 J0\n"],
+        ReadOptions {
+            arcs_in: Some([5, 6]),
+            ..ReadOptions::default()
+        },
+    );
+    assert!(matches!(r, Err(GcodeError::BadArc { line: 2, .. })));
 }

@@ -320,6 +320,11 @@ fn gcode_that_cannot_be_unwarped_is_refused_by_both_unwarp_paths() {
     let (ok20, _) = insert_after(&g, "G28\n", 1, "G20\n");
     wasm::unwarp(ok20.as_bytes(), &job_json, "{}").expect("G20 then G21 before the region");
 
+    // issue 12 item 1: homing Z inside the region (the nozzle or the probe goes down where
+    // the part stands)
+    let (g28, line28) = insert_after(&g, ";LAYER_CHANGE\n", 3, "G28\n");
+    assert!(g28.lines().nth(line28 - 1) == Some("G28"));
+
     // the G-code of another job (the overhang block with the same warp)
     let (_, _, other) = warped("overhang", BELT);
     let foreign = synthetic::gcode(&other, true, 2.0);
@@ -343,6 +348,16 @@ fn gcode_that_cannot_be_unwarped_is_refused_by_both_unwarp_paths() {
                 format!("G-code line {line20}:"),
                 "G20".into(),
                 "millimetres".into(),
+            ],
+        ),
+        (
+            "G28 in the region",
+            g28.as_str(),
+            "unwarp.probe-in-region",
+            vec![
+                format!("G-code line {line28}:"),
+                "G28".into(),
+                "start G-code".into(),
             ],
         ),
         (
@@ -925,4 +940,57 @@ fn bad_calibration_input_is_refused_naming_the_fault() {
         "calibrate.bad-input",
         &["aRotZDeg", "inf"],
     );
+}
+
+// ── warnings in the report ──────────────────────────────────────────────────────────────────
+
+/// The `warnings` array of a report object (its strings).
+fn warnings(report: &JsValue) -> Vec<String> {
+    let w = get(report, "warnings");
+    js_sys::Array::from(&w)
+        .iter()
+        .map(|v| v.as_string().expect("a warning is a string"))
+        .collect()
+}
+
+/// Issue 12 item 10 in the browser: a G-code cut short is unwarped, and the report of both
+/// unwarp paths (`unwarp`, `UnwarpStream.finish`) says so; the whole file's says nothing.
+#[test]
+fn a_truncated_gcode_is_unwarped_with_a_warning_in_the_report() {
+    let (_, job_json, job) = warped("cube", BELT);
+    let g = synthetic::gcode(&job, true, 2.0);
+    let whole = wasm::unwarp(g.as_bytes(), &job_json, "{}").unwrap();
+    assert!(warnings(&get(&whole, "report")).is_empty());
+    // the cut file's top is lower than the mesh's: place it where the whole file was found
+    let t = js_sys::Array::from(&get(&get(&whole, "report"), "translation"));
+    let (dx, dy) = (t.get(0).as_f64().unwrap(), t.get(1).as_f64().unwrap());
+    let opts = format!(r#"{{"offset":[{dx},{dy}]}}"#);
+    // cut in the middle of a line of its last layers: no line end, no end G-code
+    let at = g.len() * 9 / 10;
+    let at = at + g[at..].find("G1 X").unwrap() + 5;
+    let cut = &g[..at];
+    let last = cut.matches('\n').count() + 1;
+    let whole = wasm::unwarp(cut.as_bytes(), &job_json, &opts).expect("a cut file still unwarps");
+    let mut s = wasm::UnwarpStream::new(&job_json, &opts).unwrap();
+    for c in cut.as_bytes().chunks(4096) {
+        s.scan(c).unwrap();
+    }
+    s.end_scan().unwrap();
+    for c in cut.as_bytes().chunks(4096) {
+        s.push(c).unwrap();
+        s.take_output();
+    }
+    let streamed = s.finish().unwrap();
+    for (how, report) in [
+        ("unwarp", get(&whole, "report")),
+        ("UnwarpStream", streamed),
+    ] {
+        let w = warnings(&report);
+        assert_eq!(w.len(), 2, "{how}: {w:?}");
+        assert!(
+            w[0].contains(&format!("last line ({last}) has no line end")),
+            "{how}: {w:?}"
+        );
+        assert!(w[1].contains("ends the print"), "{how}: {w:?}");
+    }
 }

@@ -63,6 +63,21 @@ impl Emitter for Cartesian {
         Ok(())
     }
 
+    fn lift_from_unknown(
+        &mut self,
+        out: &mut Vec<u8>,
+        z: f64,
+        f: f64,
+        _command: &str,
+    ) -> Result<(), EmitError> {
+        out.extend_from_slice(b"G0 Z");
+        push_mm(out, z);
+        self.last_f = None;
+        self.feed(out, f);
+        out.extend_from_slice(b" ; warpslice: the head is where the firmware put it: up first\n");
+        Ok(())
+    }
+
     fn reset_e(&mut self, v: f64) {
         self.ew.reset(v);
     }

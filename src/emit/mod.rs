@@ -94,6 +94,25 @@ pub trait Emitter: Send {
     fn end_region(&mut self, _out: &mut Vec<u8>) -> Result<(), EmitError> {
         Ok(())
     }
+    /// The head is somewhere the unwarp does not know (after `G28 X Y`, `G27`, a tool change:
+    /// `command` names it): move it straight up (or down) to tip height `z`, output frame, at
+    /// feed `f`, wherever it is; the next point is a travel at that height. The default writes
+    /// 3-axis `G0 Z<z> F<f>`; an emitter that cannot move from an unknown pose refuses.
+    fn lift_from_unknown(
+        &mut self,
+        out: &mut Vec<u8>,
+        z: f64,
+        f: f64,
+        command: &str,
+    ) -> Result<(), EmitError> {
+        let _ = command;
+        out.extend_from_slice(b"G0 Z");
+        crate::gcode::write::push_mm(out, z);
+        out.extend_from_slice(b" F");
+        crate::gcode::write::push_feed(out, f);
+        out.extend_from_slice(b" ; warpslice: the head is where the firmware put it: up first\n");
+        Ok(())
+    }
     /// A line that passes through verbatim (without its terminator).
     fn raw(&mut self, out: &mut Vec<u8>, raw: &[u8]) {
         out.extend_from_slice(raw);

@@ -25,6 +25,11 @@ pub const ARC_RADIUS_SLACK: f64 = 1e-3;
 /// Largest accepted difference between the start radius and the end radius of an I/J arc, mm
 /// (more means the centre does not fit the end point: the file is wrong).
 pub const ARC_RADIUS_MISMATCH: f64 = 0.05;
+/// Largest arc radius accepted, mm: 10 m, beyond any printer's bed (the unwarp's `--place` and
+/// `--offset` are bounded alike). Arc fitters write large radii for gentle curves (ArcWelder
+/// caps them at 9999 mm); `I-9000000` is no machine's arc, and expanding 3,000 of them took
+/// 21 s. The number of pieces grows as the sweep × √(r / tolerance).
+pub const MAX_ARC_RADIUS: f64 = 10_000.0;
 /// Most pieces one arc may be split into (bounds memory per line; a 1 m radius full circle at a
 /// 0.001 mm tolerance needs ~4 500).
 pub const MAX_ARC_PIECES: usize = 100_000;
@@ -67,6 +72,12 @@ pub fn linearise(
     if r0 <= LENGTH_EPSILON {
         return Err("zero radius".into());
     }
+    if r0.max(r1) > MAX_ARC_RADIUS {
+        return Err(format!(
+            "radius {:.0} mm is larger than any machine ({MAX_ARC_RADIUS:.0} mm at most)",
+            r0.max(r1)
+        ));
+    }
     if (r1 - r0).abs() > ARC_RADIUS_MISMATCH {
         return Err(format!(
             "the end point is {r1:.3} mm from the centre but the start is {r0:.3} mm from it"
@@ -102,6 +113,7 @@ pub fn linearise(
         d
     };
     let rmax = r0.max(r1);
+    // an infinite tolerance (the reader outside the region): one piece
     let phi_max = if tolerance >= 2.0 * rmax {
         tau
     } else {

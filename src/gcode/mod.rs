@@ -68,8 +68,53 @@ pub enum Command {
         /// `true` for `;WARPSLICE_BEGIN`, `false` for `;WARPSLICE_END`.
         begin: bool,
     },
+    /// A command after which the head is somewhere the file does not say: the firmware moves
+    /// it on its own (see [`HeadMove`]). The reader's position is unchanged, except that G28
+    /// sets the homed axes to 0.
+    HeadMove(HeadMove),
+    /// G10 (`retract = true`) or G11: firmware retraction and unretraction (PrusaSlicer's
+    /// `--use-firmware-retraction`); the length is the firmware's, not in the file.
+    FirmwareRetract {
+        /// `true` for G10 (retract), `false` for G11 (unretract).
+        retract: bool,
+    },
+    /// A dwell or a pause that must happen where the head is: `G4`, `M0`, `M1`, `M25`, `M125`
+    /// (park and pause), `M226`, `M600` (filament change), `M601`.
+    Dwell,
     /// Anything else (temperatures, fans, M-codes, unknown commands): pass through verbatim.
     Other,
+}
+
+/// What moves the head on its own ([`Command::HeadMove`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum HeadMove {
+    /// G28: homing. `z`: Z is homed too (named, or no axis named: all axes).
+    Home {
+        /// Z is homed (the nozzle, or a probe, goes down to the bed's trigger point).
+        z: bool,
+    },
+    /// G27: park the nozzle (Marlin: raise Z, then move to the park position).
+    Park,
+    /// G29 (bed probing / mesh levelling) or G30 (single Z probe): the probe goes down to the
+    /// bed at points the firmware chooses.
+    Probe,
+    /// A tool change `T…` (`T1`, Prusa's `T?`, …): a tool changer or IDEX docks and picks
+    /// tools, so the head may end anywhere.
+    ToolChange,
+}
+
+impl HeadMove {
+    /// The command as users know it (`G28`, `T<n>`…), for messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            HeadMove::Home { z: true } => "G28 (homing Z)",
+            HeadMove::Home { z: false } => "G28 X/Y (homing)",
+            HeadMove::Park => "G27 (park)",
+            HeadMove::Probe => "G29/G30 (bed probing)",
+            HeadMove::ToolChange => "T (tool change)",
+        }
+    }
 }
 
 /// One straight piece of a move, absolute millimetres in the G-code's own frame.

@@ -15,11 +15,20 @@
 //!   came last decides the E mode (Marlin 2 `set_relative_mode` clears the M82/M83 bits; RRF
 //!   behaves the same). So `M83` then `G91 … G90` leaves E absolute, as the printer would.
 //! - I/J are always offsets from the arc's start (not affected by G90/G91); a missing one of
-//!   I, J is 0; when R is given it wins over I/J (as in Marlin); `P` (turns) is not supported.
+//!   I, J is 0; when R is given it wins over I/J (as in Marlin). An arc with a `P` word (full
+//!   turns) is refused ([`GcodeError::BadArc`]): Marlin (with `ARC_P_CIRCLES`) adds P full
+//!   circles, LinuxCNC makes P the number of turns, Klipper and RepRapFirmware ignore it, so
+//!   the file prints differently on each and no reading is safe. A radius above
+//!   [`super::arc::MAX_ARC_RADIUS`] is refused too.
 //! - G92 sets the named axes and E to the given values (the G-code's own coordinates change;
 //!   [`Command::SetPosition`] tells the consumer). G92 with no words changes nothing.
 //! - G28 sets the named axes (all three if none is named) to 0: the reader does not know the
-//!   machine's home; slicers move absolutely after homing.
+//!   machine's home; slicers move absolutely after homing. G28, G27 (park), G29/G30 (probing)
+//!   and tool changes (`T0`, `T?`) are [`Command::HeadMove`]: the firmware moves the head to a
+//!   place the file does not give.
+//! - G10/G11 without P or L words are [`Command::FirmwareRetract`] (Marlin, RepRapFirmware,
+//!   Klipper firmware retraction); RepRapFirmware's `G10 P… S…` (tool temperatures) and
+//!   `G10 L…` (offsets) are [`Command::Other`].
 //! - G20/G21: inch values (X Y Z E I J R F) are converted to mm; positions are always mm.
 //! - F is modal, mm/min; F ≤ 0 is ignored (as Marlin does).
 //! - [`super::Move::e`] is always the filament delta of the piece, mm, whatever the E mode.
@@ -52,7 +61,7 @@ use glam::{DVec2, DVec3};
 
 use super::arc::{self, Centre};
 use super::lexer::{self, BadWord, Word, Words};
-use super::{Command, GcodeError, Line, Move};
+use super::{Command, GcodeError, HeadMove, Line, Move};
 use crate::toolpath::Feature;
 
 /// Longest accepted line, bytes (without its terminator). G-code lines are under 100 bytes;
@@ -74,12 +83,18 @@ const TYPE_CACHE_SIZE: usize = 32;
 pub struct ReadOptions {
     /// Largest distance between an arc and its chords, mm.
     pub arc_chord_tolerance: f64,
+    /// Lines (1-based, inclusive) whose arcs are expanded; outside them an arc is checked but
+    /// given as one straight piece from its start to its end (with its E): for a reader whose
+    /// lines outside a range pass through verbatim (the unwarp's pass 2 outside the warped
+    /// region). `None`: every arc is expanded.
+    pub arcs_in: Option<[u64; 2]>,
 }
 
 impl Default for ReadOptions {
     fn default() -> Self {
         ReadOptions {
             arc_chord_tolerance: crate::tolerance::ARC_CHORD_TOLERANCE,
+            arcs_in: None,
         }
     }
 }
@@ -151,6 +166,8 @@ pub struct Reader {
     /// The unfinished last line of the previous chunks.
     pending: Vec<u8>,
     core: Core,
+    /// After [`Reader::finish`]: the number of the last line when it had no line end.
+    unterminated: Option<u64>,
 }
 
 /// Everything but the tail buffer (so a line borrowed from it can be interpreted).
@@ -180,6 +197,7 @@ impl Reader {
     pub fn new(opts: ReadOptions) -> Reader {
         Reader {
             pending: Vec::new(),
+            unterminated: None,
             core: Core {
                 opts,
                 state: State::default(),
@@ -199,6 +217,12 @@ impl Reader {
     /// The modal state after the last line delivered.
     pub fn state(&self) -> &State {
         &self.core.state
+    }
+
+    /// After [`Reader::finish`]: the number of the file's last line if it had no line end
+    /// (a file cut short ends so, possibly in the middle of a number).
+    pub fn unterminated_line(&self) -> Option<u64> {
+        self.unterminated
     }
 
     /// Feed a chunk; `sink` is called for every complete line, in order.
@@ -253,6 +277,7 @@ impl Reader {
         }
         self.core.magic_checked = true;
         if !self.pending.is_empty() {
+            self.unterminated = Some(self.core.line_no);
             let r = self.core.line(&self.pending, sink);
             self.pending.clear();
             r?;
@@ -284,6 +309,12 @@ impl Default for Reader {
     }
 }
 
+/// Whether a word the lexer could not read is a tool word (`T?`, `Tx`, `tc`).
+fn is_tool_word(s: &[u8]) -> bool {
+    let s = trim_start(s);
+    matches!(s.first(), Some(b'T' | b't'))
+}
+
 /// Position of the first `\n`.
 #[inline]
 fn find_newline(s: &[u8]) -> Option<usize> {
@@ -310,6 +341,8 @@ struct MoveWords {
     i: Option<f64>,
     j: Option<f64>,
     r: Option<f64>,
+    /// A `P` word (an arc's full turns) appeared.
+    p_seen: bool,
     /// Which of X Y Z appeared (even without a value, `G28 X`).
     axis_seen: [bool; 3],
 }
@@ -376,6 +409,10 @@ impl Core {
                 None => break None,
                 Some(Ok(Word { letter: b'N', .. })) => continue,
                 Some(Ok(w)) => break Some(w),
+                // `T?`, `Tx`, `Tc` (Prusa MMU): a tool change without a number
+                Some(Err(BadWord { start, .. })) if is_tool_word(&split.code[start..]) => {
+                    return Ok((Command::HeadMove(HeadMove::ToolChange), false))
+                }
                 Some(Err(_)) => return Ok((Command::Other, false)),
             }
         };
@@ -385,6 +422,9 @@ impl Core {
         };
         let code = match first.value.and_then(code_number) {
             Some(c) => c,
+            None if first.letter == b'T' => {
+                return Ok((Command::HeadMove(HeadMove::ToolChange), false))
+            }
             None => return Ok((Command::Other, false)),
         };
         let s = &mut self.state;
@@ -410,8 +450,30 @@ impl Core {
                         s.position[k] = 0.0;
                     }
                 }
-                Command::Other
+                Command::HeadMove(HeadMove::Home {
+                    z: w.axis_seen[2] || !any,
+                })
             }
+            (b'G', 27) => Command::HeadMove(HeadMove::Park),
+            (b'G', 4) | (b'M', 0 | 1 | 25 | 125 | 226 | 600 | 601) => Command::Dwell,
+            (b'G', 29 | 30) => Command::HeadMove(HeadMove::Probe),
+            // RepRapFirmware's `G10 P<tool> S<temp>` and `G10 L…` (offsets) are not retraction
+            (b'G', 10 | 11)
+                if !words.any(|w| {
+                    matches!(
+                        w,
+                        Ok(Word {
+                            letter: b'P' | b'L',
+                            ..
+                        })
+                    )
+                }) =>
+            {
+                Command::FirmwareRetract {
+                    retract: code == 10,
+                }
+            }
+            (b'T', _) => Command::HeadMove(HeadMove::ToolChange),
             (b'G', 90 | 91) => {
                 let relative = code == 91;
                 s.positioning_relative = relative;
@@ -581,9 +643,16 @@ impl Core {
             rapid: code == 0,
         };
         let arc = code >= 2;
+        let chord_only = self.opts.arcs_in.is_some_and(|[a, b]| line < a || line > b);
         if !arc {
             self.moves.push(template);
         } else {
+            if w.p_seen {
+                return Err(GcodeError::BadArc {
+                    line,
+                    reason: "its P word (full turns) means extra circles to Marlin (ARC_P_CIRCLES), the number of turns to LinuxCNC and nothing to Klipper or RepRapFirmware, so what it prints depends on the firmware".into(),
+                });
+            }
             if !self.plane_xy {
                 return Err(GcodeError::BadArc {
                     line,
@@ -604,22 +673,22 @@ impl Core {
             };
             let moves = &mut self.moves;
             let mut prev = from;
-            arc::linearise(
-                from,
-                to,
-                centre,
-                code == 2,
-                self.opts.arc_chord_tolerance,
-                |p| {
-                    moves.push(Move {
-                        from: prev,
-                        to: p,
-                        e: 0.0,
-                        ..template
-                    });
-                    prev = p;
-                },
-            )
+            // outside `arcs_in` (lines that pass through verbatim) the arc is checked, not
+            // expanded: one piece from its start to its end carries its E
+            let tolerance = if chord_only {
+                f64::INFINITY
+            } else {
+                self.opts.arc_chord_tolerance
+            };
+            arc::linearise(from, to, centre, code == 2, tolerance, |p| {
+                moves.push(Move {
+                    from: prev,
+                    to: p,
+                    e: 0.0,
+                    ..template
+                });
+                prev = p;
+            })
             .map_err(|reason| GcodeError::BadArc { line, reason })?;
             spread_e(moves, e);
         }
@@ -707,6 +776,7 @@ fn read_words(
             b'I' => w.i = v,
             b'J' => w.j = v,
             b'R' => w.r = v,
+            b'P' => w.p_seen = true,
             _ => {}
         }
     }

@@ -565,6 +565,19 @@ impl Emitter for MachineEmitter {
         Ok(())
     }
 
+    fn lift_from_unknown(
+        &mut self,
+        _out: &mut Vec<u8>,
+        _z: f64,
+        _f: f64,
+        command: &str,
+    ) -> Result<(), EmitError> {
+        Err(EmitError::new(MachineError::PoseLost {
+            machine: self.preset.clone(),
+            command: command.to_string(),
+        }))
+    }
+
     fn reset_e(&mut self, v: f64) {
         self.ew.reset(v);
     }

@@ -357,6 +357,15 @@ pub enum MachineError {
         /// Why the firmware cannot drive the machine (e.g. axis letters it does not accept).
         reason: String,
     },
+    /// A command inside the printed region moved the head to a pose the file does not give
+    /// (`G28 X Y`, `G27`, a tool change): a multi-axis head cannot be brought back safely from
+    /// an unknown pose (its tool may be tilted over the part).
+    PoseLost {
+        /// Name of the machine (preset or JSON `name`).
+        machine: String,
+        /// The command (e.g. `T (tool change)`).
+        command: String,
+    },
 }
 
 impl fmt::Display for MachineError {
@@ -432,6 +441,10 @@ impl fmt::Display for MachineError {
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
             ),
+            MachineError::PoseLost { machine, command } => write!(
+                f,
+                "machine {machine}: {command} inside the printed region leaves the head in a pose the G-code does not give, and a multi-axis head cannot be brought back from an unknown pose safely; move the command before the first or after the last layer (start or end G-code), or unwarp to 3-axis G-code"
+            ),
         }
     }
 }
@@ -453,4 +466,5 @@ crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
     Collision => "machine.collision", "a head part would hit the printed material or the bed";
     CollisionUnsupported => "machine.collision-unsupported", "the collision check cannot judge this machine";
+    PoseLost => "machine.pose-lost", "a head move (G28 X Y, G27, a tool change) inside the printed region";
 } wraps {});

@@ -483,6 +483,11 @@ fn wrap_axes(machine: &dyn Machine) -> Vec<bool> {
 /// left a 0.45 mm gap in every perimeter at the seam, 0.9 % of the part's E on a cube).
 pub const SEAM_PIECE_MM: f64 = 0.001;
 
+/// A piece whose tip and every axis (mm, degrees) lie this close to the previous piece's end
+/// moves nothing a firmware can show: it is not written (its filament share goes to the
+/// others). Below the written 3 decimals' resolution (0.0005) and any stepper's step.
+pub const NO_OP_EPSILON: f64 = 1e-4;
+
 /// Parameter step used to look at the pose just after the start of a move.
 pub const START_PROBE: f64 = 1e-7;
 
@@ -549,11 +554,46 @@ pub fn tessellate_move(
         a0,
     };
     ctx.split(pc, a1, 0, &mut ends, rep)?;
+    // a piece that ends where the previous one did, with the same axes (within NO_OP_EPSILON),
+    // moves nothing: it is a no-op line (an in-place reorientation split to the depth limit at a pole repeated its
+    // last pose about 20 times: issue 12 item 6); its filament share goes to the others
+    let mut kept: Vec<(End, bool)> = Vec::with_capacity(ends.len());
+    let mut prev_axes: &[f64] = a0_in;
+    let mut prev_p = p0;
+    for (i, end) in ends.into_iter().enumerate() {
+        let same = !end.wrap
+            && (end.p - prev_p).length() <= NO_OP_EPSILON
+            && end
+                .axes
+                .iter()
+                .zip(prev_axes)
+                .all(|(a, b)| (a - b).abs() <= NO_OP_EPSILON);
+        if !same {
+            kept.push((end, i < reoriented));
+            let last = &kept[kept.len() - 1].0;
+            prev_axes = &last.axes;
+            prev_p = last.p;
+        }
+    }
+    if kept.is_empty() {
+        // a move to where the head already is: one line, as before
+        kept.push((
+            End {
+                axes: a0_in.to_vec(),
+                p: to.p,
+                n: to.n,
+                wrap: false,
+                limited: false,
+                repose: false,
+            },
+            false,
+        ));
+    }
     let total = (to.p - p0).length();
     let mut last_p = p0;
-    let count = ends.len();
+    let count = kept.len();
     let mut moves = Vec::with_capacity(count);
-    for (i, end) in ends.into_iter().enumerate() {
+    for (end, reoriented) in kept {
         let End {
             axes,
             p,
@@ -562,7 +602,7 @@ pub fn tessellate_move(
             limited,
             repose,
         } = end;
-        let reorient = i < reoriented || repose;
+        let reorient = reoriented || repose;
         let len = (p - last_p).length();
         let share = if total > crate::tolerance::LENGTH_EPSILON {
             len / total

@@ -35,6 +35,7 @@ use crate::gcode::{Command, GcodeError, Line, ReadOptions, Reader, State};
 use crate::job::Job;
 use crate::mesh::{Aabb, Mesh};
 
+pub mod ending;
 pub mod refine;
 pub mod sample;
 
@@ -60,6 +61,16 @@ pub enum RegisterError {
         gcode_size: [f64; 3],
         /// Size (x, y, z) of the warped mesh (`job.warped_bbox`), mm.
         mesh_size: [f64; 3],
+    },
+    /// The G-code's object matches the warped mesh in X and Y but stops below its top, and the
+    /// file looks cut short ([`ending`]): a truncated file, not another model.
+    CutShort {
+        /// Top of the G-code's object extrusions, mm.
+        gcode_top: f64,
+        /// Top of the warped mesh, mm.
+        mesh_top: f64,
+        /// What looks cut short.
+        why: &'static str,
     },
     /// With an anchor, the slicer's first layer must be exactly the anchor's thickness.
     AnchorLayer {
@@ -102,6 +113,10 @@ impl std::fmt::Display for RegisterError {
                  original model), or give the placement with --offset dx,dy",
                 gcode_size[0], gcode_size[1], gcode_size[2], mesh_size[0], mesh_size[1], mesh_size[2], residual, MAX_REGISTRATION_RESIDUAL
             ),
+            RegisterError::CutShort { gcode_top, mesh_top, why } => write!(
+                f,
+                "this G-code stops at z = {gcode_top:.2} mm but the warped mesh is {mesh_top:.2} mm tall, and the file looks cut short ({why}): export or copy the G-code again (a copy or download that did not finish?)"
+            ),
             RegisterError::AnchorLayer { first_layer_z, anchor } => write!(
                 f,
                 "the slicer's first layer is at z = {first_layer_z:.3} mm but the warped STL's anchor is {anchor:.3} mm thick: \
@@ -128,6 +143,7 @@ impl std::error::Error for RegisterError {
 crate::error_codes!(RegisterError, ERROR_CODES, "register" {
     NoExtrusions => "register.no-object-extrusions", "the G-code prints nothing of the model";
     Mismatch => "register.mismatch", "the G-code's object does not match the warped mesh";
+    CutShort => "register.cut-short", "the G-code stops below the mesh's top and looks cut short";
     AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
     Undetermined => "register.undetermined", "the printed walls do not pin the placement";
 } wraps { Gcode });
@@ -151,6 +167,10 @@ pub struct Registration {
     pub overridden: bool,
     /// Bounding box of the object's extrusions in G-code coordinates.
     pub gcode_bbox: Aabb,
+    /// Bounding box of everything extruded from the region's start on (skirt, brim, a wipe or
+    /// prime tower too), G-code coordinates: what a travel may meet.
+    #[serde(default)]
+    pub printed_bbox: Aabb,
     /// First and last line of the warped region (1-based, inclusive).
     pub region: [u64; 2],
     /// Line ranges (inclusive) of first-layer runs found to be skirt by geometry (files
@@ -168,6 +188,13 @@ pub struct Registration {
     /// The fine registration, when the warped mesh was given.
     #[serde(default)]
     pub fit: Option<FitReport>,
+    /// The file's last line had no line end: its number (a file cut short).
+    #[serde(default)]
+    pub unterminated_line: Option<u64>,
+    /// No line after the region ends the print (heaters off, motors off, an end macro: see
+    /// [`ending`]): the end G-code is missing, or the file was cut short.
+    #[serde(default)]
+    pub end_gcode_missing: bool,
 }
 
 /// What the fine registration found ([`refine`]).
@@ -203,6 +230,8 @@ struct Acc {
     last_obj: Option<u64>,
     /// Object extrusions above the first layer.
     bbox_upper: Aabb,
+    /// Every extrusion counted (skirt, brim, wipe tower too; not the start G-code's purge).
+    bbox_any: Aabb,
     /// Object extrusion runs on the first layer.
     runs0: Vec<Run>,
     in_run: bool,
@@ -219,6 +248,8 @@ impl Acc {
         if self.first_any.is_none() {
             self.first_any = Some(line);
         }
+        self.bbox_any.include(m.from);
+        self.bbox_any.include(m.to);
         if !m.feature.is_object() {
             self.in_run = false;
             return;
@@ -270,6 +301,8 @@ pub struct Scanner {
     sample: Sample,
     /// The first `;TYPE:` line.
     first_typed: Option<u64>,
+    /// The last line that ends the print ([`ending::ends_print`]).
+    last_end: Option<u64>,
 }
 
 impl Scanner {
@@ -285,6 +318,7 @@ impl Scanner {
             lines: 0,
             sample: Sample::new(),
             first_typed: None,
+            last_end: None,
         }
     }
 
@@ -301,6 +335,7 @@ impl Scanner {
                     self.markers[slot] = Some(line.number);
                 }
             }
+            Command::Other if ending::ends_print(line.raw) => self.last_end = Some(line.number),
             _ => {}
         }
         for m in line.moves {
@@ -358,6 +393,7 @@ impl Scanner {
             self.line(&l, s);
             Ok(())
         })?;
+        let unterminated_line = reader.unterminated_line();
         let acc = if self.typed {
             &self.typed_acc
         } else {
@@ -449,7 +485,34 @@ impl Scanner {
         .fold(0.0, f64::max);
         // with a fit, the walls matched the mesh (a box that differs is a feature the slicer
         // did not print); without one, the boxes must agree
+        let end_gcode_missing = self.last_end.is_none_or(|l| l <= region[1]);
         if offset.is_none() && fit.is_none() && residual > MAX_REGISTRATION_RESIDUAL {
+            // the sides agree and the top is low in a file that looks cut short: say so
+            let xy = [
+                (shifted_min.x - mesh.min.x).abs(),
+                (shifted_max.x - mesh.max.x).abs(),
+                (shifted_min.y - mesh.min.y).abs(),
+                (shifted_max.y - mesh.max.y).abs(),
+            ]
+            .into_iter()
+            .fold(0.0, f64::max);
+            let why = if unterminated_line.is_some() {
+                Some("its last line has no line end")
+            } else if end_gcode_missing {
+                Some("nothing after its last layer ends the print")
+            } else {
+                None
+            };
+            if let (true, Some(why)) = (
+                xy <= MAX_REGISTRATION_RESIDUAL && bbox.max.z < mesh.max.z,
+                why,
+            ) {
+                return Err(RegisterError::CutShort {
+                    gcode_top: bbox.max.z,
+                    mesh_top: mesh.max.z,
+                    why,
+                });
+            }
             return Err(RegisterError::Mismatch {
                 residual,
                 gcode_size: gs.to_array(),
@@ -461,6 +524,7 @@ impl Scanner {
             residual,
             overridden: offset.is_some(),
             gcode_bbox: bbox,
+            printed_bbox: acc.bbox_any,
             region,
             skirt_runs: skirt,
             typed: self.typed,
@@ -468,6 +532,8 @@ impl Scanner {
             first_layer: acc.first_layer.unwrap_or(0),
             lines: self.lines,
             fit,
+            unterminated_line,
+            end_gcode_missing,
         })
     }
 }

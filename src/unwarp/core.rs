@@ -1,18 +1,47 @@
 //! Pass 2's state: one G-code line at a time, every object extrusion split, mapped and
 //! metered, travels re-planned, everything else passed through in order.
+//!
+//! ## Order of non-move lines around travels
+//! A travel is written when its destination is known (the start of the next extrusion), so
+//! the lines that follow a travel in the file wait for it ([`Held`]): a fan, a firmware
+//! unretract (`G11`), pushed-back filament (`G1 E+`) after a travel are written after the
+//! travel, never in front of it; consecutive travels merge into one, and what waited runs at
+//! its end. A line that must run where the file put it — a dwell or pause (`G4`, `M0`, `M1`,
+//! `M25`, `M125`, `M226`, `M600`, `M601`) or a head move (`T…`, `G27`, `G28 X Y`) — makes the
+//! travel stop there ([`Core::stop_point`]) when another travel follows. A retraction (`G1 E-`
+//! in place, `G10`) runs at once: in front of a travel it only oozes less; a `G10` after lines
+//! that wait makes the travel stop there first, so the lines keep their order. G10/G11 count as retracted/pushed back (no retraction of warpslice's own
+//! inside a G10). Mode lines (G90/G91, M82/M83, G20/G21, `G92 E`) take effect at once: they
+//! say how the words that follow read; comments wait only behind lines that wait.
+//!
+//! ## Head moves the file does not give
+//! After `G28 X/Y`, `G27` (park) or a tool change `T…` the head is where the firmware put it.
+//! The next travel then climbs straight up, wherever the head is, to above everything printed
+//! so far ([`Core::printed_top`] + clearance), crosses at that height and descends onto its
+//! target ([`Emitter::lift_from_unknown`]; a machine emitter refuses, its pose is lost).
+//! `G28` homing Z, `G29` and `G30` inside the region are refused
+//! ([`UnwarpError::ProbeInRegion`]): the nozzle or the probe goes down to the bed where the
+//! part stands.
+//! Not treated as head moves: `G12` (nozzle clean) and `G60`/`G61` (save/return to a
+//! position): slicers do not write them inside a print; they pass through like other lines.
 
 use glam::DVec3;
 
 use super::{segment, travel, UnwarpError, UnwarpOptions, UnwarpReport, RETRACT_FEED};
 use crate::emit::{EmitError, Emitter, DEFAULT_TRAVEL_FEED, E_QUANTUM};
 use crate::gcode::write::push_e;
-use crate::gcode::{Command, Line, Move, State};
+use crate::gcode::{Command, HeadMove, Line, Move, State};
 use crate::job::Job;
 use crate::num::fmt_shortest as fmt;
 use crate::register::Registration;
 use crate::tolerance::{BED_Z, LENGTH_EPSILON};
 use crate::toolpath::{Feature, ToolPoint};
 use crate::warp::Warp;
+
+/// A travel's stop within this distance (XY, mm) of the object's extrusions' box is mapped as
+/// the object's point (a slicer's wipe or inward move before a retraction lies on the layer);
+/// farther out it is a park or purge position and stays at least at the slicer's height.
+pub(super) const STOP_MARGIN: f64 = 5.0;
 
 /// What kind of extrusion a move piece is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,10 +55,37 @@ pub(super) enum Kind {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pending {
     f: f64,
-    /// Unretraction the slicer wrote during the travel, mm.
-    unretract: f64,
-    /// Feed of that unretraction.
-    unretract_f: f64,
+    /// The file's last travel piece that moved in X/Y (its end: where the slicer's head went),
+    /// and its line.
+    last: Option<(u64, Move)>,
+}
+
+/// What a held line does when it is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Effect {
+    None,
+    /// The head moves somewhere the file does not say.
+    HeadMove(HeadMove),
+    /// G10 (true) or G11.
+    FirmwareRetract(bool),
+    /// `G92 E<v>`: the firmware's E is now v.
+    ResetE(f64),
+}
+
+/// Something after a pending travel, in file order, written when the travel is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Held {
+    /// A non-move line: its bytes in `held_bytes`, its line number, what it does, whether it
+    /// must run where the file put it (see [`Core::action`]).
+    Line {
+        start: usize,
+        end: usize,
+        line: u64,
+        effect: Effect,
+        stop: bool,
+    },
+    /// Filament moved in place (`G1 E`), mm, its feed and the E mode.
+    E { e: f64, f: f64, relative: bool },
 }
 
 /// Pass 2 state.
@@ -51,6 +107,15 @@ pub(super) struct Core {
     /// Output position and tool axis, output frame.
     pub(super) cur: Option<(DVec3, DVec3)>,
     pub(super) pending: Option<Pending>,
+    /// What came after the pending travel, in order ([`Held`]).
+    pub(super) held: Vec<Held>,
+    pub(super) held_bytes: Vec<u8>,
+    /// The head moved where the file does not say, on this line (the next travel is a full lift).
+    pub(super) lost: Option<(u64, HeadMove)>,
+    /// A firmware retraction (G10) is in force.
+    pub(super) fw_retracted: bool,
+    /// The highest extrusion point written so far, output frame z (−∞ before any).
+    pub(super) printed_top: f64,
     /// Filament the slicer retracted and has not yet pushed back, mm.
     pub(super) retracted: f64,
     pub(super) grid: travel::HeightGrid,
@@ -175,8 +240,18 @@ impl Core {
             Command::SetPosition { xyz: true, .. } => {
                 return Err(UnwarpError::AxisReset { line: n })
             }
+            Command::SetPosition { e: Some(v), .. } if self.holds_line() => {
+                // after lines that wait: waits too, and resets E when it is written
+                self.action(n, line.raw, Effect::ResetE(v), false)
+            }
             Command::SetPosition { e: Some(v), .. } => {
                 self.emit.reset_e(v);
+                self.passthrough(line.raw);
+            }
+            Command::ExtrusionMode { .. } if self.holds_line() => {
+                // the E mode must change where the E words after it are written: what waits
+                // runs now, in front of the travel
+                self.write_held();
                 self.passthrough(line.raw);
             }
             Command::Move { .. } => {
@@ -187,9 +262,145 @@ impl Core {
                     self.piece(n, m, state.e_relative)?;
                 }
             }
+            Command::HeadMove(HeadMove::Home { z: true } | HeadMove::Probe) => {
+                return Err(UnwarpError::ProbeInRegion {
+                    line: n,
+                    command: String::from_utf8_lossy(line.raw).trim().to_string(),
+                })
+            }
+            Command::HeadMove(h) => self.action(n, line.raw, Effect::HeadMove(h), true),
+            Command::FirmwareRetract { retract: true } => {
+                // a retraction runs at once (in front of a pending travel it only oozes less);
+                // after lines that wait, the travel stops where they run, then it retracts
+                if self.holds_line() {
+                    self.stop_here(state.e_relative);
+                }
+                self.passthrough(line.raw);
+                self.fw_retracted = true;
+            }
+            Command::FirmwareRetract { retract: false } => {
+                self.action(n, line.raw, Effect::FirmwareRetract(false), false)
+            }
+            Command::Dwell => self.action(n, line.raw, Effect::None, true),
+            Command::Other => self.action(n, line.raw, Effect::None, false),
+            // comments, markers and mode lines take effect at once (a comment waits only
+            // behind lines that wait, to keep their order)
+            _ if self.holds_line() => self.action(n, line.raw, Effect::None, false),
             _ => self.passthrough(line.raw),
         }
         Ok(())
+    }
+
+    /// A non-move line that acts: after a pending travel it waits for it, otherwise it is
+    /// written now.
+    /// `stop`: the line must run where the file put it (a dwell, a pause, a head move), so a
+    /// further travel makes the pending one stop there first.
+    fn action(&mut self, line: u64, raw: &[u8], effect: Effect, stop: bool) {
+        if self.pending.is_some() {
+            let start = self.held_bytes.len();
+            self.held_bytes.extend_from_slice(raw);
+            self.held.push(Held::Line {
+                start,
+                end: self.held_bytes.len(),
+                line,
+                effect,
+                stop,
+            });
+        } else {
+            self.passthrough(raw);
+            self.apply(line, effect);
+        }
+    }
+
+    /// What a written line does to the unwarp's idea of the head.
+    fn apply(&mut self, line: u64, effect: Effect) {
+        match effect {
+            Effect::None => {}
+            Effect::HeadMove(h) => {
+                self.lost = Some((line, h));
+                self.cur = None;
+            }
+            Effect::FirmwareRetract(r) => self.fw_retracted = r,
+            Effect::ResetE(v) => self.emit.reset_e(v),
+        }
+    }
+
+    /// Whether a line waits behind the pending travel.
+    fn holds_line(&self) -> bool {
+        self.pending.is_some() && self.held.iter().any(|h| matches!(h, Held::Line { .. }))
+    }
+
+    /// Whether a line that must run where the file put it waits behind the pending travel.
+    fn holds_stop(&self) -> bool {
+        self.held
+            .iter()
+            .any(|h| matches!(h, Held::Line { stop: true, .. }))
+    }
+
+    /// Write what waited behind the travel just written, in order.
+    fn write_held(&mut self) {
+        let held = std::mem::take(&mut self.held);
+        let bytes = std::mem::take(&mut self.held_bytes);
+        for h in &held {
+            match *h {
+                Held::Line {
+                    start,
+                    end,
+                    line,
+                    effect,
+                    ..
+                } => {
+                    self.passthrough(&bytes[start..end]);
+                    self.apply(line, effect);
+                }
+                Held::E { e, f, relative } => {
+                    self.retracted = (self.retracted - e).max(0.0);
+                    self.write_e_only(e, f, relative);
+                }
+            }
+        }
+        // keep the buffers' capacity
+        self.held = held;
+        self.held.clear();
+        self.held_bytes = bytes;
+        self.held_bytes.clear();
+    }
+
+    /// Where a travel that stops before another travel (lines ran at its end) goes: its end
+    /// mapped as an extrusion of its feature would be; beyond [`STOP_MARGIN`] of the object's
+    /// extrusions (a park or purge position), never below the slicer's own height there (a
+    /// point far from the part maps below the bed under most warps).
+    pub(super) fn stop_point(&self, line: u64, m: &Move) -> (DVec3, DVec3) {
+        let flat = self.map_point(Kind::Flat, m.to);
+        match self.kind(line, m) {
+            Kind::Object => {
+                let (p, n) = self.map_point(Kind::Object, m.to);
+                let b = self.reg.gcode_bbox;
+                let near = m.to.x >= b.min.x - STOP_MARGIN
+                    && m.to.x <= b.max.x + STOP_MARGIN
+                    && m.to.y >= b.min.y - STOP_MARGIN
+                    && m.to.y <= b.max.y + STOP_MARGIN;
+                if near {
+                    (p, n)
+                } else {
+                    (DVec3::new(p.x, p.y, p.z.max(flat.0.z)), n)
+                }
+            }
+            _ => flat,
+        }
+    }
+
+    /// The pending travel stops at the file's last travel point; the held lines run there.
+    /// On a dropped layer (the anchor's, a dropped skirt's) the head does not go there: they
+    /// run where the head is, and the travel stays pending.
+    fn stop_here(&mut self, relative: bool) {
+        match self.pending.and_then(|p| p.last) {
+            Some((line, m)) if self.kind(line, &m) != Kind::Dropped => {
+                let (p, n) = self.stop_point(line, &m);
+                self.travel_to(p, n, relative);
+            }
+            _ => self.write_held(),
+        }
     }
 
     fn passthrough(&mut self, raw: &[u8]) {
@@ -275,29 +486,44 @@ impl Core {
                 // a feed-only G1: keep the feed modal state ours
                 return Ok(());
             }
-            if m.e > 0.0 {
-                if let Some(p) = self.pending.as_mut() {
-                    p.unretract += m.e;
-                    p.unretract_f = m.f;
-                    return Ok(());
+            // after a travel a push-back waits for it; a retraction runs at once (earlier
+            // only oozes less)
+            if self.pending.is_some() && m.e > 0.0 {
+                match self.held.last_mut() {
+                    // consecutive pushes back merge into one (a dropped layer's travels)
+                    Some(Held::E { e, f, .. }) => {
+                        *e += m.e;
+                        *f = m.f;
+                    }
+                    _ => self.held.push(Held::E {
+                        e: m.e,
+                        f: m.f,
+                        relative,
+                    }),
                 }
+                return Ok(());
             }
             self.retracted = (self.retracted - m.e).max(0.0);
             self.write_e_only(m.e, m.f, relative);
             return Ok(());
         }
         if m.e <= 0.0 {
+            if self.holds_stop() {
+                // lines ran at the end of the previous travel: it stops there
+                self.stop_here(relative);
+            }
             if m.e < 0.0 {
                 // a wipe: retract in place
                 self.retracted -= m.e;
                 self.write_e_only(m.e, m.f, relative);
             }
-            let p = self.pending.get_or_insert(Pending {
-                f: m.f,
-                unretract: 0.0,
-                unretract_f: m.f,
-            });
+            let p = self.pending.get_or_insert(Pending { f: m.f, last: None });
             p.f = m.f;
+            // a stop goes where the head last moved in X/Y, at that height: a Z move after it
+            // (a layer change, a z-hop) is the next travel's business, replanned anyway
+            if m.from.truncate() != m.to.truncate() {
+                p.last = Some((line, *m));
+            }
             return Ok(());
         }
         // An extrusion.
@@ -312,12 +538,9 @@ impl Core {
             } else {
                 self.report.e_skirt += m.e;
             }
-            // the head does not go there: what follows starts with a travel
-            self.pending.get_or_insert(Pending {
-                f: m.f,
-                unretract: 0.0,
-                unretract_f: m.f,
-            });
+            // the head does not go there: what follows starts with a travel (lines held
+            // behind it stay held: the dropped layer is not a place to stop at)
+            self.pending.get_or_insert(Pending { f: m.f, last: None });
             return Ok(());
         }
         let (start, n0) = self.map_point(kind, m.from);
@@ -423,6 +646,7 @@ impl Core {
         if let Some((a, _)) = self.cur {
             self.grid.mark_segment(a, p);
         }
+        self.printed_top = self.printed_top.max(p.z);
         self.emit_point(
             ToolPoint {
                 p,
@@ -454,51 +678,92 @@ impl Core {
         );
     }
 
-    /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend.
+    /// Go to `target` (output frame) if not there: straight, or retract–lift–move–descend;
+    /// then write what waited behind the travel.
     fn travel_to(&mut self, target: DVec3, n: DVec3, relative: bool) {
         let pending = self.pending.take();
-        let Some((cur, cur_n)) = self.cur else {
-            self.write_travel(target, n, pending.map_or(DEFAULT_TRAVEL_FEED, |p| p.f));
-            return;
-        };
         let f = pending.map_or(DEFAULT_TRAVEL_FEED, |p| p.f);
-        if (target - cur).length() > LENGTH_EPSILON {
-            match travel::plan(&self.grid, cur, target, self.opts.travel_clearance) {
-                travel::TravelPlan::Direct => self.write_travel(target, n, f),
-                travel::TravelPlan::Lift(z) => {
-                    self.report.lifts += 1;
-                    let add = self.retracted <= LENGTH_EPSILON && self.opts.retract_length > 0.0;
-                    if add {
-                        self.report.retracts_added += 1;
-                        self.write_e_only(-self.opts.retract_length, RETRACT_FEED, relative);
-                    }
-                    self.write_travel(DVec3::new(cur.x, cur.y, z), cur_n, f);
-                    self.write_travel(DVec3::new(target.x, target.y, z), n, f);
-                    self.write_travel(target, n, f);
-                    if add {
-                        self.write_e_only(self.opts.retract_length, RETRACT_FEED, relative);
+        if let Some((line, what)) = self.lost.take() {
+            self.travel_from_unknown(line, what, target, n, f, relative);
+        } else if let Some((cur, cur_n)) = self.cur {
+            if (target - cur).length() > LENGTH_EPSILON {
+                match travel::plan(&self.grid, cur, target, self.opts.travel_clearance) {
+                    travel::TravelPlan::Direct => self.write_travel(target, n, f),
+                    travel::TravelPlan::Lift(z) => {
+                        self.lifted(relative, |c| {
+                            c.write_travel(DVec3::new(cur.x, cur.y, z), cur_n, f);
+                            c.write_travel(DVec3::new(target.x, target.y, z), n, f);
+                            c.write_travel(target, n, f);
+                        });
                     }
                 }
             }
+        } else {
+            self.write_travel(target, n, f);
         }
-        if let Some(p) = pending {
-            if p.unretract > 0.0 {
-                self.retracted = (self.retracted - p.unretract).max(0.0);
-                self.write_e_only(p.unretract, p.unretract_f, relative);
+        self.write_held();
+        // a held line moved the head (a tool change after the travel): back from wherever
+        if let Some((line, what)) = self.lost.take() {
+            self.travel_from_unknown(line, what, target, n, f, relative);
+        }
+    }
+
+    /// A lift written by `moves`, with a retraction around it if the slicer did not retract.
+    fn lifted(&mut self, relative: bool, moves: impl FnOnce(&mut Core)) {
+        self.report.lifts += 1;
+        let add = self.retracted <= LENGTH_EPSILON
+            && !self.fw_retracted
+            && self.opts.retract_length > 0.0;
+        if add {
+            self.report.retracts_added += 1;
+            self.write_e_only(-self.opts.retract_length, RETRACT_FEED, relative);
+        }
+        moves(self);
+        if add {
+            self.write_e_only(self.opts.retract_length, RETRACT_FEED, relative);
+        }
+    }
+
+    /// The head is where a `what` on `line` left it: straight up (or down) to above everything
+    /// printed so far, across, and down onto `target`.
+    fn travel_from_unknown(
+        &mut self,
+        line: u64,
+        what: HeadMove,
+        target: DVec3,
+        n: DVec3,
+        f: f64,
+        relative: bool,
+    ) {
+        let z = self.printed_top.max(target.z) + self.opts.travel_clearance;
+        self.lifted(relative, |c| {
+            if c.emit_error.is_some() {
+                return;
             }
-        }
+            let r = c.counted(|c| c.emit.lift_from_unknown(&mut c.out, z, f, what.name()));
+            if let Err(error) = r {
+                c.emit_error = Some(UnwarpError::Emit {
+                    line: Some(line),
+                    error,
+                });
+                return;
+            }
+            c.write_travel(DVec3::new(target.x, target.y, z), n, f);
+            c.write_travel(target, n, f);
+        });
     }
 
     /// Leave the region: lift clear of the part and re-synchronise absolute E.
     pub(super) fn end_region(&mut self) {
         self.done_region = true;
-        if let Some(p) = self.pending.take() {
-            if p.unretract > 0.0 {
-                // the slicer pushed filament back at the end of a travel that leads out of the
-                // region: keep it, in place
-                self.write_e_only(p.unretract, p.unretract_f, true);
-            }
+        if self.holds_stop() {
+            // lines ran at the end of the last travel: it stops there
+            self.stop_here(self.e_relative);
         }
+        // what is still held (filament the slicer pushed back at the end of a travel that
+        // leads out of the region, lines on a dropped layer) is written in place
+        self.pending = None;
+        self.write_held();
         if let Some((cur, n)) = self.cur {
             let (_, top) = self.grid.clearance_needed(cur, cur);
             let z = top.max(cur.z) + self.opts.travel_clearance;

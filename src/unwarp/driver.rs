@@ -104,7 +104,13 @@ impl Unwarper {
         })?;
         emit.check_job(&self.job, model_to_output)
             .map_err(|error| UnwarpError::Emit { line: None, error })?;
-        let b = reg.gcode_bbox;
+        // the travel planner's grid covers everything printed (the object, and a skirt, brim or
+        // wipe tower beside it: issue 12 item 4)
+        let mut b = reg.gcode_bbox;
+        if !reg.printed_bbox.is_empty() {
+            b.include(reg.printed_bbox.min);
+            b.include(reg.printed_bbox.max);
+        }
         let mut core = Core {
             job: self.job.clone(),
             warp,
@@ -119,6 +125,11 @@ impl Unwarper {
             slicer_e: 0.0,
             cur: None,
             pending: None,
+            held: Vec::new(),
+            held_bytes: Vec::new(),
+            lost: None,
+            fw_retracted: false,
+            printed_top: f64::NEG_INFINITY,
             retracted: 0.0,
             grid: travel::HeightGrid::new((b.min + shift).truncate(), (b.max + shift).truncate()),
             inside: false,
@@ -130,6 +141,7 @@ impl Unwarper {
                 residual: reg.residual,
                 fit: reg.fit,
                 model_to_output: model_to_output.to_array(),
+                warnings: UnwarpReport::end_warnings(&reg),
                 skirt: if self.opts.drop_skirt {
                     "dropped".into()
                 } else {
@@ -143,6 +155,11 @@ impl Unwarper {
         };
         core.header();
         self.core = Some(core);
+        // pass 2 expands arcs only inside the region: the lines outside pass through verbatim
+        self.reader = Reader::new(ReadOptions {
+            arcs_in: Some(reg.region),
+            ..ReadOptions::default()
+        });
         Ok(reg)
     }
 

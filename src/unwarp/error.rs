@@ -53,6 +53,14 @@ pub enum UnwarpError {
     Warp(WarpError),
     /// Pass 1 could not find where the slicer put the part.
     Register(RegisterError),
+    /// A command inside the printed region that drives the nozzle or a probe down to the bed
+    /// (`G28` homing Z, `G29`, `G30`): where the part stands, it hits the part.
+    ProbeInRegion {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The line as written.
+        command: String,
+    },
     /// `place` is not two finite numbers.
     BadPlace {
         /// The `--place x,y` given, mm (at least one is NaN or infinite).
@@ -91,6 +99,10 @@ impl std::fmt::Display for UnwarpError {
             UnwarpError::Order { expected } => write!(f, "unwarp: call {expected} first"),
             UnwarpError::Emit { line: Some(line), error } => write!(f, "G-code line {line}: {error}"),
             UnwarpError::Emit { line: None, error } => error.fmt(f),
+            UnwarpError::ProbeInRegion { line, command } => write!(
+                f,
+                "G-code line {line}: '{command}' inside the printed region drives the nozzle or the probe down to the bed, where the part stands; move it to the start G-code (before the first layer), or home only X and Y (G28 X Y)"
+            ),
             UnwarpError::BadPlace { place } => {
                 write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
             }
@@ -130,6 +142,7 @@ impl Coded for UnwarpError {
             UnwarpError::Inches { .. } => "unwarp.inches",
             UnwarpError::Order { .. } => "unwarp.order",
             UnwarpError::BadPlace { .. } => "unwarp.bad-place",
+            UnwarpError::ProbeInRegion { .. } => "unwarp.probe-in-region",
             UnwarpError::Option { .. } => "unwarp.option",
             UnwarpError::Gcode(e) => e.code(),
             UnwarpError::Warp(e) => e.code(),
@@ -165,6 +178,11 @@ pub const ERROR_CODES: &[ErrorCode] = &[
         code: "unwarp.bad-place",
         area: "unwarp",
         summary: "place is not two finite numbers",
+    },
+    ErrorCode {
+        code: "unwarp.probe-in-region",
+        area: "unwarp",
+        summary: "G28 homing Z, G29 or G30 inside the printed region",
     },
     ErrorCode {
         code: "unwarp.option",

@@ -44,4 +44,27 @@ pub struct UnwarpReport {
     pub retracts_added: u64,
     /// The machine emitter's measurements (`--machine`).
     pub machine: Option<MachineReport>,
+    /// What the user should look at although the output was written (a file that looks cut
+    /// short: see [`crate::register::ending`]).
+    #[serde(default)]
+    pub warnings: Vec<String>,
+}
+
+impl UnwarpReport {
+    /// The warnings of a registration's findings about the file's end.
+    pub fn end_warnings(reg: &crate::register::Registration) -> Vec<String> {
+        let mut w = Vec::new();
+        if let Some(n) = reg.unterminated_line {
+            w.push(format!(
+                "the G-code's last line ({n}) has no line end: the file may be cut short (a copy or download that did not finish), its last move perhaps in the middle of a number; export or copy it again"
+            ));
+        }
+        if reg.end_gcode_missing {
+            w.push(format!(
+                "nothing after the last layer (line {}) ends the print — no heater off (M104 S0), no motors off (M84), no end macro (END_PRINT): the file may be cut short, or the slicer's end G-code is empty, and the heaters would stay on; check the end of the G-code",
+                reg.region[1]
+            ));
+        }
+        w
+    }
 }

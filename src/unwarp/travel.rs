@@ -14,7 +14,7 @@ pub const CELL: f64 = 1.0;
 /// Cells closer than this to a travel's start or end are not obstacles (the nozzle's own
 /// neighbourhood), mm.
 pub const NEAR_END_RADIUS: f64 = 1.5;
-/// Grid margin around the part, mm.
+/// Grid margin around everything printed (the part, a skirt, brim or wipe tower), mm.
 pub const MARGIN: f64 = 20.0;
 /// A straight travel may pass this little below the top of printed material, mm: the grid
 /// holds nozzle-tip heights (bead tops), and a planar printer's travels graze the layer just
@@ -31,7 +31,8 @@ pub struct HeightGrid {
 }
 
 impl HeightGrid {
-    /// A grid over [min, max] (XY, output frame) plus [`MARGIN`].
+    /// A grid over [min, max] (XY, output frame: the box of everything the region prints)
+    /// plus [`MARGIN`]; at most 4096 cells a side (4 m at [`CELL`]).
     pub fn new(min: DVec2, max: DVec2) -> HeightGrid {
         let origin = min - DVec2::splat(MARGIN);
         let size = (max - min) + DVec2::splat(2.0 * MARGIN);

@@ -254,6 +254,9 @@ mod cli {
                 warpslice::machine::emit::margins_summary(&m.axes)
             );
         }
+        for w in &r.warnings {
+            say!("warning: {w}");
+        }
         say!("wrote {}", output.display());
     }
 

@@ -1,0 +1,995 @@
+//! Issue 12, "never a silently wrong G-code": what the unwarp does with commands and files a
+//! planar slicer (or its user) puts inside the printed region — head moves, non-move lines
+//! around travels, arcs, truncated files, a wipe tower beside the part. Each test mutates the
+//! synthetic slicer's G-code of a conic cube (`common/synthetic.rs`), runs the library and the
+//! CLI, and checks the written file with a reader of its own (below: it shares nothing with
+//! `warpslice::gcode`), or the refusal's code and the line it names. Native only (the CLI, a
+//! real slicer); the wasm report's warnings are checked in `wasm_errors.rs`.
+#![cfg(not(target_arch = "wasm32"))]
+
+mod common;
+#[path = "common/synthetic.rs"]
+mod synthetic;
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::process::Command;
+
+use warpslice::error::Coded;
+use warpslice::job::Job;
+use warpslice::machine::MachineOptions;
+use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
+use warpslice::unwarp::{UnwarpOptions, UnwarpOutput};
+use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+const CLI: &str = env!("CARGO_BIN_EXE_warpslice");
+
+/// The warped 20 mm cube (conic 30° outward) and its job.
+fn conic_cube() -> warpslice::pipeline::WarpOutput {
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let p = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    };
+    warp_model(&stl, &WarpOptions::new(p)).unwrap()
+}
+
+/// `what` inserted after the `n`th (1-based) occurrence of `marker`; the text and the 1-based
+/// line number of the first inserted line.
+fn insert_after(g: &str, marker: &str, n: usize, what: &str) -> (String, usize) {
+    let mut at = 0;
+    for _ in 0..n {
+        at += g[at..].find(marker).expect("marker") + marker.len();
+    }
+    let line = g[..at].matches('\n').count() + 1;
+    (format!("{}{what}{}", &g[..at], &g[at..]), line)
+}
+
+/// The 3-axis unwarp placed where the synthetic slicer put the part.
+fn run_lib(
+    g: &str,
+    job: &Job,
+    machine: Option<&str>,
+) -> Result<UnwarpOutput, warpslice::pipeline::Error> {
+    let s = UnwarpSettings {
+        unwarp: UnwarpOptions {
+            offset: Some([100.0, 100.0]),
+            ..UnwarpOptions::default()
+        },
+        output: MachineOptions {
+            machine: machine.map(|m| warpslice::machine::preset(m).unwrap()),
+            ..MachineOptions::default()
+        },
+    };
+    unwarp(g.as_bytes(), job, &s)
+}
+
+/// The error of a run that must be refused (without printing a whole accepted output).
+fn refused<T>(what: &str, r: Result<T, warpslice::pipeline::Error>) -> warpslice::pipeline::Error {
+    match r {
+        Ok(_) => panic!("{what}: accepted, must be refused"),
+        Err(e) => e,
+    }
+}
+
+/// A scratch directory with the job written in it.
+fn scratch(tag: &str, job: &Job) -> (PathBuf, PathBuf) {
+    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let j = d.join("part.job.json");
+    std::fs::write(&j, job.to_json_pretty()).unwrap();
+    (d, j)
+}
+
+/// `warpslice unwarp` of `g`: Ok(output text, stdout) or Err(stderr).
+fn run_cli(
+    dir: &std::path::Path,
+    job: &std::path::Path,
+    g: &str,
+    extra: &[&str],
+) -> Result<(String, String), String> {
+    let input = dir.join("in.gcode");
+    let out = dir.join("out.gcode");
+    let _ = std::fs::remove_file(&out);
+    std::fs::write(&input, g).unwrap();
+    let mut args = vec![
+        "unwarp".to_string(),
+        input.display().to_string(),
+        "--job".into(),
+        job.display().to_string(),
+        "-o".into(),
+        out.display().to_string(),
+        "--offset".into(),
+        "100,100".into(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let o = Command::new(CLI).args(&args).output().unwrap();
+    if o.status.success() {
+        Ok((
+            std::fs::read_to_string(&out).unwrap(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        ))
+    } else {
+        Err(String::from_utf8_lossy(&o.stderr).into_owned())
+    }
+}
+
+// ── the tests' own reading of an output file ───────────────────────────────────────────────
+
+/// One output line: its text, and for a `G<n>`/`M<n>`/`T<n>` line the letter and number and
+/// the words after it (letter → value; a bare letter is NaN).
+#[derive(Clone, Debug)]
+struct Step {
+    text: String,
+    cmd: Option<(char, u32)>,
+    words: HashMap<char, f64>,
+}
+
+fn steps(out: &str) -> Vec<Step> {
+    out.lines()
+        .map(|l| {
+            let code = l.split(';').next().unwrap_or("").trim();
+            let mut it = code.split_whitespace();
+            let cmd = it.next().and_then(|w| {
+                let mut c = w.chars();
+                let letter = c.next()?.to_ascii_uppercase();
+                match c.as_str().parse::<u32>() {
+                    Ok(n) => Some((letter, n)),
+                    // Prusa's `T?`, `Tx`, `Tc`
+                    Err(_) if letter == 'T' => Some((letter, u32::MAX)),
+                    Err(_) => None,
+                }
+            });
+            let words = it
+                .filter_map(|w| {
+                    let mut c = w.chars();
+                    let letter = c.next()?.to_ascii_uppercase();
+                    let v = c.as_str();
+                    Some((
+                        letter,
+                        if v.is_empty() {
+                            f64::NAN
+                        } else {
+                            v.parse().ok()?
+                        },
+                    ))
+                })
+                .collect();
+            Step {
+                text: l.to_string(),
+                cmd,
+                words,
+            }
+        })
+        .collect()
+}
+
+/// Walks a 3-axis output as a firmware would (relative E) and checks that after a command that
+/// moves the head where the file does not say (`G28 X/Y`, `G27`, `T<n>`) from the first
+/// `;LAYER_CHANGE` on (the start G-code before it is the slicer's, passed through), nothing
+/// extrudes and nothing moves in X/Y until the head has climbed, by a Z-only move, above every
+/// extrusion written so far by at least `clearance`; returns how many such climbs there were.
+fn climbs_after_head_moves(out: &str, clearance: f64) -> Result<usize, String> {
+    // known[k]: X, Y, Z known
+    let mut known = [true; 3];
+    let mut top = f64::NEG_INFINITY;
+    let mut z = 0.0;
+    let mut climbs = 0;
+    let mut unknown_since: Option<usize> = None;
+    let mut printing = false;
+    for (i, s) in steps(out).iter().enumerate() {
+        let n = i + 1;
+        printing |= s.text.starts_with(";LAYER_CHANGE");
+        if !printing {
+            continue;
+        }
+        match s.cmd {
+            Some(('G', 28)) => {
+                let named: Vec<usize> = "XYZ"
+                    .chars()
+                    .enumerate()
+                    .filter(|(_, c)| s.words.contains_key(c))
+                    .map(|(k, _)| k)
+                    .collect();
+                for (k, known) in known.iter_mut().enumerate() {
+                    if named.is_empty() || named.contains(&k) {
+                        *known = false;
+                    }
+                }
+                unknown_since = Some(n);
+            }
+            Some(('G', 27)) | Some(('T', _)) => {
+                known = [false; 3];
+                unknown_since = Some(n);
+            }
+            Some(('G', 0 | 1)) => {
+                let xy = s.words.contains_key(&'X') || s.words.contains_key(&'Y');
+                let e = s.words.get(&'E').copied().unwrap_or(0.0);
+                let new_z = s.words.get(&'Z').copied();
+                if !(known[0] && known[1]) {
+                    if e > 0.0 {
+                        return Err(format!(
+                            "line {n}: extrudes with X/Y unknown since line {unknown_since:?}: {}",
+                            s.text
+                        ));
+                    }
+                    if xy {
+                        let zz = new_z.unwrap_or(z);
+                        if !known[2] && new_z.is_none() || zz < top + clearance - 1e-9 {
+                            return Err(format!(
+                                "line {n}: moves in X/Y from an unknown place at Z {zz} (printed top {top}): {}",
+                                s.text
+                            ));
+                        }
+                    } else if let Some(v) = new_z {
+                        if v < top + clearance - 1e-9 {
+                            return Err(format!("line {n}: the climb from an unknown place stops at Z {v}, under the printed top {top} + {clearance}"));
+                        }
+                        climbs += 1;
+                    }
+                }
+                if let Some(v) = new_z {
+                    z = v;
+                    known[2] = true;
+                }
+                if s.words.contains_key(&'X') {
+                    known[0] = true;
+                }
+                if s.words.contains_key(&'Y') {
+                    known[1] = true;
+                }
+                if e > 0.0 && xy {
+                    top = top.max(z);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(climbs)
+}
+
+// ── item 1: head moves inside the region ────────────────────────────────────────────────────
+
+/// Issue 12 item 1: after `G28` inside the region the output went on with an extruding `G1`
+/// from home, because pass 2 still believed the head was where it had been. Now every head move
+/// the file does not give (`G28 X Y`, `G27`, a tool change) is followed by a climb to above the
+/// printed part, wherever the head is, before anything moves in X/Y or extrudes — whether the
+/// command follows an extrusion or a travel.
+#[test]
+fn a_head_move_in_the_region_is_followed_by_a_climb_never_an_extrusion() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let clearance = UnwarpOptions::default().travel_clearance;
+    let (d, job) = scratch("head", &w.job);
+    let base = climbs_after_head_moves(
+        &String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap(),
+        clearance,
+    );
+    // the start G-code's own G28 is followed by its first Z move
+    let base = base.expect("the clean file");
+    for (marker, n, what) in [
+        // after the last extrusion of a perimeter (no travel waiting)
+        (";TYPE:Internal infill\n", 12, "G28 X Y\n"),
+        // after a travel, before the extrusion it leads to
+        ("F6000\n", 40, "G28 X\n"),
+        ("F6000\n", 41, "T1\n"),
+        (";TYPE:Internal infill\n", 20, "G27\n"),
+        ("F6000\n", 61, "T?\n"),
+    ] {
+        let (bad, _) = insert_after(&g, marker, n, what);
+        let lib = String::from_utf8(run_lib(&bad, &w.job, None).unwrap().gcode).unwrap();
+        let cli = run_cli(&d, &job, &bad, &[]).unwrap().0;
+        for (how, out) in [("library", &lib), ("CLI", &cli)] {
+            assert!(out.contains(what), "{how}: {what:?} is passed through");
+            let climbs = climbs_after_head_moves(out, clearance)
+                .unwrap_or_else(|e| panic!("{how}, {what:?}: {e}"));
+            assert_eq!(climbs, base + 1, "{how}, {what:?}: one more climb");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The walker above must catch the bug it is for: the output of a clean file with a `G28 X Y`
+/// inserted right after the unwarp's output (no climb) fails it.
+#[test]
+fn the_head_move_walker_catches_an_extrusion_from_home() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let out = String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap();
+    let (planted, _) = insert_after(&out, ";TYPE:Internal infill\n", 12, "G28 X Y\n");
+    assert!(climbs_after_head_moves(&planted, 1.0).is_err());
+}
+
+/// Issue 12 item 1, the other half: `G28` homing Z (`G28`, `G28 Z`, Prusa's `G28 W`), `G29` and
+/// `G30` inside the region drive the nozzle or the probe down to the bed, where the part
+/// stands: refused by name, naming the line; the same commands in the start G-code pass.
+#[test]
+fn homing_z_or_probing_in_the_region_is_refused_naming_the_line() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let (d, job) = scratch("probe", &w.job);
+    let (start, _) = insert_after(&g, "G28\n", 1, "G29\nG30\n");
+    run_lib(&start, &w.job, None).expect("probing in the start G-code is fine");
+    for what in ["G28\n", "G28 Z\n", "G28 W\n", "G29\n", "G30 X10 Y10\n"] {
+        let (bad, line) = insert_after(&g, ";TYPE:Internal infill\n", 7, what);
+        let e = refused(what, run_lib(&bad, &w.job, None));
+        assert_eq!(e.code(), "unwarp.probe-in-region", "{what:?}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.contains(&format!("G-code line {line}:")) && m.contains(what.trim()),
+            "{m}"
+        );
+        let cli = run_cli(&d, &job, &bad, &[]).unwrap_err();
+        assert!(
+            cli.contains(&format!("G-code line {line}:")) && cli.contains("start G-code"),
+            "{cli}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// A multi-axis head cannot be brought back from a pose the file does not give: a tool change
+/// inside the region is refused by the machine emitter, naming the line and the command.
+#[test]
+fn a_head_move_in_the_region_is_refused_for_a_multi_axis_machine() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    run_lib(&g, &w.job, Some("pax-5axis")).expect("the clean file on pax-5axis");
+    let (bad, line) = insert_after(&g, ";TYPE:Internal infill\n", 7, "T1\n");
+    let e = refused("T1 on pax-5axis", run_lib(&bad, &w.job, Some("pax-5axis")));
+    assert_eq!(e.code(), "machine.pose-lost", "{e}");
+    // the climb is decided at the next travel, on the line of the next extrusion at the latest
+    let m = e.to_string();
+    assert!(m.contains("tool change") && m.contains("pax-5axis"), "{m}");
+    let named: usize = m
+        .strip_prefix("G-code line ")
+        .and_then(|r| r.split(':').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("names a line: {m}"));
+    assert!(
+        named == line,
+        "names line {named}, the T1 is on {line}: {m}"
+    );
+}
+
+// ── item 5: non-move lines around travels ───────────────────────────────────────────────────
+
+/// The tests' own reading of the order of action lines (not a move, not a comment) from the
+/// second `;LAYER_CHANGE` (the first layer is the anchor's: its extrusions are dropped, so its
+/// lines come before travels) to the last extrusion of a file with relative E: for each, its
+/// text, whether the head moved in X/Y between the extrusion before it and it (it follows a
+/// travel), and whether it moves in X/Y between it and the next extrusion (a travel follows it).
+/// An extrusion is a move in X/Y with an E word ≥ 0 (a point clamped to the bed gets E0).
+fn action_order(text: &str) -> Vec<(String, bool, bool)> {
+    struct Ev {
+        action: Option<String>,
+        xy: bool,
+        extrudes: bool,
+    }
+    let mut evs = Vec::new();
+    let (mut x, mut y) = (f64::NAN, f64::NAN);
+    let mut layers = 0;
+    for s in steps(text) {
+        if s.text.starts_with(";LAYER_CHANGE") {
+            layers += 1;
+        }
+        if layers < 2 {
+            if let Some(('G', 0 | 1)) = s.cmd {
+                x = s.words.get(&'X').copied().unwrap_or(x);
+                y = s.words.get(&'Y').copied().unwrap_or(y);
+            }
+            continue;
+        }
+        match s.cmd {
+            Some(('G', 0 | 1)) => {
+                let nx = s.words.get(&'X').copied().unwrap_or(x);
+                let ny = s.words.get(&'Y').copied().unwrap_or(y);
+                let xy = !(nx == x && ny == y);
+                let e = s.words.get(&'E').copied();
+                evs.push(Ev {
+                    action: None,
+                    xy,
+                    extrudes: xy && e.is_some_and(|e| e >= 0.0),
+                });
+                (x, y) = (nx, ny);
+            }
+            // mode lines say how the words after them read: not actions
+            Some(('G', 20 | 21 | 90 | 91 | 92) | ('M', 82 | 83)) => {}
+            Some(_) => evs.push(Ev {
+                action: Some(s.text.split(';').next().unwrap().trim().to_string()),
+                xy: false,
+                extrudes: false,
+            }),
+            None => {}
+        }
+    }
+    let first = evs.iter().position(|e| e.extrudes).unwrap_or(0);
+    let last = evs.iter().rposition(|e| e.extrudes).unwrap_or(0);
+    let mut out = Vec::new();
+    for k in first..=last {
+        let Some(a) = &evs[k].action else { continue };
+        let before = evs[..k]
+            .iter()
+            .rev()
+            .take_while(|e| !e.extrudes)
+            .any(|e| e.xy);
+        let after = evs[k + 1..]
+            .iter()
+            .take_while(|e| !e.extrudes)
+            .any(|e| e.xy);
+        out.push((a.clone(), before, after));
+    }
+    out
+}
+
+/// Every action line of `input`'s printed region is in `output` in the same order, and none
+/// moved across a travel: one that followed a travel still follows one (except a retraction,
+/// `G10`: in front of a travel it only oozes less), one that came right before an extrusion
+/// (no travel between) still does. Err names the first that moved.
+fn order_kept(input: &str, output: &str) -> Result<usize, String> {
+    let (a, b) = (action_order(input), action_order(output));
+    let texts = |v: &[(String, bool, bool)]| v.iter().map(|x| x.0.clone()).collect::<Vec<_>>();
+    if texts(&a) != texts(&b) {
+        return Err(format!(
+            "the action lines differ:\n in: {:?}\nout: {:?}",
+            texts(&a),
+            texts(&b)
+        ));
+    }
+    for (k, (i, o)) in a.iter().zip(&b).enumerate() {
+        if i.1 && !o.1 && i.0 != "G10" {
+            return Err(format!(
+                "action {k} '{}' followed a travel, now comes before it",
+                i.0
+            ));
+        }
+        if !i.2 && o.2 {
+            return Err(format!(
+                "action {k} '{}' came right before an extrusion, now a travel follows it",
+                i.0
+            ));
+        }
+    }
+    Ok(a.len())
+}
+
+/// Issue 12 item 5: travels wait for the next extrusion while other lines were written at once,
+/// so with firmware retraction every `G11` came before the travel it ended (stringing), and
+/// `M106`, `G4` moved in front of travels. The synthetic file with `G10`/`G11` instead of E
+/// retractions and a fan, a dwell and a detour after travels keeps every line's place.
+#[test]
+fn lines_after_a_travel_stay_after_it() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0)
+        .replace("G1 E-0.8 F2400\n", "G10\n")
+        .replace("G1 E0.8 F2400\n", "G11\n");
+    assert!(g.contains("G11\n"));
+    // the travel lines of the infill: a fan after one, a dwell and a detour after another
+    let travels: Vec<&str> = g
+        .lines()
+        .filter(|l| l.starts_with("G0 ") && l.ends_with("F6000"))
+        .collect();
+    let (g, _) = insert_after(&g, &format!("{}\n", travels[30]), 1, "M106 S128\n");
+    let detour = format!("G4 P10\nG0 X100 Y100 F6000\n{}\n", travels[55]);
+    let (g, _) = insert_after(&g, &format!("{}\n", travels[55]), 1, &detour);
+    let (d, job) = scratch("order", &w.job);
+    let lib = run_lib(&g, &w.job, None).unwrap();
+    let out = String::from_utf8(lib.gcode).unwrap();
+    let n = order_kept(&g, &out).unwrap_or_else(|e| panic!("library: {e}"));
+    assert!(n > 100, "{n} action lines checked");
+    // a firmware retraction counts: no retraction of warpslice's own on top of a G10
+    assert_eq!(lib.report.retracts_added, 0);
+    let cli = run_cli(&d, &job, &g, &[]).unwrap().0;
+    order_kept(&g, &cli).unwrap_or_else(|e| panic!("CLI: {e}"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The order check must catch the bug it is for: the unwarp's output with each `G11` moved in
+/// front of the travel before it fails it.
+#[test]
+fn the_order_check_catches_an_unretract_before_its_travel() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0)
+        .replace("G1 E-0.8 F2400\n", "G10\n")
+        .replace("G1 E0.8 F2400\n", "G11\n");
+    let out = String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap();
+    // each G11 moved in front of the travel (one G0 or a lift's three) before it
+    let mut planted: Vec<&str> = out.lines().collect();
+    let mut moved = 0;
+    for k in 1..planted.len() {
+        if planted[k] == "G11" && planted[k - 1].starts_with("G0") {
+            let mut j = k - 1;
+            while j > 0 && planted[j - 1].starts_with("G0") {
+                j -= 1;
+            }
+            let l = planted.remove(k);
+            planted.insert(j, l);
+            moved += 1;
+        }
+    }
+    assert!(moved > 100, "{moved} G11 moved");
+    assert!(order_kept(&g, &planted.join("\n")).is_err());
+}
+
+/// Issue 12 item 5 with a real slicer: PrusaSlicer with `--use-firmware-retraction` writes
+/// `G10`/`G11` around its travels; the unwarp keeps each where it was relative to the motion,
+/// and adds no retraction of its own inside a firmware retraction.
+#[test]
+fn prusaslicer_firmware_retraction_keeps_its_place() {
+    use common::skip;
+    use warpslice::slicer::{SliceOptions, SlicerKind};
+    let model =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/stl/ps_20mmbox_ascii.stl");
+    if !model.exists() {
+        return skip::skip_or_fail("firmware retraction", "no corpus at ../shared/corpus/stl");
+    }
+    if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
+        return skip::skip_or_fail("firmware retraction", &e.to_string());
+    }
+    let d = std::env::temp_dir().join(format!("warpslice-safety-{}-fwretract", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let out = d.join("box.gcode");
+    let warp = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    let slice = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        extra_args: vec!["--use-firmware-retraction".into()],
+        ..SliceOptions::default()
+    };
+    let report = warpslice::pipeline::files::run(
+        &model,
+        &warp,
+        &slice,
+        &UnwarpSettings::default(),
+        &out,
+        &mut (),
+    )
+    .unwrap();
+    let sliced =
+        std::fs::read_to_string(warpslice::pipeline::files::RunFiles::next_to(&out).sliced)
+            .unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    let count = |t: &str, w: &str| {
+        t.lines()
+            .filter(|l| l.split(';').next().unwrap().trim() == w)
+            .count()
+    };
+    assert!(
+        count(&sliced, "G11") > 20,
+        "PrusaSlicer wrote firmware retraction"
+    );
+    assert_eq!(count(&written, "G10"), count(&sliced, "G10"));
+    assert_eq!(count(&written, "G11"), count(&sliced, "G11"));
+    let n = order_kept(&sliced, &written).unwrap();
+    assert!(n >= count(&sliced, "G11"));
+    assert!(report.retracts_added < report.lifts.max(1), "{report:?}");
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    // and the file passes the project's independent checker (placement, surfaces, E, travels,
+    // retraction balance with G10/G11)
+    let files = warpslice::pipeline::files::RunFiles::next_to(&out);
+    let job =
+        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
+            .unwrap();
+    let (warped, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
+    let c = job.warped_bbox.center();
+    let d0 = UnwarpOptions::default();
+    let expect = common::check::Expect {
+        job: &job,
+        warped: &warped,
+        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
+        max_segment: d0.max_segment,
+        tolerance: d0.tolerance,
+        clearance: d0.travel_clearance,
+    };
+    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── items 9 and the arc hang: arcs ──────────────────────────────────────────────────────────
+
+/// Issue 12 item 9 and the arc hang, through the unwarp: an arc with full turns (`P2`) inside
+/// the region, and 3,000 arcs of radius 9 km in the start G-code, are refused by name (the
+/// code, the line of the first), by the library and the CLI.
+#[test]
+fn arcs_with_turns_or_absurd_radii_are_refused_by_the_unwarp() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let (d, job) = scratch("arcs", &w.job);
+    // a full circle with two turns, at the end of a perimeter
+    let (turns, line_p) = insert_after(
+        &g,
+        ";TYPE:Internal infill\n",
+        9,
+        "G3 X100 Y100 I1 J0 P2 E0.5\n",
+    );
+    let huge: String = (0..3000)
+        .map(|k| format!("G2 X{} Y0 I-9000000 J0 ; arc {k}\n", 10 + k % 2))
+        .collect();
+    let (hang, line_h) = insert_after(&g, "G28\n", 1, &format!("G1 X10 Y0 F6000\n{huge}"));
+    for (what, bad, line, words) in [
+        ("P2", &turns, line_p, "P word"),
+        ("I-9000000", &hang, line_h + 1, "larger than any machine"),
+    ] {
+        let e = refused(what, run_lib(bad, &w.job, None));
+        assert_eq!(e.code(), "gcode.bad-arc", "{what}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.contains(&format!("G-code line {line}:")) && m.contains(words),
+            "{what}: {m}"
+        );
+        let cli = run_cli(&d, &job, bad, &[]).unwrap_err();
+        assert!(
+            cli.contains(&format!("G-code line {line}:")) && cli.contains(words),
+            "{what}: {cli}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 10: truncated files ────────────────────────────────────────────────────────────────
+
+/// Issue 12 item 10: a G-code cut short (in its last layers, or in its end G-code) was unwarped
+/// without a word, heaters left on. The report (and the CLI) warns when the last line has no
+/// line end, and when nothing after the last layer ends the print; a whole file, and one whose
+/// end G-code is only an end macro, get no warning.
+#[test]
+fn a_truncated_gcode_is_unwarped_with_a_warning() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    assert!(
+        g.ends_with("M104 S0\nM84\n"),
+        "the synthetic file's end G-code"
+    );
+    let (d, job) = scratch("cut", &w.job);
+    let whole = run_lib(&g, &w.job, None).unwrap();
+    assert!(
+        whole.report.warnings.is_empty(),
+        "{:?}",
+        whole.report.warnings
+    );
+    let (_, stdout) = run_cli(&d, &job, &g, &[]).unwrap();
+    assert!(!stdout.contains("warning"), "{stdout}");
+    // the end macro of Klipper users instead of the end G-code
+    let klipper = g.replace("M104 S0\nM84\n", "END_PRINT\n");
+    assert!(run_lib(&klipper, &w.job, None)
+        .unwrap()
+        .report
+        .warnings
+        .is_empty());
+    // cut in the last layers, at a line end: no end
+    let lines: Vec<&str> = g.lines().collect();
+    let cut_layers = lines[..lines.len() * 9 / 10].join("\n") + "\n";
+    // cut in the middle of a line of the last layers (`G1 X1` of `G1 X105.3 …`)
+    let at = g.len() * 9 / 10;
+    let at = at + g[at..].find("G1 X").unwrap() + 5;
+    let cut_mid = &g[..at];
+    let n_mid = cut_mid.matches('\n').count() + 1;
+    // the end G-code gone after the last extrusion (its lift and M104 S0 … lost)
+    let cut_end = g.replace("M104 S0\nM84\n", "");
+    for (what, text, unterminated) in [
+        ("cut in the last layers", cut_layers.as_str(), None),
+        ("cut mid-line", cut_mid, Some(n_mid)),
+        ("no end G-code", cut_end.as_str(), None),
+    ] {
+        let r = run_lib(text, &w.job, None)
+            .unwrap_or_else(|e| panic!("{what}: {e}"))
+            .report;
+        let ends = r
+            .warnings
+            .iter()
+            .filter(|w| w.contains("ends the print"))
+            .count();
+        assert_eq!(ends, 1, "{what}: {:?}", r.warnings);
+        let line_end = r.warnings.iter().find(|w| w.contains("has no line end"));
+        match unterminated {
+            Some(n) => assert!(
+                line_end.is_some_and(|w| w.contains(&format!("({n})"))),
+                "{what}: {:?}",
+                r.warnings
+            ),
+            None => assert!(line_end.is_none(), "{what}: {:?}", r.warnings),
+        }
+        let (_, stdout) = run_cli(&d, &job, text, &[]).unwrap_or_else(|e| panic!("{what}: {e}"));
+        assert!(
+            stdout.contains("warning: nothing after the last layer"),
+            "{what}: {stdout}"
+        );
+        // without the placement, a file cut in its last layers is lower than the warped mesh:
+        // named as cut short (it was "does not match the warped model")
+        let cut_in_layers = what != "no end G-code";
+        let reg = UnwarpSettings::default();
+        match (cut_in_layers, unwarp(text.as_bytes(), &w.job, &reg)) {
+            (true, r) => {
+                let e = refused(what, r);
+                assert_eq!(e.code(), "register.cut-short", "{what}: {e}");
+                assert!(e.to_string().contains("cut short"), "{e}");
+            }
+            (false, r) => assert!(r.is_ok(), "{what}: the whole object is there"),
+        }
+    }
+    // another model's G-code is still a mismatch, cut short or not
+    let mut other = w.job.clone();
+    other.warped_bbox.max.x += 3.0;
+    let foreign = synthetic::gcode(&other, true, 2.0).replace("M104 S0\nM84\n", "");
+    let e = refused(
+        "another model",
+        unwarp(foreign.as_bytes(), &w.job, &UnwarpSettings::default()),
+    );
+    assert_eq!(e.code(), "register.mismatch", "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 4: a wipe tower beside the part ────────────────────────────────────────────────────
+
+/// The synthetic file with a flat "wipe tower" (a 10 mm square, outline and infill, `;TYPE:Wipe
+/// tower`) printed on every layer `dx` mm beside the part's centre, and the travels to it and
+/// back that a slicer writes.
+fn with_tower(g: &str, h: f64, dx: f64) -> String {
+    let (x0, x1, y0, y1) = (100.0 + dx, 110.0 + dx, 95.0, 105.0);
+    let mut out = String::new();
+    let mut layer = 0;
+    for l in g.lines() {
+        if l == ";LAYER_CHANGE" {
+            if layer > 0 {
+                let z = layer as f64 * h;
+                out += &format!(";TYPE:Wipe tower\nG1 E-0.8 F2400\nG0 X{x0} Y{y0} Z{z:.3} F6000\nG1 E0.8 F2400\n");
+                for (x, y) in [(x1, y0), (x1, y1), (x0, y1), (x0, y0)] {
+                    out += &format!("G1 X{x} Y{y} E0.4 F1800\n");
+                }
+                let mut y = y0 + 1.0;
+                while y < y1 {
+                    out += &format!("G0 X{x0} Y{y:.3}\nG1 X{x1} Y{y:.3} E0.4\n");
+                    y += 1.0;
+                }
+            }
+            layer += 1;
+        }
+        out += l;
+        out.push('\n');
+    }
+    out
+}
+
+/// The tests' own obstacle check of a 3-axis output: every extruding move (E > 0) is a bead,
+/// sampled every 0.25 mm into 0.5 mm cells keeping the highest z; every travel (the moves
+/// between two extrusions) is sampled likewise and must not pass more than 0.1 mm below a bead
+/// printed before it within 0.5 mm, except within 3.5 mm of the travel's two ends (where the
+/// nozzle just printed or is about to print). Returns (travels checked, deepest dip) or the
+/// first travel that passes through material.
+fn travels_clear_every_bead(out: &str) -> Result<(usize, f64), String> {
+    use glam::DVec3;
+    let cell = |x: f64, y: f64| ((x / 0.5).floor() as i64, (y / 0.5).floor() as i64);
+    let samples = |a: DVec3, b: DVec3| {
+        let n = (((b - a).length() / 0.25).ceil() as usize).max(1);
+        (0..=n).map(move |k| a.lerp(b, k as f64 / n as f64))
+    };
+    let mut top: HashMap<(i64, i64), f64> = HashMap::new();
+    let mut p = DVec3::splat(f64::NAN);
+    // the travel moves since the last bead: (line, from, to)
+    let mut gap: Vec<(usize, DVec3, DVec3)> = Vec::new();
+    let (mut travels, mut worst) = (0, f64::NEG_INFINITY);
+    for (i, s) in steps(out).iter().enumerate() {
+        if !matches!(s.cmd, Some(('G', 0 | 1))) {
+            continue;
+        }
+        let w = |c: char, v: f64| s.words.get(&c).copied().unwrap_or(v);
+        let q = DVec3::new(w('X', p.x), w('Y', p.y), w('Z', p.z));
+        let e = s.words.get(&'E').copied().unwrap_or(0.0);
+        if q == p || !p.is_finite() {
+            p = q;
+            continue;
+        }
+        if e <= 0.0 {
+            gap.push((i + 1, p, q));
+            p = q;
+            continue;
+        }
+        if let (Some(&(_, a, _)), b) = (gap.first(), p) {
+            travels += 1;
+            for &(line, m0, m1) in &gap {
+                for t in samples(m0, m1) {
+                    if (t - a).truncate().length() < 3.5 || (t - b).truncate().length() < 3.5 {
+                        continue;
+                    }
+                    let (cx, cy) = cell(t.x, t.y);
+                    let hi = (-1..=1)
+                        .flat_map(|dx| (-1..=1).map(move |dy| (cx + dx, cy + dy)))
+                        .filter_map(|c| top.get(&c).copied())
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    worst = worst.max(hi - t.z);
+                    if hi - t.z > 0.1 {
+                        return Err(format!(
+                            "line {line}: a travel at {t} passes {:.3} mm below a bead printed before it",
+                            hi - t.z
+                        ));
+                    }
+                }
+            }
+            gap.clear();
+        }
+        for t in samples(p, q) {
+            let c = top.entry(cell(t.x, t.y)).or_insert(f64::NEG_INFINITY);
+            *c = c.max(t.z);
+        }
+        p = q;
+    }
+    Ok((travels, worst))
+}
+
+/// Issue 12 item 4: the travel height grid covered the object's box + 20 mm only, so travels
+/// between a low non-planar part and a flat tower beside it went through the tower (41
+/// travels, up to 1.44 mm deep, with PrusaSlicer's wipe tower). Everything printed in the
+/// region is an obstacle now: a tower 40 mm from the part's centre (beyond the old grid) is
+/// cleared by every travel, through the library and the CLI.
+#[test]
+fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
+    let w = conic_cube();
+    let g = with_tower(
+        &synthetic::gcode(&w.job, true, 2.0),
+        w.job.layer_height,
+        40.0,
+    );
+    let (d, job) = scratch("tower", &w.job);
+    let lib = String::from_utf8(run_lib(&g, &w.job, None).unwrap().gcode).unwrap();
+    let (n, worst) = travels_clear_every_bead(&lib).unwrap_or_else(|e| panic!("library: {e}"));
+    assert!(n > 200 && worst.is_finite(), "{n} travels, deepest {worst}");
+    let cli = run_cli(&d, &job, &g, &[]).unwrap().0;
+    travels_clear_every_bead(&cli).unwrap_or_else(|e| panic!("CLI: {e}"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 6: RotBot at a cone apex ───────────────────────────────────────────────────────────
+
+/// Issue 12 item 6: on RotBot (unlimited rotation) each in-place reorientation at a cone's apex
+/// (the tool axis flips 180° there) repeated an identical no-op line about 20 times. The conic
+/// cube with a zig-zag whose corners are the apex: no G1 line repeats the one before it, the
+/// reorientations are still written, and no extruding line turns U by more than 30° (read
+/// here, `G92 U` resets followed).
+#[test]
+fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
+    let w = conic_cube();
+    let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
+    let g = synthetic::gcode(&w.job, true, 1.96).replace(
+        ";TYPE:Internal infill\n",
+        &format!(";TYPE:Internal infill\n{zigzag}"),
+    );
+    let out = String::from_utf8(run_lib(&g, &w.job, Some("rotbot")).unwrap().gcode).unwrap();
+    let (mut prev, mut u): (&str, Option<f64>) = ("", None);
+    let mut reorients = 0;
+    for (i, l) in out.lines().enumerate() {
+        let code = l.split(';').next().unwrap().trim();
+        let word = |c: char| {
+            code.split_whitespace()
+                .find_map(|w| w.strip_prefix(c))
+                .map(|v| v.parse::<f64>().unwrap())
+        };
+        if code.starts_with("G92") {
+            u = word('U').or(u);
+            continue;
+        }
+        if !code.starts_with("G1") {
+            continue;
+        }
+        assert!(
+            code != prev,
+            "line {}: '{code}' repeats the line before it",
+            i + 1
+        );
+        reorients += l.contains("reorient") as usize;
+        if let (Some(a), Some(b)) = (u, word('U')) {
+            assert!(
+                word('E').unwrap_or(0.0) <= 0.0 || (b - a).abs() <= 30.0,
+                "line {}: an extruding line turns U from {a} to {b}",
+                i + 1
+            );
+        }
+        u = word('U').or(u);
+        prev = code;
+    }
+    assert!(reorients > 50, "{reorients} reorientation lines");
+}
+
+/// Issue 12 item 4 with a real slicer: PrusaSlicer with two extruders (perimeters from the
+/// second) and its wipe tower at (180, 140), 80 mm from the part — beyond the old grid. Every
+/// travel of the unwarp clears every bead printed before it (the tests' own walk), every tool
+/// change is kept and followed by a climb, and the file passes the independent checker.
+#[test]
+fn prusaslicer_wipe_tower_travels_clear_the_tower() {
+    use common::skip;
+    use warpslice::slicer::{SliceOptions, SlicerKind};
+    let model =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/stl/ps_20mmbox_ascii.stl");
+    if !model.exists() {
+        return skip::skip_or_fail("wipe tower", "no corpus at ../shared/corpus/stl");
+    }
+    if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
+        return skip::skip_or_fail("wipe tower", &e.to_string());
+    }
+    let d = std::env::temp_dir().join(format!(
+        "warpslice-safety-{}-ps-wipe-tower",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&d).unwrap();
+    let out = d.join("box.gcode");
+    let warp = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    let two = |v: &str| format!("{v},{v}");
+    let extra: Vec<String> = [
+        "--nozzle-diameter".to_string(),
+        two("0.4"),
+        "--filament-diameter".into(),
+        two("1.75"),
+        "--temperature".into(),
+        two("210"),
+        "--first-layer-temperature".into(),
+        two("210"),
+        "--extrusion-multiplier".into(),
+        two("1"),
+        "--retract-length".into(),
+        two("0.8"),
+        "--wipe-tower".into(),
+        "--perimeter-extruder".into(),
+        "2".into(),
+        "--infill-extruder".into(),
+        "1".into(),
+        "--solid-infill-extruder".into(),
+        "1".into(),
+    ]
+    .into();
+    let slice = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        extra_args: extra,
+        ..SliceOptions::default()
+    };
+    let settings = UnwarpSettings::default();
+    let report =
+        warpslice::pipeline::files::run(&model, &warp, &slice, &settings, &out, &mut ()).unwrap();
+    let files = warpslice::pipeline::files::RunFiles::next_to(&out);
+    let sliced = std::fs::read_to_string(&files.sliced).unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    let tools = |t: &str| t.lines().filter(|l| l.starts_with('T')).count();
+    assert!(
+        sliced.contains(";TYPE:Wipe tower") && tools(&sliced) > 20,
+        "PrusaSlicer printed a wipe tower and changed tools"
+    );
+    assert_eq!(tools(&written), tools(&sliced));
+    let (n, worst) = travels_clear_every_bead(&written).unwrap();
+    assert!(n > 100, "{n} travels, deepest {worst}");
+    let climbs = climbs_after_head_moves(&written, settings.unwarp.travel_clearance).unwrap();
+    // one climb per tool change after the start G-code (its prime lines change tools too)
+    let printing = &written[written.find(";LAYER_CHANGE").unwrap()..];
+    assert_eq!(climbs, tools(printing), "a climb after every tool change");
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    let job =
+        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
+            .unwrap();
+    let (mesh, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
+    let c = job.warped_bbox.center();
+    let d0 = UnwarpOptions::default();
+    let expect = common::check::Expect {
+        job: &job,
+        warped: &mesh,
+        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
+        max_segment: d0.max_segment,
+        tolerance: d0.tolerance,
+        clearance: d0.travel_clearance,
+    };
+    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    let _ = std::fs::remove_dir_all(&d);
+}
