@@ -227,20 +227,17 @@ pub fn check(
             // (the first point is reached from the region's start, not a toolpath point)
             if k > 0 && dseg > INTERP_MM {
                 if std::env::var("WARPSLICE_DEBUG_WALK").is_ok() {
-                    for j in li.saturating_sub(6)..(li + 2).min(lines.len()) {
-                        let (pj, nj) = m.forward(&lines[j].axes)?;
+                    let from = li.saturating_sub(6);
+                    for l in lines.iter().skip(from).take(li + 2 - from) {
+                        let (pj, nj) = m.forward(&l.axes)?;
                         eprintln!(
                             "line {} tip {pj:?} n {nj:?} ra {}",
-                            lines[j].number, lines[j].rotate_around
+                            l.number, l.rotate_around
                         );
                     }
-                    for j in k.saturating_sub(3)..(k + 2).min(pts.len()) {
-                        eprintln!(
-                            "pt {j} {:?} n {:?} free {}",
-                            pts[j].p,
-                            pts[j].n,
-                            m.free(pts[j].p, pts[j].n)
-                        );
+                    let from = k.saturating_sub(3);
+                    for (j, q) in pts.iter().enumerate().skip(from).take(k + 2 - from) {
+                        eprintln!("pt {j} {:?} n {:?} free {}", q.p, q.n, m.free(q.p, q.n));
                     }
                 }
                 return Err(format!("output line {} (tip {p:?}) is off the toolpath segment to point {k} {:?} by {dseg:.4} mm", line.number, tp.p));
