@@ -784,11 +784,7 @@ fn coarser_tolerance_gives_fewer_pieces_each_within_it_of_the_layer() {
 
 /// Insert `what` after the `n`th (1-based) occurrence of `marker`.
 fn insert_after(g: &str, marker: &str, n: usize, what: &str) -> String {
-    let mut at = 0;
-    for _ in 0..n {
-        at += g[at..].find(marker).expect("marker") + marker.len();
-    }
-    format!("{}{what}{}", &g[..at], &g[at..])
+    synthetic::insert_after(g, marker, n, what).0
 }
 
 /// G91 inside the region is refused (`unwarp.relative-positioning`); G91 … G90 in the start

@@ -12,20 +12,9 @@ use warpslice::machine::MachineOptions;
 use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+use warpslice::warp::{WarpParams, WarpSpec};
 
-fn conic_cube() -> warpslice::pipeline::WarpOutput {
-    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
-    let p = WarpParams {
-        spec: WarpSpec::Conic {
-            angle: 30.0,
-            direction: Direction::Outward,
-            center: [0.0, 0.0],
-        },
-        base: None,
-    };
-    warp_model(&stl, &WarpOptions::new(p)).unwrap()
-}
+use synthetic::conic_cube;
 
 /// Sum of E over the extruding moves of a G-code, read back with the crate's reader.
 fn extruded(gcode: &[u8]) -> f64 {

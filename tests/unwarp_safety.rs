@@ -18,35 +18,32 @@ use std::process::Command;
 use warpslice::error::Coded;
 use warpslice::job::Job;
 use warpslice::machine::MachineOptions;
-use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
+use warpslice::pipeline::{unwarp, UnwarpSettings, WarpOptions};
 use warpslice::unwarp::{UnwarpOptions, UnwarpOutput};
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 const CLI: &str = env!("CARGO_BIN_EXE_warpslice");
 
-/// The warped 20 mm cube (conic 30° outward) and its job.
-fn conic_cube() -> warpslice::pipeline::WarpOutput {
-    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
-    let p = WarpParams {
-        spec: WarpSpec::Conic {
-            angle: 30.0,
-            direction: Direction::Outward,
-            center: [0.0, 0.0],
-        },
-        base: None,
-    };
-    warp_model(&stl, &WarpOptions::new(p)).unwrap()
-}
+use synthetic::{conic_cube, insert_after};
 
-/// `what` inserted after the `n`th (1-based) occurrence of `marker`; the text and the 1-based
-/// line number of the first inserted line.
-fn insert_after(g: &str, marker: &str, n: usize, what: &str) -> (String, usize) {
-    let mut at = 0;
-    for _ in 0..n {
-        at += g[at..].find(marker).expect("marker") + marker.len();
-    }
-    let line = g[..at].matches('\n').count() + 1;
-    (format!("{}{what}{}", &g[..at], &g[at..]), line)
+/// The project's independent checker (tests/common/check.rs: placement, surfaces, E, travels,
+/// retraction balance) on a `run`'s output `written` of the slicer's `sliced`, the warped STL
+/// at `warped` (its job beside it), placed by the slicers on the bed centre (100, 100).
+fn independent_check(warped: &std::path::Path, sliced: &str, written: &str) {
+    let job = warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(warped))
+        .unwrap();
+    let (mesh, _) = warpslice::mesh::read_stl(&std::fs::read(warped).unwrap()).unwrap();
+    let c = job.warped_bbox.center();
+    let d0 = UnwarpOptions::default();
+    let expect = common::check::Expect {
+        job: &job,
+        warped: &mesh,
+        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
+        max_segment: d0.max_segment,
+        tolerance: d0.tolerance,
+        clearance: d0.travel_clearance,
+    };
+    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
 }
 
 /// The 3-axis unwarp placed where the synthetic slicer put the part.
@@ -577,21 +574,7 @@ fn prusaslicer_firmware_retraction_keeps_its_place() {
     // and the file passes the project's independent checker (placement, surfaces, E, travels,
     // retraction balance with G10/G11)
     let files = warpslice::pipeline::files::RunFiles::next_to(&out);
-    let job =
-        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
-            .unwrap();
-    let (warped, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
-    let c = job.warped_bbox.center();
-    let d0 = UnwarpOptions::default();
-    let expect = common::check::Expect {
-        job: &job,
-        warped: &warped,
-        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
-        max_segment: d0.max_segment,
-        tolerance: d0.tolerance,
-        clearance: d0.travel_clearance,
-    };
-    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    independent_check(&files.warped, &sliced, &written);
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -976,20 +959,6 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     let printing = &written[written.find(";LAYER_CHANGE").unwrap()..];
     assert_eq!(climbs, tools(printing), "a climb after every tool change");
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
-    let job =
-        warpslice::pipeline::files::read_job(&warpslice::pipeline::files::job_path(&files.warped))
-            .unwrap();
-    let (mesh, _) = warpslice::mesh::read_stl(&std::fs::read(&files.warped).unwrap()).unwrap();
-    let c = job.warped_bbox.center();
-    let d0 = UnwarpOptions::default();
-    let expect = common::check::Expect {
-        job: &job,
-        warped: &mesh,
-        placement: glam::DVec2::new(100.0 - c.x, 100.0 - c.y),
-        max_segment: d0.max_segment,
-        tolerance: d0.tolerance,
-        clearance: d0.travel_clearance,
-    };
-    common::check::check(&expect, sliced.as_bytes(), written.as_bytes()).unwrap();
+    independent_check(&files.warped, &sliced, &written);
     let _ = std::fs::remove_dir_all(&d);
 }

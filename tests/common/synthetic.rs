@@ -101,3 +101,31 @@ pub fn gcode(job: &Job, relative: bool, infill_step: f64) -> String {
     let _ = writeln!(g, "G1 Z{:.3} F600\nM104 S0\nM84", top + 5.0);
     g
 }
+
+/// The warped 20 mm cube (conic 30° outward) and its job: the regression tests' part.
+#[allow(dead_code)]
+pub fn conic_cube() -> warpslice::pipeline::WarpOutput {
+    use warpslice::warp::{Direction, WarpParams, WarpSpec};
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let p = WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    };
+    warpslice::pipeline::warp_model(&stl, &warpslice::pipeline::WarpOptions::new(p)).unwrap()
+}
+
+/// `what` inserted after the `n`th (1-based) occurrence of `marker`: the text and the 1-based
+/// line number of the first inserted line.
+#[allow(dead_code)]
+pub fn insert_after(g: &str, marker: &str, n: usize, what: &str) -> (String, usize) {
+    let mut at = 0;
+    for _ in 0..n {
+        at += g[at..].find(marker).expect("marker") + marker.len();
+    }
+    let line = g[..at].matches('\n').count() + 1;
+    (format!("{}{what}{}", &g[..at], &g[at..]), line)
+}
