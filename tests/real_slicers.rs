@@ -435,10 +435,13 @@ fn machine_case(
                 return Err(format!("refused without a named limit: {text}"));
             }
             // independently: some pose of the core toolpath is beyond the machine file's limits
-            // (tilt, rotary travel, reach, rails, linear travel: common::machine::fk::Limits)
+            // (tilt, rotary travel, reach, rails, linear travel: common::machine::fk::Limits) —
+            // its travels too (a lifted travel over a tall part on the tilted triple-Z bed
+            // takes a Z motor past its travel: PrusaSlicer rear case × conic-out-30), unless
+            // the part is placed elsewhere (then the travels from the start G-code differ)
             let unreachable = core
                 .iter()
-                .filter(|t| !t.travel)
+                .filter(|t| !t.travel || place.is_none())
                 .any(|t| limits.out_of_reach(t.p + shift, t.n).is_some());
             return if unreachable {
                 Ok(None)
