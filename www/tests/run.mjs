@@ -445,6 +445,12 @@ try {
     await warpSettled();
     await tid('machine-select').selectOption('open5x-ab');
     await warpSettled();
+    // the A/B table turns about the origin: the part goes there (its X travel is ±100 mm)
+    await tid('place-on').setChecked(true);
+    await page.locator('#p-place-x').fill('0');
+    await page.locator('#p-place-y').fill('0');
+    await page.locator('#p-place-y').dispatchEvent('change');
+    await warpSettled();
     assert(await tid('machine-frame').isDisabled(), 'toggle disabled before a result exists');
     await download('warped-download', join(dir, 'W.stl'));
     slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
@@ -487,6 +493,7 @@ try {
     await page.waitForTimeout(200);
     assert((await vp.getAttribute('data-frame')) === 'part', 'unticked: back to the part frame');
     await screenshot('machine-frame-unticked');
+    await tid('place-on').setChecked(false);
     await tid('machine-select').selectOption('cartesian');
     await warpSettled();
     assert(await tid('machine-frame').isDisabled(), 'toggle disabled for cartesian');
@@ -774,7 +781,10 @@ try {
   await test('custom machine JSON (pax-5axis, limit changed) and the unwarp options: byte-identical to the CLI, and the limit holds', async () => {
     const pax = schema.machines.find((m) => m.name === 'pax-5axis');
     assert(pax && pax.spec.kind === 'pax', 'the pax-5axis preset is in the schema');
-    const custom = { ...pax.spec, name: 'pax-custom', axis_names: ['X', 'Y', 'Z', 'U', 'V'], max_tilt_deg: 20 };
+    // renamed rotary axes: the feed limits keyed by letter are renamed with them (A → U, B → V)
+    const rename = { A: 'U', B: 'V' };
+    const maxFeed = Object.fromEntries(Object.entries(pax.spec.max_feed ?? {}).map(([k, v]) => [rename[k] ?? k, v]));
+    const custom = { ...pax.spec, name: 'pax-custom', axis_names: ['X', 'Y', 'Z', 'U', 'V'], max_tilt_deg: 20, max_feed: maxFeed };
     const dir = join(TMP, 'custom-machine');
     mkdirSync(dir, { recursive: true });
     const file = join(dir, 'pax-custom.json'); // the page's command line names it <machine name>.json
