@@ -814,22 +814,10 @@ impl Fk {
                 a_limit_deg,
                 ..
             } => {
-                // R_B(B) n = v = R_A(−A) e_z: v·b = n·b, v·a = e_z·a, |v| = 1; A turns v to e_z
-                let (ca, cb, ab) = (a_dir.z, n.dot(*b_dir), a_dir.dot(*b_dir));
-                let det = 1.0 - ab * ab;
-                let base = *a_dir * ((ca - ab * cb) / det) + *b_dir * ((cb - ab * ca) / det);
-                let w = a_dir.cross(*b_dir);
-                let z2 = (1.0 - base.length_squared()) / w.length_squared();
-                if z2 < -1e-12 {
-                    return None; // no exact pose: the machine takes the nearest one
-                }
-                let z = z2.max(0.0).sqrt();
-                let a_of = |v: DVec3| {
-                    let vp = v - *a_dir * a_dir.dot(v);
-                    let ep = DVec3::Z - *a_dir * a_dir.z;
-                    a_dir.dot(vp.cross(ep)).atan2(vp.dot(ep)).to_degrees()
-                };
-                let a = a_of(base + w * z).abs().min(a_of(base - w * z).abs());
+                // no exact pose: the machine takes the nearest one
+                let [v1, v2] = ab_table_branches(*a_dir, *b_dir, n)?;
+                let a_of = |v: DVec3| turn_about(*a_dir, v, DVec3::Z).to_degrees();
+                let a = a_of(v1).abs().min(a_of(v2).abs());
                 (a > a_limit_deg + LIMIT_SLACK_DEG)
                     .then(|| format!("A = {a:.4}° beyond a_limit_deg {a_limit_deg}"))
             }
@@ -907,27 +895,16 @@ impl Fk {
                 z_d,
                 ..
             } => {
-                let (ca, cb, ab) = (a_dir.z, r.dot(*b_dir), a_dir.dot(*b_dir));
-                let det = 1.0 - ab * ab;
-                let base = *a_dir * ((ca - ab * cb) / det) + *b_dir * ((cb - ab * ca) / det);
-                let w = a_dir.cross(*b_dir);
-                let z2 = (1.0 - base.length_squared()) / w.length_squared();
-                if z2 < -1e-12 {
-                    return None;
-                }
-                let z = z2.max(0.0).sqrt();
-                let about = |axis: DVec3, from: DVec3, to: DVec3| {
-                    let f = from - axis * axis.dot(from);
-                    let t = to - axis * axis.dot(to);
-                    axis.dot(f.cross(t)).atan2(f.dot(t))
-                };
+                let [v1, v2] = ab_table_branches(*a_dir, *b_dir, r)?;
                 // A: the turn about a taking v to e_z; of the two branches the larger A (the
                 // A/B table's choice without a previous pose, src/machine/abtable.rs's
                 // documentation)
-                let (v1, v2) = (base + w * z, base - w * z);
-                let (a1, a2) = (about(*a_dir, v1, DVec3::Z), about(*a_dir, v2, DVec3::Z));
+                let (a1, a2) = (
+                    turn_about(*a_dir, v1, DVec3::Z),
+                    turn_about(*a_dir, v2, DVec3::Z),
+                );
                 let (v, a) = if a1 >= a2 { (v1, a1) } else { (v2, a2) };
-                let b = about(*b_dir, r, v);
+                let b = turn_about(*b_dir, r, v);
                 let y = *b_pos + rotate(p + *part_offset - *b_pos, *b_dir, b);
                 let q = *a_pos + rotate(y - *a_pos, *a_dir, a);
                 xyz(q + DVec3::Z * Fk::z_wobble(*z_d, a.to_degrees()))
@@ -1018,4 +995,28 @@ impl Limits {
             })
         })
     }
+}
+
+/// The A/B table's two tool-axis branches for the part-frame axis `n`: the vectors v with
+/// R_B(B) n = v = R_A(−A) e_z, i.e. v·b = n·b, v·a = e_z·a, |v| = 1 (v = base ± z (a × b));
+/// `None` when no exact pose exists.
+fn ab_table_branches(a_dir: DVec3, b_dir: DVec3, n: DVec3) -> Option<[DVec3; 2]> {
+    let (ca, cb, ab) = (a_dir.z, n.dot(b_dir), a_dir.dot(b_dir));
+    let det = 1.0 - ab * ab;
+    let base = a_dir * ((ca - ab * cb) / det) + b_dir * ((cb - ab * ca) / det);
+    let w = a_dir.cross(b_dir);
+    let z2 = (1.0 - base.length_squared()) / w.length_squared();
+    if z2 < -1e-12 {
+        return None;
+    }
+    let z = z2.max(0.0).sqrt();
+    Some([base + w * z, base - w * z])
+}
+
+/// The signed angle (radians) of the turn about the unit `axis` taking `from` to `to`, both
+/// projected on the plane normal to the axis.
+fn turn_about(axis: DVec3, from: DVec3, to: DVec3) -> f64 {
+    let f = from - axis * axis.dot(from);
+    let t = to - axis * axis.dot(to);
+    axis.dot(f.cross(t)).atan2(f.dot(t))
 }
