@@ -20,7 +20,8 @@ mutants=(
   "linear-blend|src/warp/base.rs|s/t \* t \* \(3.0 - 2.0 \* t\)/t/|--test real_slicers prusaslicer_relative_generated"
   "registration-0.05|src/register/mod.rs|s/translation: \[dx, dy, 0.0\],/translation: [dx + 0.05, dy, 0.0],/|--test real_slicers prusaslicer_relative_generated"
   "e-scale|src/unwarp/core.rs|s/let mut e = m.e \* \(t1 - t0\) \/ det/let mut e = 0.97 * m.e * (t1 - t0) \/ det/|--test real_slicers prusaslicer_relative_generated"
-  "rtn-axis-mirror|src/machine/rtn.rs|s/num::sin\(t\) \* num::sin\(phi\),/-num::sin(t) * num::sin(phi),/|--test real_slicers prusaslicer_relative_generated"
+  "rtn-axis-mirror|src/machine/rtn.rs|s/num::sin\(t\) \* num::sin\(phi\),/-num::sin(t) * num::sin(phi),/|--test machine_laws"
+  "rtn-azimuth-mirror|src/machine/rtn.rs|s/self.rotation_of\(num::deg\(num::atan2\(n.y, n.x\)\)\)$/self.rotation_of(num::deg(num::atan2(-n.y, n.x)))/|--test real_slicers prusaslicer_relative_generated"
   "lift-removed|src/unwarp/travel.rs|s/if above <= DIRECT_TRAVEL_SLACK \{/if above <= DIRECT_TRAVEL_SLACK + 1.0 {/|--test real_slicers prusaslicer_relative_generated"
 )
 

@@ -18,6 +18,14 @@ fn check(m: &dyn Machine) {
         c.worst_rotary_step_deg
     );
     assert!(r.points > 100 && c.points > 1000);
+    let near = laws::check_nearest(m).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "{}: nearest axis {} points, worst excess {:.3}°",
+        m.name(),
+        near.points,
+        near.worst_angle_rad.to_degrees()
+    );
+    assert!(near.points > 100);
     let f = laws::check_fixed_pose(m).unwrap_or_else(|e| panic!("{e}"));
     eprintln!(
         "{}: fixed pose {} points, worst {:.3e} mm {:.3e} rad",

@@ -20,6 +20,13 @@
 //!    the origin, where polar and mandrel machines keep their rotary axes), the linear
 //!    interpolation of the axes lands on the exact pose at 100 points within
 //!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`].
+//! 4. **Nearest axis** ([`check_nearest`]): the realised tool axis is the machine's closest
+//!    reachable one. At each grid position the reachable axes are sampled as
+//!    `forward(inverse(p, m))` for m on a tilt × azimuth grid ([`NEAREST_GRID_DEG`]); for every
+//!    sample axis n, angle(realised_axis(p, n), n) ≤ min over the samples of angle(s, n) +
+//!    [`NEAREST_SLACK_DEG`]. Laws 1–3 compare `forward` with `realised_axis`, so a mistake both
+//!    share (a mirrored azimuth in the one function that builds the axis) passes them; this law
+//!    catches it because the samples cover every azimuth either way.
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -40,6 +47,14 @@ pub const MAX_ROTARY_STEP_DEG: f64 = 6.0;
 
 /// A tilt this far beyond the workspace's largest must be refused, degrees.
 pub const BEYOND_MARGIN_DEG: f64 = 3.0;
+
+/// Step of the tilt × azimuth grid whose `forward(inverse(·))` axes sample what a machine can
+/// reach (law 4), degrees. A sample is then at most ~√2·1.5° from the nearest reachable axis,
+/// which only loosens the law.
+pub const NEAREST_GRID_DEG: f64 = 3.0;
+/// How much farther than the best sample the realised axis may be from the wanted one (law 4),
+/// degrees: the A/B table holds its pole within 0.5° (`abtable`), plus rounding.
+pub const NEAREST_SLACK_DEG: f64 = 0.6;
 
 /// What a law check measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -305,6 +320,52 @@ pub fn check_fixed_pose(m: &dyn Machine) -> Result<LawReport, String> {
                         m.name()
                     ));
                 }
+            }
+        }
+    }
+    Ok(rep)
+}
+
+/// Law 4 (see the module documentation).
+pub fn check_nearest(m: &dyn Machine) -> Result<LawReport, String> {
+    let ws = m.workspace();
+    let mut rep = LawReport::default();
+    let steps_t = (ws.max_tilt_deg.min(180.0) / NEAREST_GRID_DEG).ceil() as usize;
+    let steps_a = (360.0 / NEAREST_GRID_DEG).round() as usize;
+    for p in positions(&ws) {
+        let mut reach: Vec<DVec3> = Vec::new();
+        for i in 0..=steps_t {
+            let t = (i as f64 * NEAREST_GRID_DEG).min(ws.max_tilt_deg);
+            for j in 0..steps_a {
+                let a = -180.0 + j as f64 * NEAREST_GRID_DEG;
+                if let Ok(x) = m.inverse(p, axis(t, a), None) {
+                    if let Ok((_, s)) = m.forward(&x) {
+                        reach.push(s);
+                    }
+                }
+            }
+        }
+        if reach.is_empty() {
+            continue;
+        }
+        for n in axes(&ws) {
+            let r = m.realised_axis(p, n);
+            let got = num::deg(num::angle_between(r, n));
+            let (best, at) = reach
+                .iter()
+                .map(|s| (num::deg(num::angle_between(*s, n)), *s))
+                .fold(
+                    (f64::INFINITY, DVec3::ZERO),
+                    |b, c| if c.0 < b.0 { c } else { b },
+                );
+            rep.points += 1;
+            let excess = got - best;
+            rep.worst_angle_rad = rep.worst_angle_rad.max(num::rad(excess.max(0.0)));
+            if !(excess <= NEAREST_SLACK_DEG) {
+                return Err(format!(
+                    "{}: at {p} the realised axis {r} is {got:.3}° from the wanted {n}, but the machine reaches {at}, {best:.3}° from it",
+                    m.name()
+                ));
             }
         }
     }
