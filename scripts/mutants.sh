@@ -47,8 +47,9 @@ for m in "${mutants[@]}"; do
     escaped=1
   elif grep -q "panicked at" "$log"; then
     # the matrix prints "N failures in M cases:" and then one line per failure
-    why=$(grep -m1 -A1 -E "failures in [0-9]+ cases:" "$log" | tail -n1)
-    [ -n "$why" ] || why=$(grep -m1 -A1 "panicked at" "$log" | tail -n1)
+    # (`|| true`: with pipefail, a grep that finds nothing would end the script under set -e)
+    why=$(grep -m1 -A1 -E "failures in [0-9]+ cases:" "$log" | tail -n1 || true)
+    [ -n "$why" ] || why=$(grep -m1 -A1 "panicked at" "$log" | tail -n1 || true)
     echo "mutant $name ($file): caught by cargo test $tests: ${why:0:240}"
   else
     echo "mutant $name ($file): the test run failed without a test failing (build error, signal): see $log"
