@@ -100,9 +100,10 @@ fn run_cli(
         job.display().to_string(),
         "-o".into(),
         out.display().to_string(),
-        "--offset".into(),
-        "100,100".into(),
     ];
+    if !extra.contains(&"--offset") {
+        args.extend(["--offset".into(), "100,100".into()]);
+    }
     args.extend(extra.iter().map(|s| s.to_string()));
     let o = Command::new(CLI).args(&args).output().unwrap();
     if o.status.success() {
@@ -208,7 +209,8 @@ fn climbs_after_head_moves(out: &str, clearance: f64) -> Result<usize, String> {
                 let e = s.words.get(&'E').copied().unwrap_or(0.0);
                 let new_z = s.words.get(&'Z').copied();
                 if !(known[0] && known[1]) {
-                    if e > 0.0 {
+                    // filament pushed in place (an unretract after a tool change) moves nothing
+                    if e > 0.0 && xy {
                         return Err(format!(
                             "line {n}: extrudes with X/Y unknown since line {unknown_since:?}: {}",
                             s.text
@@ -703,6 +705,7 @@ fn a_truncated_gcode_is_unwarped_with_a_warning() {
     // another model's G-code is still a mismatch, cut short or not
     let mut other = w.job.clone();
     other.warped_bbox.max.x += 3.0;
+    other.model_bbox.max.x += 3.0;
     let foreign = synthetic::gcode(&other, true, 2.0).replace("M104 S0\nM84\n", "");
     let e = refused(
         "another model",
@@ -842,9 +845,21 @@ fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
 fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
     let w = conic_cube();
     let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
-    let g = synthetic::gcode(&w.job, true, 1.96).replace(
-        ";TYPE:Internal infill\n",
-        &format!(";TYPE:Internal infill\n{zigzag}"),
+    // on the layers whose cross-section holds the zig-zag (r ≤ 7.1 mm: z from 4.1 + 0.2 mm
+    // to the top's 20.2 mm at the apex)
+    let g = synthetic::gcode(&w.job, true, 1.96);
+    let (lo, hi) = (
+        g.find(";Z:5.000\n").unwrap(),
+        g.find(";Z:19.000\n").unwrap(),
+    );
+    let g = format!(
+        "{}{}{}",
+        &g[..lo],
+        g[lo..hi].replace(
+            ";TYPE:Internal infill\n",
+            &format!(";TYPE:Internal infill\n{zigzag}"),
+        ),
+        &g[hi..]
     );
     let out = String::from_utf8(run_lib(&g, &w.job, Some("rotbot")).unwrap().gcode).unwrap();
     let (mut prev, mut u): (&str, Option<f64>) = ("", None);
@@ -960,5 +975,70 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     assert_eq!(climbs, tools(printing), "a climb after every tool change");
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     independent_check(&files.warped, &sliced, &written);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 2: never below the bed ─────────────────────────────────────────────────────────────
+
+/// The lowest Z any G0/G1 of `out` reaches (the tests' own reading; `Z` words only, absolute
+/// positioning as the unwarp writes it), and how many extrusions are written at Z 0.
+fn lowest_z(out: &str) -> (f64, usize) {
+    let mut lowest = f64::INFINITY;
+    let mut at_bed = 0;
+    for s in steps(out) {
+        if matches!(s.cmd, Some(('G', 0 | 1))) {
+            if let Some(&z) = s.words.get(&'Z') {
+                lowest = lowest.min(z);
+                if z == 0.0 && s.words.get(&'E').is_some_and(|&e| e > 0.0) {
+                    at_bed += 1;
+                }
+            }
+        }
+    }
+    (lowest, at_bed)
+}
+
+/// Issue 12 item 2, second half: a wrong `--offset` (10 mm: the slicer put the part elsewhere)
+/// mapped the part's points millimetres below the bed, and the clamp flattened them onto it
+/// with E scaled toward 0 (12,381 moves at Z 0: the nozzle ploughs the bed). Now an object point
+/// mapped outside the part (below its bottom among others) by more than the shape check's
+/// tolerance refuses the unwarp by name (`unwarp.shape-mismatch`, the line, the fix), through
+/// the library and the CLI; with the right offset nothing is written below the bed and no
+/// extrusion is flattened onto it.
+#[test]
+fn a_wrong_offset_that_pushes_the_part_into_the_bed_is_refused() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let (d, job) = scratch("bed", &w.job);
+    let with_offset = |o: [f64; 2]| {
+        let s = UnwarpSettings {
+            unwarp: UnwarpOptions {
+                offset: Some(o),
+                ..UnwarpOptions::default()
+            },
+            output: MachineOptions::default(),
+        };
+        unwarp(g.as_bytes(), &w.job, &s)
+    };
+    let right = with_offset([100.0, 100.0]).unwrap();
+    let text = String::from_utf8(right.gcode).unwrap();
+    let (low, at_bed) = lowest_z(&text);
+    assert!(low >= 0.0, "a move at Z {low}");
+    assert_eq!(at_bed, 0, "extrusions flattened onto the bed");
+    for (dx, dy) in [(10.0, 0.0), (0.0, -10.0), (-3.0, 0.0), (0.0, 0.5)] {
+        let o = [100.0 + dx, 100.0 + dy];
+        let e = refused(&format!("offset {o:?}"), with_offset(o));
+        assert_eq!(e.code(), "unwarp.shape-mismatch", "{o:?}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.starts_with("G-code line ") && m.contains("maps") && m.contains("--offset is wrong"),
+            "{m}"
+        );
+        let cli = run_cli(&d, &job, &g, &["--offset", &format!("{},{}", o[0], o[1])]).unwrap_err();
+        assert!(
+            cli.contains("does not fit this job's part") && cli.contains("--offset"),
+            "{o:?}: {cli}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
