@@ -41,6 +41,10 @@ pub struct Job {
     pub max_edge: f64,
     /// Subdivision: largest distance between a warped edge's chord and its warped midpoint, mm.
     pub tolerance: f64,
+    /// What the subdivision achieved when a runaway guard stopped it before `max_edge` and
+    /// `tolerance` held (absent: both hold).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subdivision_achieved: Option<crate::mesh::achieved::Achieved>,
     /// FNV-1a 64 of the input STL bytes, 16 hex digits.
     pub input_hash: String,
     /// FNV-1a 64 of this job's canonical JSON with `hash` empty, 16 hex digits.

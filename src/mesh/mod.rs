@@ -5,6 +5,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+pub mod achieved;
 mod edges;
 mod fxhash;
 pub mod report;

@@ -215,6 +215,9 @@ mod cli {
             job.display(),
             out.job.hash
         );
+        for w in &r.warnings {
+            say!("warning: {w}");
+        }
     }
 
     fn print_report(r: &UnwarpReport, output: &Path) {
