@@ -138,6 +138,19 @@ impl Job {
     }
 
     /// Parse and check a job file.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Job, JobError> {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => Job::from_json(text),
+            Err(e) => Err(JobError::Parse {
+                message: format!(
+                    "it is not text (byte {} is not UTF-8: a binary file, e.g. the STL or an image?); give the .job.json that `warp` wrote next to the warped STL",
+                    e.valid_up_to() + 1
+                ),
+            }),
+        }
+    }
+
+    /// A job from its JSON text (see [`Job::from_bytes`]).
     pub fn from_json(text: &str) -> Result<Job, JobError> {
         let job: Job = serde_json::from_str(text).map_err(|e| JobError::Parse {
             message: e.to_string(),

@@ -1042,3 +1042,131 @@ fn a_wrong_offset_that_pushes_the_part_into_the_bed_is_refused() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+// ── misleading errors ───────────────────────────────────────────────────────────────────────
+
+/// `warpslice warp MODEL --warp conic -o OUT`: Err(stderr) or Ok(stdout).
+fn cli_warp(model: &std::path::Path, out: &std::path::Path) -> Result<String, String> {
+    let o = Command::new(CLI)
+        .args(["warp", model.to_str().unwrap(), "--warp", "conic", "-o"])
+        .arg(out)
+        .output()
+        .unwrap();
+    if o.status.success() {
+        Ok(String::from_utf8_lossy(&o.stdout).into_owned())
+    } else {
+        Err(String::from_utf8_lossy(&o.stderr).into_owned())
+    }
+}
+
+/// Issue 12, misleading errors: a PNG or a UTF-16 text opened as STL got "truncated binary
+/// STL", a 1 µm model was accepted by `warp` (the slicer failed later), a binary file as the
+/// job got a UTF-8 error, CR-only line ends got "line 1 is longer than 65536 bytes", and a NUL
+/// in a number was echoed raw. Each now names the real cause and the fix (its code, its words),
+/// by the library and the CLI; a binary STL cut short is still "truncated" (a zero-filled header
+/// is not taken for UTF-16).
+#[test]
+fn misleading_inputs_are_named_with_their_real_cause() {
+    use warpslice::pipeline::warp_model;
+    let w = conic_cube();
+    let (d, job) = scratch("misleading", &w.job);
+    let opts = WarpOptions::new(w.job.warp.clone());
+    let cube = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "c");
+    let ascii = format!(
+        "solid c\n{}endsolid c\n",
+        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+            .repeat(4)
+    );
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(std::iter::repeat_n(7u8, 300));
+    let utf16: Vec<u8> = ascii.encode_utf16().flat_map(|u| u.to_le_bytes()).collect();
+    let mut utf16_bom = vec![0xff, 0xfe];
+    utf16_bom.extend(&utf16);
+    // the corpus box scaled to 1 µm
+    let (mut tiny, _) = warpslice::mesh::read_stl(&cube).unwrap();
+    for v in &mut tiny.vertices {
+        *v *= 5e-5;
+    }
+    let tiny = warpslice::mesh::write_stl(&tiny, "tiny");
+    let mut cut = cube.clone();
+    cut.truncate(cube.len() - 60);
+    for (what, bytes, code, words) in [
+        (
+            "PNG",
+            png.clone(),
+            "mesh.not-stl",
+            "not an STL file: it starts like a PNG image",
+        ),
+        ("UTF-16", utf16.clone(), "mesh.not-stl", "UTF-16"),
+        ("UTF-16 with BOM", utf16_bom, "mesh.not-stl", "UTF-16"),
+        ("1 µm", tiny, "mesh.too-small", "metres"),
+        ("cut short", cut, "mesh.truncated", "truncated"),
+    ] {
+        let e = warp_model(&bytes, &opts)
+            .err()
+            .unwrap_or_else(|| panic!("{what} accepted"));
+        assert_eq!(e.code(), code, "{what}: {e}");
+        assert!(e.to_string().contains(words), "{what}: {e}");
+        let f = d.join("model.stl");
+        std::fs::write(&f, &bytes).unwrap();
+        let cli = cli_warp(&f, &d.join("w.stl")).unwrap_err();
+        assert!(cli.contains(words), "{what}: {cli}");
+    }
+    // a model of half a millimetre is printable
+    let (mut small, _) = warpslice::mesh::read_stl(&cube).unwrap();
+    for v in &mut small.vertices {
+        *v *= 0.025;
+    }
+    assert!(warp_model(&warpslice::mesh::write_stl(&small, "s"), &opts).is_ok());
+
+    // a binary file as the job
+    let e = warpslice::job::Job::from_bytes(&png).unwrap_err();
+    assert_eq!(e.code(), "job.parse", "{e}");
+    assert!(e.to_string().contains("not text"), "{e}");
+    let bad_job = d.join("bad.job.json");
+    std::fs::write(&bad_job, &png).unwrap();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    std::fs::write(d.join("in.gcode"), &g).unwrap();
+    let o = Command::new(CLI)
+        .args(["unwarp", d.join("in.gcode").to_str().unwrap(), "--job"])
+        .arg(&bad_job)
+        .arg("-o")
+        .arg(d.join("o.gcode"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("not text"), "{err}");
+
+    // CR-only line ends
+    let cr = g.replace('\n', "\r");
+    let e = refused("CR", run_lib(&cr, &w.job, None));
+    assert_eq!(e.code(), "gcode.cr-line-ends", "{e}");
+    assert!(e.to_string().contains("carriage return"), "{e}");
+    let cli = run_cli(&d, &job, &cr, &[]).unwrap_err();
+    assert!(cli.contains("carriage return"), "{cli}");
+    // CR LF is read as ever
+    assert!(run_lib(&g.replace('\n', "\r\n"), &w.job, None).is_ok());
+
+    // a NUL inside a number: named, not echoed raw
+    let (nul, line) = insert_after(&g, ";TYPE:Internal infill\n", 5, "G1 X100\0 Y100 E0.1\n");
+    let e = refused("NUL", run_lib(&nul, &w.job, None));
+    let m = e.to_string();
+    assert!(
+        m.contains(&format!("G-code line {line}:")) && m.contains("NUL") && !m.contains('\0'),
+        "{m:?}"
+    );
+    let o = Command::new(CLI)
+        .args(["unwarp", "--offset", "100,100", "--job"])
+        .arg(&job)
+        .arg("-o")
+        .arg(d.join("o.gcode"))
+        .arg({
+            std::fs::write(d.join("nul.gcode"), &nul).unwrap();
+            d.join("nul.gcode")
+        })
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && !o.stderr.contains(&0u8));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("NUL"));
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -65,8 +65,8 @@ pub fn stl_beside(job_file: &Path, job: &Job) -> Option<PathBuf> {
 
 /// Read a job file.
 pub fn read_job(path: &Path) -> Result<Job, Error> {
-    let text = std::fs::read_to_string(path).map_err(io(path))?;
-    Ok(Job::from_json(&text)?)
+    let bytes = std::fs::read(path).map_err(io(path))?;
+    Ok(Job::from_bytes(&bytes)?)
 }
 
 /// An error's text with the file it concerns in front (I/O errors name theirs already).

@@ -194,6 +194,15 @@ pub fn warp_model_capped(
     check_positive("tolerance", opts.tolerance)?;
     check_positive("layer-height", opts.layer_height)?;
     let (mut model, mesh_report) = mesh::read_stl(stl)?;
+    let size = mesh_report.bbox.size();
+    let min = crate::tolerance::MIN_MODEL_SIZE;
+    if size.x.max(size.y) < min || size.z < min {
+        return Err(mesh::MeshError::TooSmall {
+            size: size.to_array(),
+            min,
+        }
+        .into());
+    }
     let t = input_to_model(&mesh_report.bbox);
     model.translate(t);
     let model_bbox = model.bbox();

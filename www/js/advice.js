@@ -6,6 +6,8 @@
 /** Advice by code. */
 export const ADVICE = {
   'mesh.empty': 'The file is empty: export the STL again from your CAD program.',
+  'mesh.not-stl': 'This file is not an STL (an image, a UTF-16 text, an archive or a 3MF project): export the model as STL from your CAD program.',
+  'mesh.too-small': 'The model is smaller than a printed line: it is probably in metres or inches — scale it (×1000 or ×25.4) and export again.',
   'mesh.truncated': 'The file was cut short (an interrupted download or copy?): export or copy the STL again.',
   'mesh.face-count': 'The binary STL is damaged (its face count disagrees with its size): export it again.',
   'mesh.syntax': 'The ASCII STL has a line that does not parse (the message says which): export it again, or as binary STL.',
@@ -23,6 +25,7 @@ export const ADVICE = {
   'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
   'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
   'gcode.bad-word': 'A move word on the line named has no plain decimal number or appears twice (exponent notation such as 1e-05, NaN): a firmware would misread it. Export the G-code from the slicer again, or fix that line.',
+  'gcode.cr-line-ends': 'The G-code\'s lines end with CR alone (old Mac line ends): convert them to LF or CR LF in an editor and load it again.',
   'gcode.binary': 'Export plain-text G-code (PrusaSlicer: Printer settings → General → “Supports binary G-code” off).',
   'job.format': 'The job file is from another warpslice version: warp the model again here.',
   'job.parse': 'The job file is not a warpslice job: warp the model again.',
