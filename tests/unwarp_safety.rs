@@ -1170,3 +1170,39 @@ fn misleading_inputs_are_named_with_their_real_cause() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("NUL"));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Issue 12, misleading errors: a slicer's Z offset (every layer lifted by the same amount) got
+/// advice about the first-layer height only. The refusal now names both causes — the first layer
+/// height, or the slicer's Z offset with its value — and the fix for each.
+#[test]
+fn a_slicer_z_offset_is_named_as_such() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    // every Z word 0.1 mm higher, as PrusaSlicer's z_offset writes them
+    let lifted: String = g
+        .lines()
+        .map(|l| {
+            let words: Vec<String> = l
+                .split(' ')
+                .map(|w| match w.strip_prefix('Z') {
+                    Some(v) if l.starts_with("G1 ") => {
+                        format!("Z{:.3}", v.parse::<f64>().unwrap() + 0.1)
+                    }
+                    _ => w.to_string(),
+                })
+                .collect();
+            words.join(" ") + "\n"
+        })
+        .collect();
+    let (d, job) = scratch("zoffset", &w.job);
+    let e = refused("Z offset", run_lib(&lifted, &w.job, None));
+    assert_eq!(e.code(), "register.anchor-layer", "{e}");
+    let m = e.to_string();
+    assert!(
+        m.contains("Z offset is +0.100 mm") && m.contains("--z-offset"),
+        "{m}"
+    );
+    let cli = run_cli(&d, &job, &lifted, &[]).unwrap_err();
+    assert!(cli.contains("Z offset is +0.100 mm"), "{cli}");
+    let _ = std::fs::remove_dir_all(&d);
+}

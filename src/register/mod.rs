@@ -131,7 +131,10 @@ impl std::fmt::Display for RegisterError {
             RegisterError::AnchorLayer { first_layer_z, anchor } => write!(
                 f,
                 "the slicer's first layer is at z = {first_layer_z:.3} mm but the warped STL's anchor is {anchor:.3} mm thick: \
-                 set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3})"
+                 set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3}); \
+                 if it is {anchor:.3} mm already, the slicer's Z offset is {:+.3} mm (PrusaSlicer: Printer Settings → General → Z offset): \
+                 set it to 0 and lift the output with unwarp's --z-offset instead",
+                first_layer_z - anchor
             ),
             RegisterError::FeaturesDropped { axis, printed, mesh } => write!(
                 f,
