@@ -41,6 +41,10 @@ pub struct Job {
     pub max_edge: f64,
     /// Subdivision: largest distance between a warped edge's chord and its warped midpoint, mm.
     pub tolerance: f64,
+    /// What the subdivision achieved when a runaway guard stopped it before `max_edge` and
+    /// `tolerance` held (absent: both hold).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subdivision_achieved: Option<crate::mesh::achieved::Achieved>,
     /// FNV-1a 64 of the input STL bytes, 16 hex digits.
     pub input_hash: String,
     /// FNV-1a 64 of this job's canonical JSON with `hash` empty, 16 hex digits.
@@ -134,6 +138,19 @@ impl Job {
     }
 
     /// Parse and check a job file.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Job, JobError> {
+        match std::str::from_utf8(bytes) {
+            Ok(text) => Job::from_json(text),
+            Err(e) => Err(JobError::Parse {
+                message: format!(
+                    "it is not text (byte {} is not UTF-8: a binary file, e.g. the STL or an image?); give the .job.json that `warp` wrote next to the warped STL",
+                    e.valid_up_to() + 1
+                ),
+            }),
+        }
+    }
+
+    /// A job from its JSON text (see [`Job::from_bytes`]).
     pub fn from_json(text: &str) -> Result<Job, JobError> {
         let job: Job = serde_json::from_str(text).map_err(|e| JobError::Parse {
             message: e.to_string(),

@@ -18,6 +18,10 @@ pub const MIN_MAX_SEGMENT: f64 = 0.01;
 /// travel planner samples the bed between the part and the placement (`--place 1e9,0` spun for
 /// minutes).
 pub const MAX_PLACEMENT_MM: f64 = 10_000.0;
+/// The smallest model `warp` accepts: its width (x or y, the larger) and its height must reach
+/// this, mm — a line of a 0.4 mm nozzle (0.45 mm wide) and two 0.2 mm layers; a smaller model
+/// prints nothing (a 1 µm model, an STL in metres, failed later in the slicer).
+pub const MIN_MODEL_SIZE: f64 = 0.45;
 /// Default intended layer height, mm (written to the job; the slicer's actual first layer and
 /// layer height are read back from the G-code).
 pub const DEFAULT_LAYER_HEIGHT: f64 = 0.2;

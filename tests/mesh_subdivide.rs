@@ -354,3 +354,77 @@ fn repeated_vertex_triangle_split_made_a_nonmanifold_edge() {
     assert_eq!((s.dropped_triangles, out.triangles.len()), (1, 0));
     assert_eq!(report(&out).nonmanifold_edges, 0);
 }
+
+/// Issue 12 item 8: the subdivision's triangle cap was hit silently — the warped STL no longer
+/// met `--max-edge`/`--tolerance` and the job still recorded the requested values (a 2 m box
+/// kept a median edge of 4.2 mm at `--max-edge 1`). Here a 200 mm cube, conic 30° outward, at
+/// `--max-edge 1` with a cap of 20,000 triangles: the report warns, naming the cap and what was
+/// achieved, and the job records it; the test measures the written STL itself (the conic undone
+/// in closed form: z = z_stl − stl_z_offset − r·tan 30°, x and y unchanged) — longest and
+/// median edge — and finds the job's values. Without the cap, no warning and no record.
+#[test]
+fn a_capped_subdivision_warns_and_records_what_it_achieved() {
+    use warpslice::mesh::{read_stl, shapes::cuboid, write_stl};
+    use warpslice::pipeline::{warp_model, warp_model_capped, AnchorMode, WarpOptions};
+    use warpslice::warp::{Direction, WarpParams, WarpSpec};
+    let cube = write_stl(
+        &cuboid(DVec3::splat(-100.0), DVec3::new(100.0, 100.0, 100.0)),
+        "cube",
+    );
+    let mut opts = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Conic {
+            angle: 30.0,
+            direction: Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    opts.anchor = AnchorMode::Off;
+    let w = warp_model_capped(&cube, &opts, 20_000).unwrap();
+    let a = w
+        .job
+        .subdivision_achieved
+        .expect("the job records what was achieved");
+    assert!(!a.bounds_met, "{a:?}");
+    assert_eq!(w.report.warnings.len(), 1, "{:?}", w.report.warnings);
+    let warning = &w.report.warnings[0];
+    assert!(
+        warning.contains("triangle cap (20000 triangles)")
+            && warning.contains(&format!("edges up to {:.3} mm", a.max_edge)),
+        "{warning}"
+    );
+    // the written STL, measured here
+    let (stl, _) = read_stl(&w.stl).unwrap();
+    let k = 30f64.to_radians().tan();
+    let model = |p: DVec3| {
+        DVec3::new(
+            p.x,
+            p.y,
+            p.z - w.job.stl_z_offset - k * (p.x * p.x + p.y * p.y).sqrt(),
+        )
+    };
+    let mut lengths: Vec<f64> = stl
+        .triangles
+        .iter()
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(i, j)| (model(stl.vertices[j as usize]) - model(stl.vertices[i as usize])).length())
+        .collect();
+    lengths.sort_by(f64::total_cmp);
+    let longest = *lengths.last().unwrap();
+    let median = lengths[lengths.len() / 2];
+    assert!(longest > opts.max_edge, "longest edge {longest}");
+    // the STL's 32-bit floats: 1e-4 relative
+    assert!(
+        (a.max_edge - longest).abs() < 1e-4 * longest,
+        "{a:?} vs {longest}"
+    );
+    assert!(
+        (a.median_edge - median).abs() < 1e-4 * median,
+        "{a:?} vs {median}"
+    );
+    // not capped: nothing recorded, no warning
+    let small = write_stl(&cuboid(DVec3::splat(-5.0), DVec3::splat(5.0)), "small");
+    let w = warp_model(&small, &opts).unwrap();
+    assert!(w.job.subdivision_achieved.is_none() && w.report.warnings.is_empty());
+    assert!(!w.job.to_json_pretty().contains("subdivision_achieved"));
+}

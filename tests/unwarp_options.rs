@@ -577,10 +577,13 @@ fn drop_skirt_removes_skirt_and_brim_and_keeps_object_e() {
 
 // ---- placement: offset and place ----
 
-/// `offset dx,dy`: the given placement replaces the found one. Here it is 1.5 mm and −1 mm off
-/// the synthetic slicer's (100, 100) centring: the header says so, and every object point is on
-/// its conic layer surface in the frame of the given placement — not in the found one, where
-/// the cone's ∇g·δ puts many of them ≥ 0.1 mm off.
+/// `offset dx,dy`: the given placement replaces the found one. The synthetic slicer's file
+/// with the part put 1.5 mm and −1 mm off its (100, 100) centring, unwarped with that offset:
+/// the header says so, and every object point is on its conic layer surface in the frame of
+/// the given placement — not in the centring's, where the cone's ∇g·δ puts many of them ≥ 0.1 mm
+/// off. The centred file with that offset is refused (`unwarp.shape-mismatch`): the offset
+/// replaced the placement the file gives (issue 12 item 2: a wrong offset pushed the part into
+/// the bed).
 #[test]
 fn offset_replaces_the_found_placement_in_the_header_and_the_positions() {
     let job = conic_job();
@@ -595,15 +598,14 @@ fn offset_replaces_the_found_placement_in_the_header_and_the_positions() {
     let n = check_on_layers("found", &found, &job, &conic_t, m);
     assert!(n > 1000, "{n} vertices checked");
 
-    let given = d + DVec2::new(1.5, -1.0);
-    let out = run(
-        &g,
-        &job,
-        UnwarpOptions {
-            offset: Some(given.to_array()),
-            ..UnwarpOptions::default()
-        },
-    );
+    let delta = DVec2::new(1.5, -1.0);
+    let given = d + delta;
+    let with_offset = UnwarpOptions {
+        offset: Some(given.to_array()),
+        ..UnwarpOptions::default()
+    };
+    let moved = synthetic::shifted(&g, delta.x, delta.y);
+    let out = run(&moved, &job, with_offset.clone());
     let m = out.model_to_output.unwrap();
     assert!(
         (m - given.extend(0.0)).length() < 1e-9,
@@ -611,7 +613,7 @@ fn offset_replaces_the_found_placement_in_the_header_and_the_positions() {
     );
     let n = check_on_layers("given offset", &out, &job, &conic_t, m);
     assert!(n > 1000, "{n} vertices checked");
-    // the check discriminates: in the found frame these points are off their layers
+    // the check discriminates: in the centring's frame these points are off their layers
     let off = out
         .extrusions(false)
         .iter()
@@ -624,6 +626,9 @@ fn offset_replaces_the_found_placement_in_the_header_and_the_positions() {
         off > n / 2,
         "only {off} of {n} points tell the placements apart"
     );
+    // the centred file with the offset: the offset is taken, and it does not fit
+    let e = unwarp(g.as_bytes(), &job, &UnwarpSettings::three_axis(with_offset)).unwrap_err();
+    assert_eq!(e.code(), "unwarp.shape-mismatch", "{e}");
 }
 
 /// `place x,y`: the part's footprint centre goes to (30, −12.5): the header says so, every

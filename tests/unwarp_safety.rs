@@ -100,9 +100,10 @@ fn run_cli(
         job.display().to_string(),
         "-o".into(),
         out.display().to_string(),
-        "--offset".into(),
-        "100,100".into(),
     ];
+    if !extra.contains(&"--offset") {
+        args.extend(["--offset".into(), "100,100".into()]);
+    }
     args.extend(extra.iter().map(|s| s.to_string()));
     let o = Command::new(CLI).args(&args).output().unwrap();
     if o.status.success() {
@@ -208,7 +209,8 @@ fn climbs_after_head_moves(out: &str, clearance: f64) -> Result<usize, String> {
                 let e = s.words.get(&'E').copied().unwrap_or(0.0);
                 let new_z = s.words.get(&'Z').copied();
                 if !(known[0] && known[1]) {
-                    if e > 0.0 {
+                    // filament pushed in place (an unretract after a tool change) moves nothing
+                    if e > 0.0 && xy {
                         return Err(format!(
                             "line {n}: extrudes with X/Y unknown since line {unknown_since:?}: {}",
                             s.text
@@ -703,6 +705,7 @@ fn a_truncated_gcode_is_unwarped_with_a_warning() {
     // another model's G-code is still a mismatch, cut short or not
     let mut other = w.job.clone();
     other.warped_bbox.max.x += 3.0;
+    other.model_bbox.max.x += 3.0;
     let foreign = synthetic::gcode(&other, true, 2.0).replace("M104 S0\nM84\n", "");
     let e = refused(
         "another model",
@@ -842,9 +845,21 @@ fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
 fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
     let w = conic_cube();
     let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
-    let g = synthetic::gcode(&w.job, true, 1.96).replace(
-        ";TYPE:Internal infill\n",
-        &format!(";TYPE:Internal infill\n{zigzag}"),
+    // on the layers whose cross-section holds the zig-zag (r ≤ 7.1 mm: z from 4.1 + 0.2 mm
+    // to the top's 20.2 mm at the apex)
+    let g = synthetic::gcode(&w.job, true, 1.96);
+    let (lo, hi) = (
+        g.find(";Z:5.000\n").unwrap(),
+        g.find(";Z:19.000\n").unwrap(),
+    );
+    let g = format!(
+        "{}{}{}",
+        &g[..lo],
+        g[lo..hi].replace(
+            ";TYPE:Internal infill\n",
+            &format!(";TYPE:Internal infill\n{zigzag}"),
+        ),
+        &g[hi..]
     );
     let out = String::from_utf8(run_lib(&g, &w.job, Some("rotbot")).unwrap().gcode).unwrap();
     let (mut prev, mut u): (&str, Option<f64>) = ("", None);
@@ -960,5 +975,234 @@ fn prusaslicer_wipe_tower_travels_clear_the_tower() {
     assert_eq!(climbs, tools(printing), "a climb after every tool change");
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
     independent_check(&files.warped, &sliced, &written);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── item 2: never below the bed ─────────────────────────────────────────────────────────────
+
+/// The lowest Z any G0/G1 of `out` reaches (the tests' own reading; `Z` words only, absolute
+/// positioning as the unwarp writes it), and how many extrusions are written at Z 0.
+fn lowest_z(out: &str) -> (f64, usize) {
+    let mut lowest = f64::INFINITY;
+    let mut at_bed = 0;
+    for s in steps(out) {
+        if matches!(s.cmd, Some(('G', 0 | 1))) {
+            if let Some(&z) = s.words.get(&'Z') {
+                lowest = lowest.min(z);
+                if z == 0.0 && s.words.get(&'E').is_some_and(|&e| e > 0.0) {
+                    at_bed += 1;
+                }
+            }
+        }
+    }
+    (lowest, at_bed)
+}
+
+/// Issue 12 item 2, second half: a wrong `--offset` (10 mm: the slicer put the part elsewhere)
+/// mapped the part's points millimetres below the bed, and the clamp flattened them onto it
+/// with E scaled toward 0 (12,381 moves at Z 0: the nozzle ploughs the bed). Now an object point
+/// mapped outside the part (below its bottom among others) by more than the shape check's
+/// tolerance refuses the unwarp by name (`unwarp.shape-mismatch`, the line, the fix), through
+/// the library and the CLI; with the right offset nothing is written below the bed and no
+/// extrusion is flattened onto it.
+#[test]
+fn a_wrong_offset_that_pushes_the_part_into_the_bed_is_refused() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let (d, job) = scratch("bed", &w.job);
+    let with_offset = |o: [f64; 2]| {
+        let s = UnwarpSettings {
+            unwarp: UnwarpOptions {
+                offset: Some(o),
+                ..UnwarpOptions::default()
+            },
+            output: MachineOptions::default(),
+        };
+        unwarp(g.as_bytes(), &w.job, &s)
+    };
+    let right = with_offset([100.0, 100.0]).unwrap();
+    let text = String::from_utf8(right.gcode).unwrap();
+    let (low, at_bed) = lowest_z(&text);
+    assert!(low >= 0.0, "a move at Z {low}");
+    assert_eq!(at_bed, 0, "extrusions flattened onto the bed");
+    for (dx, dy) in [(10.0, 0.0), (0.0, -10.0), (-3.0, 0.0), (0.0, 0.5)] {
+        let o = [100.0 + dx, 100.0 + dy];
+        let e = refused(&format!("offset {o:?}"), with_offset(o));
+        assert_eq!(e.code(), "unwarp.shape-mismatch", "{o:?}: {e}");
+        let m = e.to_string();
+        assert!(
+            m.starts_with("G-code line ") && m.contains("maps") && m.contains("--offset is wrong"),
+            "{m}"
+        );
+        let cli = run_cli(&d, &job, &g, &["--offset", &format!("{},{}", o[0], o[1])]).unwrap_err();
+        assert!(
+            cli.contains("does not fit this job's part") && cli.contains("--offset"),
+            "{o:?}: {cli}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+// ── misleading errors ───────────────────────────────────────────────────────────────────────
+
+/// `warpslice warp MODEL --warp conic -o OUT`: Err(stderr) or Ok(stdout).
+fn cli_warp(model: &std::path::Path, out: &std::path::Path) -> Result<String, String> {
+    let o = Command::new(CLI)
+        .args(["warp", model.to_str().unwrap(), "--warp", "conic", "-o"])
+        .arg(out)
+        .output()
+        .unwrap();
+    if o.status.success() {
+        Ok(String::from_utf8_lossy(&o.stdout).into_owned())
+    } else {
+        Err(String::from_utf8_lossy(&o.stderr).into_owned())
+    }
+}
+
+/// Issue 12, misleading errors: a PNG or a UTF-16 text opened as STL got "truncated binary
+/// STL", a 1 µm model was accepted by `warp` (the slicer failed later), a binary file as the
+/// job got a UTF-8 error, CR-only line ends got "line 1 is longer than 65536 bytes", and a NUL
+/// in a number was echoed raw. Each now names the real cause and the fix (its code, its words),
+/// by the library and the CLI; a binary STL cut short is still "truncated" (a zero-filled header
+/// is not taken for UTF-16).
+#[test]
+fn misleading_inputs_are_named_with_their_real_cause() {
+    use warpslice::pipeline::warp_model;
+    let w = conic_cube();
+    let (d, job) = scratch("misleading", &w.job);
+    let opts = WarpOptions::new(w.job.warp.clone());
+    let cube = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "c");
+    let ascii = format!(
+        "solid c\n{}endsolid c\n",
+        "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
+            .repeat(4)
+    );
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(std::iter::repeat_n(7u8, 300));
+    let utf16: Vec<u8> = ascii.encode_utf16().flat_map(|u| u.to_le_bytes()).collect();
+    let mut utf16_bom = vec![0xff, 0xfe];
+    utf16_bom.extend(&utf16);
+    // the corpus box scaled to 1 µm
+    let (mut tiny, _) = warpslice::mesh::read_stl(&cube).unwrap();
+    for v in &mut tiny.vertices {
+        *v *= 5e-5;
+    }
+    let tiny = warpslice::mesh::write_stl(&tiny, "tiny");
+    let mut cut = cube.clone();
+    cut.truncate(cube.len() - 60);
+    for (what, bytes, code, words) in [
+        (
+            "PNG",
+            png.clone(),
+            "mesh.not-stl",
+            "not an STL file: it starts like a PNG image",
+        ),
+        ("UTF-16", utf16.clone(), "mesh.not-stl", "UTF-16"),
+        ("UTF-16 with BOM", utf16_bom, "mesh.not-stl", "UTF-16"),
+        ("1 µm", tiny, "mesh.too-small", "metres"),
+        ("cut short", cut, "mesh.truncated", "truncated"),
+    ] {
+        let e = warp_model(&bytes, &opts)
+            .err()
+            .unwrap_or_else(|| panic!("{what} accepted"));
+        assert_eq!(e.code(), code, "{what}: {e}");
+        assert!(e.to_string().contains(words), "{what}: {e}");
+        let f = d.join("model.stl");
+        std::fs::write(&f, &bytes).unwrap();
+        let cli = cli_warp(&f, &d.join("w.stl")).unwrap_err();
+        assert!(cli.contains(words), "{what}: {cli}");
+    }
+    // a model of half a millimetre is printable
+    let (mut small, _) = warpslice::mesh::read_stl(&cube).unwrap();
+    for v in &mut small.vertices {
+        *v *= 0.025;
+    }
+    assert!(warp_model(&warpslice::mesh::write_stl(&small, "s"), &opts).is_ok());
+
+    // a binary file as the job
+    let e = warpslice::job::Job::from_bytes(&png).unwrap_err();
+    assert_eq!(e.code(), "job.parse", "{e}");
+    assert!(e.to_string().contains("not text"), "{e}");
+    let bad_job = d.join("bad.job.json");
+    std::fs::write(&bad_job, &png).unwrap();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    std::fs::write(d.join("in.gcode"), &g).unwrap();
+    let o = Command::new(CLI)
+        .args(["unwarp", d.join("in.gcode").to_str().unwrap(), "--job"])
+        .arg(&bad_job)
+        .arg("-o")
+        .arg(d.join("o.gcode"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("not text"), "{err}");
+
+    // CR-only line ends
+    let cr = g.replace('\n', "\r");
+    let e = refused("CR", run_lib(&cr, &w.job, None));
+    assert_eq!(e.code(), "gcode.cr-line-ends", "{e}");
+    assert!(e.to_string().contains("carriage return"), "{e}");
+    let cli = run_cli(&d, &job, &cr, &[]).unwrap_err();
+    assert!(cli.contains("carriage return"), "{cli}");
+    // CR LF is read as ever
+    assert!(run_lib(&g.replace('\n', "\r\n"), &w.job, None).is_ok());
+
+    // a NUL inside a number: named, not echoed raw
+    let (nul, line) = insert_after(&g, ";TYPE:Internal infill\n", 5, "G1 X100\0 Y100 E0.1\n");
+    let e = refused("NUL", run_lib(&nul, &w.job, None));
+    let m = e.to_string();
+    assert!(
+        m.contains(&format!("G-code line {line}:")) && m.contains("NUL") && !m.contains('\0'),
+        "{m:?}"
+    );
+    let o = Command::new(CLI)
+        .args(["unwarp", "--offset", "100,100", "--job"])
+        .arg(&job)
+        .arg("-o")
+        .arg(d.join("o.gcode"))
+        .arg({
+            std::fs::write(d.join("nul.gcode"), &nul).unwrap();
+            d.join("nul.gcode")
+        })
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && !o.stderr.contains(&0u8));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("NUL"));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 12, misleading errors: a slicer's Z offset (every layer lifted by the same amount) got
+/// advice about the first-layer height only. The refusal now names both causes — the first layer
+/// height, or the slicer's Z offset with its value — and the fix for each.
+#[test]
+fn a_slicer_z_offset_is_named_as_such() {
+    let w = conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    // every Z word 0.1 mm higher, as PrusaSlicer's z_offset writes them
+    let lifted: String = g
+        .lines()
+        .map(|l| {
+            let words: Vec<String> = l
+                .split(' ')
+                .map(|w| match w.strip_prefix('Z') {
+                    Some(v) if l.starts_with("G1 ") => {
+                        format!("Z{:.3}", v.parse::<f64>().unwrap() + 0.1)
+                    }
+                    _ => w.to_string(),
+                })
+                .collect();
+            words.join(" ") + "\n"
+        })
+        .collect();
+    let (d, job) = scratch("zoffset", &w.job);
+    let e = refused("Z offset", run_lib(&lifted, &w.job, None));
+    assert_eq!(e.code(), "register.anchor-layer", "{e}");
+    let m = e.to_string();
+    assert!(
+        m.contains("Z offset is +0.100 mm") && m.contains("--z-offset"),
+        "{m}"
+    );
+    let cli = run_cli(&d, &job, &lifted, &[]).unwrap_err();
+    assert!(cli.contains("Z offset is +0.100 mm"), "{cli}");
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -198,6 +198,12 @@ pub enum GcodeError {
         /// Why the arc cannot be expanded (e.g. no centre, not in the XY plane).
         reason: String,
     },
+    /// Line ends are carriage returns alone (classic Mac OS): the whole file reads as one
+    /// over-long line.
+    CrLineEnds {
+        /// 1-based line number of the G-code.
+        line: u64,
+    },
     /// A line longer than the reader accepts; `bytes` is the limit it exceeds.
     LineTooLong {
         /// 1-based line number of the G-code.
@@ -215,7 +221,12 @@ impl std::fmt::Display for GcodeError {
                 "this is binary G-code (.bgcode); export plain-text G-code from the slicer (PrusaSlicer: Printer Settings → General → Firmware → uncheck 'Supports binary G-code')"
             ),
             GcodeError::BadNumber { line, word } => {
-                write!(f, "G-code line {line}: cannot read the number in '{word}'")
+                // control bytes shown escaped (a NUL echoed raw cuts a terminal's line)
+                write!(f, "G-code line {line}: cannot read the number in '{}'", word.escape_debug())?;
+                if word.contains('\0') {
+                    write!(f, " (a NUL byte inside the line: the file is damaged; export or copy it again)")?;
+                }
+                Ok(())
             }
             GcodeError::BadWord { line, letter, why } => write!(
                 f,
@@ -228,6 +239,10 @@ impl std::fmt::Display for GcodeError {
             GcodeError::BadArc { line, reason } => write!(
                 f,
                 "G-code line {line}: cannot expand the arc ({reason}); turn off arc fitting in the slicer"
+            ),
+            GcodeError::CrLineEnds { line } => write!(
+                f,
+                "G-code line {line}: the lines end with a carriage return (CR) alone, not a line feed (LF or CR LF): convert the line ends (an editor's 'Unix (LF)' line ends, or `tr '\\r' '\\n'`)"
             ),
             GcodeError::LineTooLong { line, bytes } => {
                 write!(f, "G-code line {line} is longer than {bytes} bytes; is this really G-code?")
@@ -245,4 +260,5 @@ crate::error_codes!(GcodeError, ERROR_CODES, "gcode" {
     Checksum => "gcode.checksum", "a line whose checksum does not match";
     BadArc => "gcode.bad-arc", "an arc (G2/G3) that cannot be expanded";
     LineTooLong => "gcode.line-too-long", "a line longer than the reader accepts";
+    CrLineEnds => "gcode.cr-line-ends", "lines end with CR alone (classic Mac OS line ends)";
 } wraps {});

@@ -292,9 +292,20 @@ impl Reader {
         let last = bytes.last().or(self.pending.last()).copied();
         if n > MAX_LINE_BYTES + 1 || (n == MAX_LINE_BYTES + 1 && last != Some(b'\r')) {
             let line = self.core.line_no;
-            let e = GcodeError::LineTooLong {
-                line,
-                bytes: MAX_LINE_BYTES,
+            // a CR inside the over-long line: CR-only line ends
+            let cr = self
+                .pending
+                .iter()
+                .chain(bytes)
+                .take(MAX_LINE_BYTES)
+                .any(|&b| b == b'\r');
+            let e = if cr {
+                GcodeError::CrLineEnds { line }
+            } else {
+                GcodeError::LineTooLong {
+                    line,
+                    bytes: MAX_LINE_BYTES,
+                }
             };
             return Err(self.core.fail(e).into());
         }
@@ -359,12 +370,15 @@ impl Core {
         self.line_no += 1;
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
         if raw.len() > MAX_LINE_BYTES {
-            return Err(self
-                .fail(GcodeError::LineTooLong {
+            let e = if raw.contains(&b'\r') {
+                GcodeError::CrLineEnds { line: number }
+            } else {
+                GcodeError::LineTooLong {
                     line: number,
                     bytes: MAX_LINE_BYTES,
-                })
-                .into());
+                }
+            };
+            return Err(self.fail(e).into());
         }
         self.moves.clear();
         let mut text = raw;

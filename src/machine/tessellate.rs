@@ -485,8 +485,9 @@ pub const SEAM_PIECE_MM: f64 = 0.001;
 
 /// A piece whose tip and every axis (mm, degrees) lie this close to the previous piece's end
 /// moves nothing a firmware can show: it is not written (its filament share goes to the
-/// others). Below the written 3 decimals' resolution (0.0005) and any stepper's step.
-pub const NO_OP_EPSILON: f64 = 1e-4;
+/// others). Half the written 3 decimals' step: closer pieces print as the same line (1e-4 left
+/// RotBot's in-place turns at a cone's tip, 0.2–0.4 µm apart, written as repeated lines).
+pub const NO_OP_EPSILON: f64 = 5e-4;
 
 /// Parameter step used to look at the pose just after the start of a move.
 pub const START_PROBE: f64 = 1e-7;

@@ -5,6 +5,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+pub mod achieved;
 mod edges;
 mod fxhash;
 pub mod report;
@@ -142,6 +143,18 @@ pub enum MeshError {
         /// Number of `vertex` lines the facet holds (not 3).
         vertices: usize,
     },
+    /// The model is smaller than anything a slicer prints (a model in metres, or scaled wrong).
+    TooSmall {
+        /// Its size x, y, z, mm.
+        size: [f64; 3],
+        /// The smallest accepted width (x or y) and height, mm.
+        min: f64,
+    },
+    /// The file is another kind of file (its first bytes are another format's signature).
+    NotStl {
+        /// What it looks like (e.g. "a PNG image").
+        looks_like: &'static str,
+    },
     /// ASCII STL that does not parse (1-based line number and what was found).
     Syntax {
         /// 1-based line number where the ASCII STL stops parsing.
@@ -173,6 +186,15 @@ impl std::fmt::Display for MeshError {
                 "line {line}: a facet with {vertices} vertices; STL facets must be triangles"
             ),
             MeshError::Syntax { line, message } => write!(f, "line {line}: {message}"),
+            MeshError::TooSmall { size, min } => write!(
+                f,
+                "the model is {} × {} × {} mm: smaller than a printed line ({min} mm), a slicer prints nothing of it — is it in metres (scale ×1000) or inches (×25.4)? Scale it in your CAD program or slicer and export again",
+                size[0], size[1], size[2]
+            ),
+            MeshError::NotStl { looks_like } => write!(
+                f,
+                "this is not an STL file: it starts like {looks_like}; export the model as STL (binary, or ASCII in UTF-8/ASCII) and open that"
+            ),
         }
     }
 }
@@ -187,4 +209,6 @@ crate::error_codes!(MeshError, ERROR_CODES, "mesh" {
     NoTriangles => "mesh.no-triangles", "the file holds no triangles";
     NotATriangle => "mesh.not-a-triangle", "an ASCII facet with other than three vertices";
     Syntax => "mesh.syntax", "an ASCII STL line that does not parse";
+    TooSmall => "mesh.too-small", "the model is smaller than a printed line (metres or inches?)";
+    NotStl => "mesh.not-stl", "the file is another format (an image, a text in UTF-16, an archive)";
 } wraps {});

@@ -248,6 +248,39 @@ fn solid_header_note(format: StlFormat) -> Vec<String> {
     }
 }
 
+/// The signatures of files people open by mistake as STL: a binary STL's 80-byte header is free
+/// text, so a signature counts only when the file is not a binary STL of exactly its size.
+const SIGNATURES: &[(&[u8], &str)] = &[
+    (b"\x89PNG\r\n\x1a\n", "a PNG image"),
+    (b"\xff\xd8\xff", "a JPEG image"),
+    (b"GIF8", "a GIF image"),
+    (b"%PDF", "a PDF document"),
+    (
+        b"PK\x03\x04",
+        "a ZIP archive (a 3MF project is one: export STL instead)",
+    ),
+    (b"\x1f\x8b", "a gzip archive (unpack it first)"),
+    (b"\xff\xfe", "a UTF-16 text (save it as UTF-8 or ASCII)"),
+    (b"\xfe\xff", "a UTF-16 text (save it as UTF-8 or ASCII)"),
+];
+
+/// What another format's file looks like by its first bytes, if it is one of [`SIGNATURES`] or
+/// a UTF-16 text without a byte order mark (in its first 64 bytes every other byte is 0 and
+/// the others are text: a zero-filled binary header is not).
+fn other_format(bytes: &[u8]) -> Option<&'static str> {
+    if let Some((_, what)) = SIGNATURES.iter().find(|(sig, _)| bytes.starts_with(sig)) {
+        return Some(what);
+    }
+    let head = &bytes[..bytes.len().min(64)];
+    let text = |b: &u8| (0x09..=0x7e).contains(b);
+    let utf16 = head.len() >= 16
+        && (0..2).any(|p| {
+            head.iter().skip(p).step_by(2).all(|&b| b == 0)
+                && head.iter().skip(1 - p).step_by(2).all(text)
+        });
+    utf16.then_some("a UTF-16 text (save it as UTF-8 or ASCII)")
+}
+
 /// Read an STL (input frame). Defects are counted in the report, not refused; what cannot be
 /// read at all is a [`MeshError`] that names the problem (and the line, for ASCII).
 pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
@@ -256,8 +289,13 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
     }
     let solid = stl_ascii::starts_with_solid(bytes);
     let count = binary_count(bytes);
+    let exact = count.is_some_and(|n| binary_len(n) == bytes.len() as u64);
+    if !solid && !exact {
+        if let Some(looks_like) = other_format(bytes) {
+            return Err(MeshError::NotStl { looks_like });
+        }
+    }
     let actual = bytes.len() as u64;
-    let exact = count.is_some_and(|n| binary_len(n) == actual);
     let binary_format = if solid {
         StlFormat::BinarySolidHeader
     } else {

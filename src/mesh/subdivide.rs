@@ -135,7 +135,18 @@ pub fn subdivide_warped(
     opts: &SubdivideOptions,
     warp: &dyn Fn(DVec3) -> DVec3,
 ) -> (Mesh, Vec<DVec3>, SubdivideStats) {
-    refine(mesh, opts, warp, MAX_PASSES, MAX_TRIANGLES)
+    subdivide_warped_capped(mesh, opts, warp, MAX_TRIANGLES)
+}
+
+/// [`subdivide_warped`] with another triangle cap than [`MAX_TRIANGLES`] (tests reach it on a
+/// small mesh).
+pub fn subdivide_warped_capped(
+    mesh: &Mesh,
+    opts: &SubdivideOptions,
+    warp: &dyn Fn(DVec3) -> DVec3,
+    max_triangles: usize,
+) -> (Mesh, Vec<DVec3>, SubdivideStats) {
+    refine(mesh, opts, warp, MAX_PASSES, max_triangles)
 }
 
 /// No vertex / no edge.

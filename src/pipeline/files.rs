@@ -49,10 +49,24 @@ pub fn job_path(stl: &Path) -> PathBuf {
     stl.with_extension("job.json")
 }
 
+/// The warped STL beside a job file (`x.job.json` → `x.stl`, as `warp` writes them) when it is
+/// there and is this job's (its header names the job's hash): unwarp registers against it.
+pub fn stl_beside(job_file: &Path, job: &Job) -> Option<PathBuf> {
+    let name = job_file.file_name()?.to_str()?;
+    let stem = name.strip_suffix(".job.json")?;
+    let stl = job_file.with_file_name(format!("{stem}.stl"));
+    let mut head = [0u8; 80];
+    let mut f = std::fs::File::open(&stl).ok()?;
+    std::io::Read::read_exact(&mut f, &mut head).ok()?;
+    let head = String::from_utf8_lossy(&head);
+    head.contains(&format!("warpslice job {}", job.hash))
+        .then_some(stl)
+}
+
 /// Read a job file.
 pub fn read_job(path: &Path) -> Result<Job, Error> {
-    let text = std::fs::read_to_string(path).map_err(io(path))?;
-    Ok(Job::from_json(&text)?)
+    let bytes = std::fs::read(path).map_err(io(path))?;
+    Ok(Job::from_bytes(&bytes)?)
 }
 
 /// An error's text with the file it concerns in front (I/O errors name theirs already).

@@ -21,7 +21,8 @@ pub use unwarp_step::{
     UnwarpSettings, STREAM_CHUNK,
 };
 pub use warp_step::{
-    input_to_model, warp_model, AnchorMode, WarpOptions, WarpOutput, WarpReport, WARP_OPTION_PARAMS,
+    input_to_model, warp_model, warp_model_capped, AnchorMode, WarpOptions, WarpOutput, WarpReport,
+    WARP_OPTION_PARAMS,
 };
 
 /// Any error of the pipeline, each from its own area.

@@ -141,6 +141,9 @@ pub struct WarpReport {
     pub largest_tilt_deg: f64,
     /// Triangles written (part + anchor).
     pub triangles_out: usize,
+    /// What the user should look at although the STL was written (a capped subdivision).
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 /// Result of the warp step.
@@ -175,10 +178,31 @@ pub fn input_to_model(bbox: &Aabb) -> DVec3 {
 /// Warp an STL: read, move to the model frame, subdivide, warp, add the anchor if needed,
 /// lift to z ≥ 0 and write the warped STL and its job.
 pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
+    warp_model_capped(stl, opts, mesh::subdivide::MAX_TRIANGLES)
+}
+
+/// [`warp_model`] with the subdivision's triangle cap `max_triangles` instead of
+/// [`mesh::subdivide::MAX_TRIANGLES`] (tests reach it on a small model). When a cap stops the
+/// subdivision, the job records what was achieved ([`crate::mesh::achieved`]) and the report
+/// warns.
+pub fn warp_model_capped(
+    stl: &[u8],
+    opts: &WarpOptions,
+    max_triangles: usize,
+) -> Result<WarpOutput, Error> {
     check_positive("max-edge", opts.max_edge)?;
     check_positive("tolerance", opts.tolerance)?;
     check_positive("layer-height", opts.layer_height)?;
     let (mut model, mesh_report) = mesh::read_stl(stl)?;
+    let size = mesh_report.bbox.size();
+    let min = crate::tolerance::MIN_MODEL_SIZE;
+    if size.x.max(size.y) < min || size.z < min {
+        return Err(mesh::MeshError::TooSmall {
+            size: size.to_array(),
+            min,
+        }
+        .into());
+    }
     let t = input_to_model(&mesh_report.bbox);
     model.translate(t);
     let model_bbox = model.bbox();
@@ -190,7 +214,37 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
         tolerance: opts.tolerance,
     };
     let (model, warped_vertices, stats) =
-        mesh::subdivide_warped(&model, &sub, &|p| warp.forward(p));
+        mesh::subdivide::subdivide_warped_capped(&model, &sub, &|p| warp.forward(p), max_triangles);
+    let achieved = stats.limit_hit.map(|limit| {
+        crate::mesh::achieved::measure(
+            &model,
+            &warped_vertices,
+            &|p| warp.forward(p),
+            limit,
+            opts.max_edge,
+            opts.tolerance,
+        )
+    });
+    let mut warnings = Vec::new();
+    if let Some(a) = achieved {
+        let cap = match a.limit {
+            mesh::subdivide::SubdivideLimit::Triangles => {
+                format!("the triangle cap ({max_triangles} triangles)")
+            }
+            mesh::subdivide::SubdivideLimit::Passes => {
+                format!("the pass cap ({} passes)", mesh::subdivide::MAX_PASSES)
+            }
+        };
+        warnings.push(format!(
+            "the subdivision stopped at {cap} before --max-edge {} and --tolerance {} held: edges up to {:.3} mm (median {:.3} mm) and warped chords up to {:.4} mm from the warped surface{} — the warped STL's layers are coarser than asked; scale the model down, raise --max-edge (or --tolerance), or split the model",
+            opts.max_edge,
+            opts.tolerance,
+            a.max_edge,
+            a.median_edge,
+            a.worst_deviation,
+            if a.bounds_met { " (both bounds hold nevertheless)" } else { "" }
+        ));
+    }
     let mut warped = Mesh {
         vertices: warped_vertices,
         triangles: model.triangles.clone(),
@@ -231,6 +285,7 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
         anchor: anchor_thickness,
         max_edge: opts.max_edge,
         tolerance: opts.tolerance,
+        subdivision_achieved: achieved,
         input_hash: format!("{:016x}", fnv1a64(stl)),
         hash: String::new(),
     };
@@ -244,6 +299,7 @@ pub fn warp_model(stl: &[u8], opts: &WarpOptions) -> Result<WarpOutput, Error> {
         warped_bbox,
         largest_tilt_deg,
         triangles_out: warped.triangles.len(),
+        warnings,
     };
     Ok(WarpOutput {
         stl: out,

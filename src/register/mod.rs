@@ -79,6 +79,17 @@ pub enum RegisterError {
         /// The anchor's thickness from the job, mm.
         anchor: f64,
     },
+    /// Without the warped mesh, the boxes cannot place the part: the slicer left part of the
+    /// mesh unprinted along an axis (a feature thinner than a line), so the printed box is
+    /// narrower than the mesh's by more than two bead insets and may sit anywhere in that slack.
+    FeaturesDropped {
+        /// "X" or "Y".
+        axis: &'static str,
+        /// Width of the object's extrusions along it, mm.
+        printed: f64,
+        /// Width of the warped mesh along it, mm.
+        mesh: f64,
+    },
     /// The G-code cannot be read.
     Gcode(GcodeError),
     /// The fine registration cannot pin the placement (too little printed near the surface).
@@ -120,7 +131,16 @@ impl std::fmt::Display for RegisterError {
             RegisterError::AnchorLayer { first_layer_z, anchor } => write!(
                 f,
                 "the slicer's first layer is at z = {first_layer_z:.3} mm but the warped STL's anchor is {anchor:.3} mm thick: \
-                 set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3})"
+                 set the first layer height to {anchor:.3} mm (or warp again with --layer-height {first_layer_z:.3}); \
+                 if it is {anchor:.3} mm already, the slicer's Z offset is {:+.3} mm (PrusaSlicer: Printer Settings → General → Z offset): \
+                 set it to 0 and lift the output with unwarp's --z-offset instead",
+                first_layer_z - anchor
+            ),
+            RegisterError::FeaturesDropped { axis, printed, mesh } => write!(
+                f,
+                "the object's extrusions are {printed:.2} mm wide in {axis} but the warped mesh is {mesh:.2} mm: the slicer did not print {:.2} mm of it (a feature thinner than a line?), so the bounding boxes cannot place the part in {axis} (it may sit anywhere within {:.2} mm). Register against the warped STL written with this job (unwarp --stl WARPED.stl; the CLI uses the one beside the job by itself), or give the placement with --offset dx,dy",
+                mesh - printed,
+                (mesh - printed) - 2.0 * MAX_BOX_INSET,
             ),
             RegisterError::Gcode(e) => e.fmt(f),
             RegisterError::Undetermined { matched, needed, reason } => write!(
@@ -146,6 +166,7 @@ crate::error_codes!(RegisterError, ERROR_CODES, "register" {
     CutShort => "register.cut-short", "the G-code stops below the mesh's top and looks cut short";
     AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
     Undetermined => "register.undetermined", "the printed walls do not pin the placement";
+    FeaturesDropped => "register.features-dropped", "without the warped mesh, a feature the slicer did not print leaves the placement open";
 } wraps { Gcode });
 
 /// A run of consecutive extruding moves on the first layer (Slic3r skirt detection).
@@ -519,6 +540,19 @@ impl Scanner {
                 mesh_size: ms.to_array(),
             });
         }
+        // without the mesh the box's centre is the placement: it holds when the slicer printed
+        // the mesh's whole width, inset by a bead on each side
+        if offset.is_none() && fit.is_none() {
+            for (axis, printed, mesh) in [("X", gs.x, ms.x), ("Y", gs.y, ms.y)] {
+                if mesh - printed > 2.0 * MAX_BOX_INSET {
+                    return Err(RegisterError::FeaturesDropped {
+                        axis,
+                        printed,
+                        mesh,
+                    });
+                }
+            }
+        }
         Ok(Registration {
             translation: [dx, dy, 0.0],
             residual,
@@ -537,6 +571,13 @@ impl Scanner {
         })
     }
 }
+
+/// Registration by boxes (no warped mesh): how far inside the mesh's side the object's
+/// printed box may end, mm — half the widest line the slicers use with a 0.4 mm nozzle
+/// (PrusaSlicer's 0.45 mm external perimeter, Slic3r's ≈ 0.48 mm) and 0.1 mm of room. A printed
+/// box narrower than the mesh's by more than twice this left a feature unprinted: its centre is
+/// not the mesh's ([`RegisterError::FeaturesDropped`]).
+pub const MAX_BOX_INSET: f64 = 0.35;
 
 /// How far the slicer's first layer z may be from the anchor thickness, mm.
 pub const ANCHOR_LAYER_TOLERANCE: f64 = 0.02;

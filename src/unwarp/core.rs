@@ -102,6 +102,8 @@ pub(super) struct Core {
     pub(super) emit: Box<dyn Emitter>,
     /// The first error the emitter returned (the driver stops at the end of that line).
     pub(super) emit_error: Option<UnwarpError>,
+    /// Whether the object's extrusions lie in the job's part ([`super::shape`]).
+    pub(super) shape: super::shape::ShapeCheck,
     /// The slicer's own E position (absolute files), to re-synchronise after the region.
     pub(super) slicer_e: f64,
     /// Output position and tool axis, output frame.
@@ -503,8 +505,26 @@ impl Core {
                 }
                 return Ok(());
             }
-            self.retracted = (self.retracted - m.e).max(0.0);
-            self.write_e_only(m.e, m.f, relative);
+            let mut e = m.e;
+            if self.pending.is_some() && e < 0.0 {
+                if let Some(Held::E { e: held, .. }) = self.held.last_mut() {
+                    // a push-back still waiting for its travel and this retraction cancel:
+                    // the file pushed filament in and pulled it out again with nothing printed
+                    // between (a dropped layer's travels); written at once, the retraction
+                    // came first and the filament was pulled out twice as far
+                    let cancel = held.min(-e);
+                    *held -= cancel;
+                    e += cancel;
+                    if *held <= 0.0 {
+                        self.held.pop();
+                    }
+                    if e == 0.0 {
+                        return Ok(());
+                    }
+                }
+            }
+            self.retracted = (self.retracted - e).max(0.0);
+            self.write_e_only(e, m.f, relative);
             return Ok(());
         }
         if m.e <= 0.0 {
@@ -568,6 +588,22 @@ impl Core {
 
     fn object_piece(&mut self, m: &Move, relative: bool) {
         let (from, to) = (m.from, m.to);
+        // the end of every object extrusion lies in the part (its start is the previous end, or
+        // where a travel or a head move left the head)
+        let gross = self.shape.point(
+            self.warp.as_ref(),
+            &self.job,
+            (self.dx, self.dy),
+            m.layer,
+            self.report.lines_in,
+            to,
+        );
+        if let (Some(finding), None) = (gross, &self.emit_error) {
+            self.emit_error = Some(UnwarpError::ShapeMismatch {
+                finding,
+                beyond: self.shape.beyond,
+            });
+        }
         let p0 = self.to_model(from);
         let mut stack = std::mem::take(&mut self.stack);
         let mut pieces = std::mem::take(&mut self.pieces);
@@ -594,9 +630,11 @@ impl Core {
             let mut e = m.e * (t1 - t0) / det * self.opts.flow.at(mid.z.max(BED_Z));
             let out = self.model_to_output(b);
             let depth = Core::below_bed(out);
+            self.report.object_points += 1;
             if depth > 0.0 {
                 // clamped to the bed: the bead is `depth` thinner
                 self.report.clamped_points += 1;
+                self.report.deepest_below_bed = self.report.deepest_below_bed.max(depth);
                 e *= ((h - depth) / h).clamp(0.0, 1.0);
             }
             let n = self.warp.tool_axis(b);

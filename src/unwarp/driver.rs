@@ -122,6 +122,7 @@ impl Unwarper {
             out: Vec::with_capacity(1 << 16),
             emit,
             emit_error: None,
+            shape: super::shape::ShapeCheck::default(),
             slicer_e: 0.0,
             cur: None,
             pending: None,
@@ -207,10 +208,16 @@ impl Unwarper {
         if core.inside && !core.done_region {
             core.end_region();
         }
+        let err = core.emit_error.take();
         core.report.largest_tilt_deg =
             crate::num::deg(crate::num::acos(core.min_nz.clamp(-1.0, 1.0)));
-        if let Some(e) = core.emit_error.take() {
+        if let Some(e) = err {
             return Err(e);
+        }
+        core.report.shape_margin_mm = core.shape.margin().unwrap_or(0.0);
+        core.report.shape_outliers = core.shape.beyond;
+        if let Some((finding, beyond)) = core.shape.verdict() {
+            return Err(UnwarpError::ShapeMismatch { finding, beyond });
         }
         core.counted(|c| c.emit.finish(&mut c.out));
         core.report.machine = core.emit.machine_report();

@@ -61,6 +61,15 @@ pub enum UnwarpError {
         /// The line as written.
         command: String,
     },
+    /// The object's extrusions do not lie in this job's part ([`super::shape`]): the G-code was
+    /// sliced from another warp of the model (another angle, direction or centre), another
+    /// model, or `--offset` is wrong.
+    ShapeMismatch {
+        /// The worst point.
+        finding: super::shape::Finding,
+        /// Points beyond the tolerance.
+        beyond: u64,
+    },
     /// `place` is not two finite numbers.
     BadPlace {
         /// The `--place x,y` given, mm (at least one is NaN or infinite).
@@ -103,6 +112,20 @@ impl std::fmt::Display for UnwarpError {
                 f,
                 "G-code line {line}: '{command}' inside the printed region drives the nozzle or the probe down to the bed, where the part stands; move it to the start G-code (before the first layer), or home only X and Y (G28 X Y)"
             ),
+            UnwarpError::ShapeMismatch { finding: w, beyond } => write!(
+                f,
+                "G-code line {}: this G-code does not fit this job's part: its object extrusion at X{:.3} Y{:.3} Z{:.3} maps {:.3} mm {} (model point {:.3}, {:.3}, {:.3} at the layer's mid-height; {:.3} mm allowed; {beyond} points beyond). It was sliced from another warp of the model (another angle, direction or centre: their boxes can agree) or from another model, or --offset is wrong: unwarp with the job written beside the warped STL you sliced, or slice this job's warped STL again; leave --offset out to have the placement found",
+                w.line,
+                w.gcode.x,
+                w.gcode.y,
+                w.gcode.z,
+                w.overshoot,
+                super::shape::FACES[w.face],
+                w.model.x,
+                w.model.y,
+                w.model.z,
+                w.allowed
+            ),
             UnwarpError::BadPlace { place } => {
                 write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
             }
@@ -142,6 +165,7 @@ impl Coded for UnwarpError {
             UnwarpError::Inches { .. } => "unwarp.inches",
             UnwarpError::Order { .. } => "unwarp.order",
             UnwarpError::BadPlace { .. } => "unwarp.bad-place",
+            UnwarpError::ShapeMismatch { .. } => "unwarp.shape-mismatch",
             UnwarpError::ProbeInRegion { .. } => "unwarp.probe-in-region",
             UnwarpError::Option { .. } => "unwarp.option",
             UnwarpError::Gcode(e) => e.code(),
@@ -178,6 +202,11 @@ pub const ERROR_CODES: &[ErrorCode] = &[
         code: "unwarp.bad-place",
         area: "unwarp",
         summary: "place is not two finite numbers",
+    },
+    ErrorCode {
+        code: "unwarp.shape-mismatch",
+        area: "unwarp",
+        summary: "the object's extrusions do not lie in this job's part (another warp or model, a wrong --offset)",
     },
     ErrorCode {
         code: "unwarp.probe-in-region",

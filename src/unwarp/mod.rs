@@ -23,7 +23,12 @@
 //! **Never below the bed.** A mapped object point with z < 0 (hundredths of a millimetre from
 //! a slicer's first-layer offset on a steep warp) is clamped to z = 0 and the E of the
 //! segments ending there is scaled by (h − depth)/h (h = job layer height); the report counts
-//! such points.
+//! such points. The clamp comes after every offset (`--z-offset` included, which may not be
+//! deeper than half a layer). It takes only what a right placement gives: an object point
+//! mapped below the part's bottom by more than the shape check's tolerance, or more than a
+//! handful of them ([`shape`]: 0.02 mm normal to the layer, 5 points), refuse the unwarp as
+//! `unwarp.shape-mismatch` (a wrong `--offset`, another job's G-code): the nozzle would plough
+//! the bed.
 
 use crate::emit::Emitter;
 use crate::job::Job;
@@ -37,6 +42,7 @@ pub mod flow;
 mod options;
 mod report;
 pub mod segment;
+pub mod shape;
 pub mod travel;
 
 pub use crate::emit::DEFAULT_TRAVEL_FEED;

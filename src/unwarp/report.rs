@@ -38,6 +38,20 @@ pub struct UnwarpReport {
     pub largest_tilt_deg: f64,
     /// Points clamped to the bed.
     pub clamped_points: u64,
+    /// Object points written (the extrusion pieces' ends): what `clamped_points` is a share of.
+    #[serde(default)]
+    pub object_points: u64,
+    /// How far the deepest clamped point was mapped below the bed, mm (0: none).
+    #[serde(default)]
+    pub deepest_below_bed: f64,
+    /// The shape check ([`crate::unwarp::shape`]): the object point farthest outside the job's
+    /// part, less what is allowed there, mm (negative: every point inside with this much room).
+    #[serde(default)]
+    pub shape_margin_mm: f64,
+    /// Object points beyond the shape check's tolerance (at most
+    /// [`crate::unwarp::shape::SHAPE_OUTLIERS`] are accepted).
+    #[serde(default)]
+    pub shape_outliers: u64,
     /// Travels lifted over printed material.
     pub lifts: u64,
     /// Retractions added around lifted travels.

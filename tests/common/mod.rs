@@ -152,6 +152,52 @@ pub fn finned_block() -> Vec<u8> {
     warpslice::mesh::write_stl(&m, "finned block")
 }
 
+/// A thin wing: a rhombus 30 × 6 mm footprint (tips at x = −15 and x = 15, widest at x = −5),
+/// 40 mm tall, with a fin 10 × 0.2 mm, 6 mm tall, on its top. Each tip is thinner than a line
+/// over its last 0.75 mm (−x) and 1.5 mm (+x), unequally, and the fin is thinner than a line:
+/// the slicers print the tips and the fin partly or not at all, so the printed box is narrower
+/// and lower than the mesh's and its centre is not the mesh's (issue 12 item 3).
+#[allow(dead_code)]
+pub fn thin_wing() -> Vec<u8> {
+    use glam::DVec3;
+    use warpslice::mesh::Mesh;
+    // a prism over the convex polygon `poly` (counter-clockwise seen from above), z0 … z1
+    fn prism(m: &mut Mesh, poly: &[[f64; 2]], z0: f64, z1: f64) {
+        let base = m.vertices.len() as u32;
+        let n = poly.len() as u32;
+        for z in [z0, z1] {
+            m.vertices
+                .extend(poly.iter().map(|p| DVec3::new(p[0], p[1], z)));
+        }
+        for i in 1..n - 1 {
+            m.triangles.push([base, base + i + 1, base + i]);
+            m.triangles.push([base + n, base + n + i, base + n + i + 1]);
+        }
+        for i in 0..n {
+            let j = (i + 1) % n;
+            m.triangles.push([base + i, base + j, base + n + j]);
+            m.triangles.push([base + i, base + n + j, base + n + i]);
+        }
+    }
+    let mut m = Mesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    prism(
+        &mut m,
+        &[[-15.0, 0.0], [-5.0, -3.0], [15.0, 0.0], [-5.0, 3.0]],
+        0.0,
+        40.0,
+    );
+    prism(
+        &mut m,
+        &[[-5.0, -0.1], [5.0, -0.1], [5.0, 0.1], [-5.0, 0.1]],
+        40.0,
+        46.0,
+    );
+    warpslice::mesh::write_stl(&m, "thin wing")
+}
+
 /// A line width as wide as any the three slicers use with a 0.4 mm nozzle at their defaults
 /// (PrusaSlicer 0.45, CuraEngine 0.4, Slic3r ≈ 0.48), mm.
 pub const LINE_WIDTH: f64 = 0.5;

@@ -1,8 +1,12 @@
 //! A synthetic "planar slicer" for tests that cannot run a real one (wasm, the benchmark):
-//! for a job, write PrusaSlicer-style G-code of the warped part's bounding box — each layer a
-//! rectangular outer wall and a zig-zag infill, `;TYPE:` and `;LAYER_CHANGE` comments, relative
-//! or absolute E, a skirt on the first layer — centred on (100, 100) like a real slicer.
-//! Registration accepts it (its extrusions span the warped bbox inset by half a line width).
+//! for a job, write PrusaSlicer-style G-code of the warped part — each layer a rectangular
+//! outer wall and a zig-zag infill over the warped bounding box inset by half a line width,
+//! clipped to the part as a slicer's layer is: a piece is printed where its point at the
+//! layer's mid-height maps (through the job's warp) into the model's bounding box (the cube's
+//! cross-section; a bounding box's for other models) — `;TYPE:` and `;LAYER_CHANGE` comments,
+//! relative or absolute E, a skirt on the first layer, centred on (100, 100) like a real
+//! slicer. The first layer is printed whole when the job has an anchor (the slab under a warped
+//! bottom). Like a real slicer's, no object extrusion maps outside the part (below the bed).
 
 use std::fmt::Write as _;
 
@@ -11,11 +15,109 @@ use warpslice::job::Job;
 /// Half the line width the synthetic slicer uses, mm.
 pub const HALF_WIDTH: f64 = 0.2;
 
+/// Step of the clipping's sampling along a line, mm (a boundary is then bisected to
+/// [`CLIP_PRECISION`]).
+const CLIP_STEP: f64 = 0.05;
+/// How exactly a piece's ends are put on the part's boundary, mm.
+const CLIP_PRECISION: f64 = 1e-4;
+/// A piece shorter than this is not printed, mm.
+const SHORTEST_PIECE: f64 = 0.05;
+
+/// The part's cross-sections at the synthetic slicer's layers.
+struct Part {
+    warp: Box<dyn warpslice::warp::Warp>,
+    job: Job,
+    /// STL → G-code translation.
+    dx: f64,
+    dy: f64,
+}
+
+impl Part {
+    /// Whether the G-code point (x, y) of the layer whose top is at z is in the part: its
+    /// mid-layer point maps into the model's box (1 µm inside).
+    fn inside(&self, x: f64, y: f64, z: f64) -> bool {
+        let q = glam::DVec3::new(
+            x - self.dx,
+            y - self.dy,
+            z - 0.5 * self.job.layer_height - self.job.stl_z_offset,
+        );
+        let p = self.warp.inverse(q);
+        let b = self.job.model_bbox;
+        let m = 1e-3;
+        p.x >= b.min.x - m
+            && p.x <= b.max.x + m
+            && p.y >= b.min.y - m
+            && p.y <= b.max.y + m
+            && p.z >= b.min.z + m
+            && p.z <= b.max.z - m
+    }
+
+    /// The pieces of the line a → b inside the part at layer top z, in order.
+    fn clip(&self, a: [f64; 2], b: [f64; 2], z: f64) -> Vec<([f64; 2], [f64; 2])> {
+        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let at = |t: f64| [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
+        let ins = |t: f64| {
+            let p = at(t);
+            self.inside(p[0], p[1], z)
+        };
+        // the boundary between t0 (inside = i0) and t1
+        let edge = |mut t0: f64, mut t1: f64, i0: bool| {
+            while (t1 - t0) * len > CLIP_PRECISION {
+                let tm = 0.5 * (t0 + t1);
+                if ins(tm) == i0 {
+                    t0 = tm;
+                } else {
+                    t1 = tm;
+                }
+            }
+            if i0 {
+                t0
+            } else {
+                t1
+            }
+        };
+        let n = ((len / CLIP_STEP).ceil() as usize).max(1);
+        let mut pieces = Vec::new();
+        let mut start = if ins(0.0) { Some(0.0) } else { None };
+        let mut prev = (0.0, start.is_some());
+        for k in 1..=n {
+            let t = k as f64 / n as f64;
+            let i = ins(t);
+            if i != prev.1 {
+                let e = edge(prev.0, t, prev.1);
+                match start.take() {
+                    Some(s) => pieces.push((s, e)),
+                    None => start = Some(e),
+                }
+            }
+            prev = (t, i);
+        }
+        if let Some(s) = start {
+            pieces.push((s, 1.0));
+        }
+        pieces
+            .into_iter()
+            .filter(|(s, e)| (e - s) * len >= SHORTEST_PIECE)
+            .map(|(s, e)| (at(s), at(e)))
+            .collect()
+    }
+}
+
 /// G-code for `job` with `infill_step` mm between infill lines.
 pub fn gcode(job: &Job, relative: bool, infill_step: f64) -> String {
     let b = job.warped_bbox;
     let (cx, cy) = (100.0, 100.0);
     let c = b.center();
+    let part = Part {
+        warp: job
+            .warp
+            .clone()
+            .build(&job.model_bbox)
+            .expect("the job's warp"),
+        job: job.clone(),
+        dx: cx - c.x,
+        dy: cy - c.y,
+    };
     let (x0, x1) = (
         b.min.x - c.x + cx + HALF_WIDTH,
         b.max.x - c.x + cx - HALF_WIDTH,
@@ -39,6 +141,7 @@ pub fn gcode(job: &Job, relative: bool, infill_step: f64) -> String {
         let v = if relative { de } else { *e_abs };
         let _ = writeln!(g, "G1 X{x:.3} Y{y:.3} E{v:.5} F{f}");
     };
+    // the layer's lines: the wall's four sides, then the infill's zig-zag
     let mut k = 1;
     loop {
         let z = k as f64 * h;
@@ -69,28 +172,68 @@ pub fn gcode(job: &Job, relative: bool, infill_step: f64) -> String {
                 );
             }
         }
-        let _ = writeln!(
-            g,
-            "G1 E-0.8 F2400\nG0 X{x0:.3} Y{y0:.3} F6000\nG1 E0.8 F2400\n;TYPE:External perimeter"
-        );
-        for (x, y) in [(x1, y0), (x1, y1), (x0, y1), (x0, y0)] {
-            ext(&mut g, &mut e_abs, x, y, (x1 - x0).max(y1 - y0), 1800.0);
-        }
-        let _ = writeln!(g, ";TYPE:Internal infill");
+        // the anchor's layer is the whole slab
+        let whole = k == 1 && job.anchor.is_some();
+        let pieces = |a: [f64; 2], b: [f64; 2]| {
+            if whole {
+                vec![(a, b)]
+            } else {
+                part.clip(a, b, z)
+            }
+        };
+        let wall: Vec<_> = [
+            ([x0, y0], [x1, y0]),
+            ([x1, y0], [x1, y1]),
+            ([x1, y1], [x0, y1]),
+            ([x0, y1], [x0, y0]),
+        ]
+        .into_iter()
+        .flat_map(|(a, b)| pieces(a, b))
+        .collect();
+        let mut infill = Vec::new();
         let mut y = y0 + infill_step;
         let mut right = true;
         while y < y1 {
-            let _ = writeln!(g, "G0 X{:.3} Y{y:.3} F6000", if right { x0 } else { x1 });
-            ext(
-                &mut g,
-                &mut e_abs,
-                if right { x1 } else { x0 },
-                y,
-                x1 - x0,
-                3000.0,
-            );
+            let (a, b) = if right {
+                ([x0, y], [x1, y])
+            } else {
+                ([x1, y], [x0, y])
+            };
+            infill.extend(pieces(a, b));
             right = !right;
             y += infill_step;
+        }
+        let mut at: Option<[f64; 2]> = None;
+        for (i, (what, list)) in [("External perimeter", &wall), ("Internal infill", &infill)]
+            .into_iter()
+            .enumerate()
+        {
+            for (n, &(a, b)) in list.iter().enumerate() {
+                if i == 0 && n == 0 {
+                    let _ = writeln!(
+                        g,
+                        "G1 E-0.8 F2400\nG0 X{:.3} Y{:.3} F6000\nG1 E0.8 F2400\n;TYPE:{what}",
+                        a[0], a[1]
+                    );
+                } else {
+                    if n == 0 {
+                        let _ = writeln!(g, ";TYPE:{what}");
+                    }
+                    // every travel retracts (a clipped layer's travels cross holes and
+                    // printed beads)
+                    if at != Some(a) {
+                        let _ = writeln!(
+                            g,
+                            "G1 E-0.8 F2400\nG0 X{:.3} Y{:.3} F6000\nG1 E0.8 F2400",
+                            a[0], a[1]
+                        );
+                    }
+                }
+                let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+                let f = if i == 0 { 1800.0 } else { 3000.0 };
+                ext(&mut g, &mut e_abs, b[0], b[1], len, f);
+                at = Some(b);
+            }
         }
         if !relative && k % 10 == 0 {
             let _ = writeln!(g, "G92 E0");
@@ -116,6 +259,28 @@ pub fn conic_cube() -> warpslice::pipeline::WarpOutput {
         base: None,
     };
     warpslice::pipeline::warp_model(&stl, &warpslice::pipeline::WarpOptions::new(p)).unwrap()
+}
+
+/// The G-code `g` as the synthetic slicer would write it with the part placed (dx, dy) mm
+/// from its (100, 100) centring: every X and Y word of a G0/G1 line moved by that much.
+#[allow(dead_code)]
+pub fn shifted(g: &str, dx: f64, dy: f64) -> String {
+    g.lines()
+        .map(|l| {
+            if !(l.starts_with("G0 ") || l.starts_with("G1 ")) {
+                return format!("{l}\n");
+            }
+            let words: Vec<String> = l
+                .split(' ')
+                .map(|w| match (w.strip_prefix('X'), w.strip_prefix('Y')) {
+                    (Some(v), _) => format!("X{:.3}", v.parse::<f64>().unwrap() + dx),
+                    (_, Some(v)) => format!("Y{:.3}", v.parse::<f64>().unwrap() + dy),
+                    _ => w.to_string(),
+                })
+                .collect();
+            format!("{}\n", words.join(" "))
+        })
+        .collect()
 }
 
 /// `what` inserted after the `n`th (1-based) occurrence of `marker`: the text and the 1-based

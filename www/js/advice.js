@@ -6,6 +6,8 @@
 /** Advice by code. */
 export const ADVICE = {
   'mesh.empty': 'The file is empty: export the STL again from your CAD program.',
+  'mesh.not-stl': 'This file is not an STL (an image, a UTF-16 text, an archive or a 3MF project): export the model as STL from your CAD program.',
+  'mesh.too-small': 'The model is smaller than a printed line: it is probably in metres or inches — scale it (×1000 or ×25.4) and export again.',
   'mesh.truncated': 'The file was cut short (an interrupted download or copy?): export or copy the STL again.',
   'mesh.face-count': 'The binary STL is damaged (its face count disagrees with its size): export it again.',
   'mesh.syntax': 'The ASCII STL has a line that does not parse (the message says which): export it again, or as binary STL.',
@@ -19,9 +21,11 @@ export const ADVICE = {
   'register.mismatch': 'The placement is always detected here: slice the warped STL downloaded in step 3, not the original model, with first layer height = layer height.',
   'register.cut-short': 'The G-code stops before the top of the part and its end is missing: the file was cut short (an interrupted export, copy or download). Export it from the slicer again.',
   'register.undetermined': 'The printed walls do not pin the part\'s placement (a part without walls in some direction?): give the slicer\'s placement (“Slicer placement dx,dy”) or slice with walls.',
+  'register.features-dropped': 'The slicer left part of the model unprinted (a feature thinner than a line), so the box cannot place the part: load the warped STL of step 3 with the G-code, or give the slicer\'s placement (“Slicer placement dx,dy”).',
   'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
   'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
   'gcode.bad-word': 'A move word on the line named has no plain decimal number or appears twice (exponent notation such as 1e-05, NaN): a firmware would misread it. Export the G-code from the slicer again, or fix that line.',
+  'gcode.cr-line-ends': 'The G-code\'s lines end with CR alone (old Mac line ends): convert them to LF or CR LF in an editor and load it again.',
   'gcode.binary': 'Export plain-text G-code (PrusaSlicer: Printer settings → General → “Supports binary G-code” off).',
   'job.format': 'The job file is from another warpslice version: warp the model again here.',
   'job.parse': 'The job file is not a warpslice job: warp the model again.',
@@ -35,6 +39,7 @@ export const ADVICE = {
   'machine.bad-spec': 'A parameter of the machine is unusable: fix the custom machine JSON (the message names it).',
   'unwarp.axis-reset': 'The slicer resets X/Y/Z with G92 inside the print: remove G92 X/Y/Z from its start and layer-change G-code (G92 E0 is fine).',
   'unwarp.inches': 'Set the slicer to millimetres (G21): inch units (G20) inside the print are not unwarped.',
+  'unwarp.shape-mismatch': 'This G-code does not fit this job\'s part: it was sliced from another warp (angle, direction, centre) or another model, or the slicer placement given is wrong. Slice the warped STL of step 3 with these warp settings, or leave “Slicer placement” empty.',
   'unwarp.bad-place': 'Give “place” as two numbers x,y in mm, or switch it off.',
   'unwarp.option': 'An unwarp option is outside its range: the message names it; change it in step 4.',
   'machine.unsupported-flavour': 'This firmware cannot drive this machine\'s axes: choose another firmware (flavour) in step 4, or the machine\'s default.',

@@ -62,7 +62,8 @@ mod cli {
             #[arg(long)]
             job: PathBuf,
             /// The warped STL written with the job: registers the G-code to the bead against
-            /// its cross-sections (without it, by bounding boxes).
+            /// its cross-sections (default: the one beside the job, `X.stl` for `X.job.json`,
+            /// when it is this job's; without one, by bounding boxes).
             #[arg(long)]
             stl: Option<PathBuf>,
             #[command(flatten)]
@@ -214,6 +215,9 @@ mod cli {
             job.display(),
             out.job.hash
         );
+        for w in &r.warnings {
+            say!("warning: {w}");
+        }
     }
 
     fn print_report(r: &UnwarpReport, output: &Path) {
@@ -245,7 +249,7 @@ mod cli {
             r.e_skirt,
             r.skirt
         );
-        say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points);
+        say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed; shape check: {} points outside the part, {:+.3} mm from the allowance", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points, r.shape_outliers, r.shape_margin_mm);
         if let Some(m) = &r.machine {
             say!(
                 "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets; {}; {}",
@@ -278,8 +282,26 @@ mod cli {
                 stl,
                 output,
             } => {
-                let job = files::read_job(&job).map_err(|e| files::in_file(&job, &e))?;
+                let job_file = job;
+                let job = files::read_job(&job_file).map_err(|e| files::in_file(&job_file, &e))?;
                 let settings = unwarp.settings;
+                // the warped STL beside the job registers to the bead, robust to features the
+                // slicer did not print (not with --offset: the placement is given)
+                let stl = stl.or_else(|| {
+                    let beside = settings
+                        .unwarp
+                        .offset
+                        .is_none()
+                        .then(|| files::stl_beside(&job_file, &job))
+                        .flatten();
+                    if let Some(p) = &beside {
+                        say!(
+                            "registering against the warped STL beside the job: {}",
+                            p.display()
+                        );
+                    }
+                    beside
+                });
                 files::unwarp_file(
                     &gcode,
                     &job,
