@@ -49,6 +49,7 @@ pub mod bhead;
 pub mod cartesian;
 pub mod emit;
 pub mod feed;
+pub mod config;
 pub mod flavour;
 pub mod head;
 pub mod lathe;
@@ -190,6 +191,11 @@ pub trait Machine: Send + Sync + fmt::Debug {
     }
     /// What the machine says of itself (see [`Capabilities`]).
     fn capabilities(&self) -> Capabilities;
+    /// How the firmware must map this machine's axis letters to motors (its kinematics
+    /// setting, [`config::AxisDrive`]); by default X Y Z are Cartesian coordinates.
+    fn axis_drive(&self) -> config::AxisDrive {
+        config::AxisDrive::Cartesian
+    }
     /// Refuse a job this machine would print wrong although every point is reachable (the
     /// lathe: a cylindrical warp whose axis is not the mandrel's). `model_to_output` moves the
     /// job's model frame to the output frame.

@@ -50,6 +50,16 @@ fn machine_from_json<'de, D: serde::Deserializer<'de>>(
 }
 
 impl MachineOptions {
+    /// The firmware configuration these options' output needs (`--config-out`, wasm
+    /// `firmware_config`): `None` for 3-axis output; the flavour's refusal when it cannot
+    /// drive the machine with this feed (as the emitter refuses the G-code).
+    pub fn firmware_config(&self) -> Result<Option<super::config::FirmwareConfig>, MachineError> {
+        self.machine
+            .as_ref()
+            .map(|spec| super::config::for_spec(spec, self.flavour, self.feed))
+            .transpose()
+    }
+
     /// The emitter these options ask for: 3-axis, or the machine's.
     pub fn emitter(&self) -> Result<Box<dyn Emitter>, MachineError> {
         Ok(match &self.machine {
