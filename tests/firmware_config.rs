@@ -24,103 +24,17 @@
 //! The G-code is the synthetic slicer's for the job the CLI wrote: nothing here can skip.
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "common/cli_part.rs"]
+mod cli_part;
 #[path = "common/synthetic.rs"]
 mod synthetic;
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::PathBuf;
-use std::process::Command;
 
-const CLI: &str = env!("CARGO_BIN_EXE_warpslice");
+use cli_part::{cases, documented, machine_arg, Part};
 
 /// Slack on a written value against a limit: the file's 3-decimal rounding.
 const ROUNDING: f64 = 5e-4;
-
-fn run(args: &[&str]) -> std::process::Output {
-    Command::new(CLI).args(args).output().expect("run the CLI")
-}
-
-fn ok(args: &[&str]) -> String {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "warpslice {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-/// A warped 20 mm cube, the synthetic slicer's G-code of it, in a fresh directory.
-struct Part {
-    dir: PathBuf,
-}
-
-impl Part {
-    fn new(tag: &str, warp: &[&str]) -> Part {
-        let dir = std::env::temp_dir().join(format!(
-            "warpslice-config-{}-{tag}",
-            std::process::id()
-        ));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = |f: &str| dir.join(f).to_str().unwrap().to_string();
-        ok(&["example", "cube", "-o", &p("cube.stl")]);
-        let mut args = vec!["warp".to_string(), p("cube.stl")];
-        args.extend(warp.iter().map(|s| s.to_string()));
-        args.extend(["-o".to_string(), p("W.stl")]);
-        ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
-        let job = warpslice::job::Job::from_json(&std::fs::read_to_string(p("W.job.json")).unwrap())
-            .unwrap();
-        std::fs::write(p("W.gcode"), synthetic::gcode(&job, true, 1.0)).unwrap();
-        Part { dir }
-    }
-
-    fn path(&self, f: &str) -> String {
-        self.dir.join(f).to_str().unwrap().to_string()
-    }
-
-    /// `unwarp … --config-out` with `flags`: (G-code, configuration, stdout); `Err(stderr)`
-    /// when refused (and then no configuration file may exist).
-    fn unwarp(&self, name: &str, flags: &[&str]) -> Result<(String, String, String), String> {
-        let (g, c) = (self.path(&format!("{name}.gcode")), self.path(&format!("{name}.cfg")));
-        let mut args = vec![
-            "unwarp",
-            "W.gcode",
-            "--job",
-            "W.job.json",
-            "--offset",
-            "100,100",
-            "-o",
-            &g,
-            "--config-out",
-            &c,
-        ];
-        let gc = self.path("W.gcode");
-        let jb = self.path("W.job.json");
-        args[1] = &gc;
-        args[3] = &jb;
-        args.extend_from_slice(flags);
-        let o = run(&args);
-        if !o.status.success() {
-            assert!(
-                !std::path::Path::new(&c).exists(),
-                "a refused run wrote its configuration"
-            );
-            return Err(String::from_utf8_lossy(&o.stderr).into_owned());
-        }
-        Ok((
-            std::fs::read_to_string(&g).unwrap(),
-            std::fs::read_to_string(&c).unwrap(),
-            String::from_utf8_lossy(&o.stdout).into_owned(),
-        ))
-    }
-}
-
-impl Drop for Part {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
-    }
-}
 
 /// Every value each letter takes in the machine's moves: the `G1` lines that name every
 /// letter of the machine (`letters`), as the machine emitter writes them. (The slicer's start
@@ -147,60 +61,6 @@ fn written(gcode: &str, letters: &str) -> BTreeMap<char, Vec<f64>> {
         }
     }
     m
-}
-
-/// docs/machines.md: each preset's axis letters, and which of them turn.
-fn documented(preset: &str) -> (&'static str, &'static str) {
-    match preset {
-        "cartesian" => ("XYZ", ""),
-        "fullcontrol-prusa-b" => ("XYZB", "B"),
-        "rtn-slicer4rtn" => ("XYZA", "A"),
-        "rotbot" => ("XYZU", "U"),
-        "pax-5axis" | "open5x-ab" => ("XYZAB", "AB"),
-        // Open5x's published configurations: U V turn but its Duet 2 config.g creates them
-        // linear (no R1), so RepRapFirmware and Marlin are told they are linear
-        "open5x-prusa-uv" => ("XYZUV", ""),
-        "open5x-jubilee-bc" => ("XYZBC", "BC"),
-        "ratrig-vcore3-3z" => ("XYZUV", ""),
-        "core-r-theta" => ("XCZB", "CB"),
-        "lathe" => ("XZA", "A"),
-        _ => unreachable!("{preset}"),
-    }
-}
-
-/// The presets with a warp each prints and where the part goes (the README's commands).
-fn cases() -> Vec<(&'static str, Vec<&'static str>, Vec<&'static str>)> {
-    let conic25 = vec!["--warp", "conic", "--angle", "25", "--center", "-15,0"];
-    let curved = vec!["--warp", "curved", "--strength", "0.3"];
-    vec![
-        ("cartesian", curved.clone(), vec![]),
-        ("fullcontrol-prusa-b", curved, vec![]),
-        (
-            "rtn-slicer4rtn",
-            vec!["--warp", "conic", "--angle", "45", "--center", "-15,0"],
-            vec![],
-        ),
-        (
-            "rotbot",
-            vec!["--warp", "conic", "--angle", "45", "--center", "0,0"],
-            vec![],
-        ),
-        ("pax-5axis", conic25.clone(), vec![]),
-        ("open5x-ab", conic25.clone(), vec!["--place", "0,0"]),
-        ("open5x-prusa-uv", conic25.clone(), vec!["--place", "0,0"]),
-        ("open5x-jubilee-bc", conic25.clone(), vec!["--place", "0,0"]),
-        (
-            "ratrig-vcore3-3z",
-            vec!["--warp", "belt", "--angle", "20"],
-            vec![],
-        ),
-        ("core-r-theta", conic25, vec!["--place", "60,0"]),
-        (
-            "lathe",
-            vec!["--warp", "cylindrical", "--radius", "20"],
-            vec!["--place", "0,0"],
-        ),
-    ]
 }
 
 /// `M<n> <words>` commands of a `config.g` (comments dropped): (command, [(letter, value)]).
@@ -232,10 +92,7 @@ fn check_rrf(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64>>) 
     for (cmd, words) in &cmds {
         match cmd.as_str() {
             "M584" => {
-                let r = words
-                    .iter()
-                    .find(|(c, _)| *c == 'R')
-                    .map(|x| x.1.clone());
+                let r = words.iter().find(|(c, _)| *c == 'R').map(|x| x.1.clone());
                 for (c, v) in words.iter().filter(|(c, _)| !"RS".contains(*c)) {
                     assert!(
                         v.starts_with("<driver") && v.ends_with('>'),
@@ -248,7 +105,12 @@ fn check_rrf(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64>>) 
                 }
             }
             "M208" => {
-                let s = words.iter().find(|(c, _)| *c == 'S').expect("M208 S").1.clone();
+                let s = words
+                    .iter()
+                    .find(|(c, _)| *c == 'S')
+                    .expect("M208 S")
+                    .1
+                    .clone();
                 let (c, v) = words.iter().find(|(c, _)| *c != 'S').unwrap();
                 let v: f64 = v.parse().unwrap();
                 match s.as_str() {
@@ -268,12 +130,20 @@ fn check_rrf(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64>>) 
     assert_eq!(a, b, "{what}: M584 creates {created:?}");
     for c in letters.chars().filter(|c| !"XYZ".contains(*c)) {
         let want_r = if rotary.contains(c) { "1" } else { "0" };
-        assert_eq!(r_of.get(&c).map(String::as_str), Some(want_r), "{what}: {c} R");
+        assert_eq!(
+            r_of.get(&c).map(String::as_str),
+            Some(want_r),
+            "{what}: {c} R"
+        );
     }
     for (c, vals) in w {
         let (lo, hi) = (
-            *mins.get(c).unwrap_or_else(|| panic!("{what}: no M208 {c} S1")),
-            *maxs.get(c).unwrap_or_else(|| panic!("{what}: no M208 {c} S0")),
+            *mins
+                .get(c)
+                .unwrap_or_else(|| panic!("{what}: no M208 {c} S1")),
+            *maxs
+                .get(c)
+                .unwrap_or_else(|| panic!("{what}: no M208 {c} S0")),
         );
         for v in vals {
             assert!(
@@ -348,7 +218,11 @@ fn check_marlin(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64>
     );
     if !names.is_empty() {
         let steps = get("DEFAULT_AXIS_STEPS_PER_UNIT").expect("steps per unit");
-        assert_eq!(steps.matches(',').count() + 1, 3 + names.len() + 1, "{what}: {steps}");
+        assert_eq!(
+            steps.matches(',').count() + 1,
+            3 + names.len() + 1,
+            "{what}: {steps}"
+        );
         assert!(cfg.contains("LINEAR_ADVANCE: leave it disabled"), "{what}");
     }
 }
@@ -368,12 +242,18 @@ fn check_klipper(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64
             cur = s.trim_end_matches(']').to_string();
             sections.entry(cur.clone()).or_default();
         } else if let Some(t) = code.trim().strip_prefix("MANUAL_STEPPER ") {
-            assert!(code.starts_with("    "), "{what}: a gcode: line is indented");
+            assert!(
+                code.starts_with("    "),
+                "{what}: a gcode: line is indented"
+            );
             let kv: BTreeMap<&str, &str> = t
                 .split_whitespace()
                 .map(|x| x.split_once('=').unwrap())
                 .collect();
-            assert!(kv.contains_key("INSTANTANEOUS_CORNER_VELOCITY"), "{what}: {l}");
+            assert!(
+                kv.contains_key("INSTANTANEOUS_CORNER_VELOCITY"),
+                "{what}: {l}"
+            );
             registered.insert(
                 kv["GCODE_AXIS"].chars().next().unwrap(),
                 kv["STEPPER"].to_string(),
@@ -423,18 +303,7 @@ fn check_klipper(what: &str, preset: &str, cfg: &str, w: &BTreeMap<char, Vec<f64
 fn config_out_holds_every_axis_and_value_the_gcode_writes() {
     for (preset, warp, place) in cases() {
         let part = Part::new(preset, &warp);
-        let machine = if preset == "lathe" {
-            // the README's lathe.json: the preset with the mandrel under the part
-            let mut spec = warpslice::machine::preset("lathe-a").unwrap();
-            if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
-                p.axis_z_mm = -20.0;
-            }
-            let f = part.path("lathe.json");
-            std::fs::write(&f, spec.to_json()).unwrap();
-            f
-        } else {
-            preset.to_string()
-        };
+        let machine = machine_arg(&part, preset);
         for flavour in ["reprapfirmware", "marlin", "klipper"] {
             let mut flags = vec!["--machine", machine.as_str(), "--flavour", flavour];
             flags.extend_from_slice(&place);
@@ -442,7 +311,10 @@ fn config_out_holds_every_axis_and_value_the_gcode_writes() {
             let (gcode, cfg, stdout) = part
                 .unwarp(flavour, &flags)
                 .unwrap_or_else(|e| panic!("{what}: {e}"));
-            assert!(stdout.contains("--config-out") || stdout.contains(".cfg ("), "{what}: {stdout}");
+            assert!(
+                stdout.contains("--config-out") || stdout.contains(".cfg ("),
+                "{what}: {stdout}"
+            );
             let (letters, _) = documented(preset);
             let w = written(&gcode, letters);
             assert_eq!(
@@ -468,7 +340,14 @@ fn config_out_is_refused_without_a_machine_and_with_a_refused_flavour() {
     let e = part
         .unwarp(
             "marlin-g93",
-            &["--machine", "pax-5axis", "--flavour", "marlin", "--feed", "inverse-time"],
+            &[
+                "--machine",
+                "pax-5axis",
+                "--flavour",
+                "marlin",
+                "--feed",
+                "inverse-time",
+            ],
         )
         .unwrap_err();
     assert!(e.contains("Marlin 2.1 has no G93"), "{e}");

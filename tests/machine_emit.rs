@@ -283,9 +283,10 @@ fn tip_speed_case(
     // U and V without R1 (`M584 X0 Y1 Z2 E3 U4 V5`), so RepRapFirmware (and Marlin without
     // AXISn_ROTATES) count their degrees as linear; Klipper's rule does not ask
     let configured_linear: &[char] = match (name, flavour) {
-        ("open5x-prusa-uv", common::firmware::Firmware::Rrf | common::firmware::Firmware::Marlin) => {
-            &['U', 'V']
-        }
+        (
+            "open5x-prusa-uv",
+            common::firmware::Firmware::Rrf | common::firmware::Firmware::Marlin,
+        ) => &['U', 'V'],
         _ => &[],
     };
     let rotary: Vec<char> = m

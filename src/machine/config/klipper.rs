@@ -101,7 +101,10 @@ pub fn build(input: &ConfigInput) -> FirmwareConfig {
         if lim.is_empty() {
             continue;
         }
-        let t: Vec<String> = lim.iter().map(|(k, v)| format!("{k}: {}", num(*v))).collect();
+        let t: Vec<String> = lim
+            .iter()
+            .map(|(k, v)| format!("{k}: {}", num(*v)))
+            .collect();
         // (a 3-axis machine's header says only its flavour: nothing there to configure)
         if !extra.is_empty() {
             header.push(format!(

@@ -33,10 +33,7 @@ pub fn marlin_order<'a>(extra: &[&'a ConfigAxis]) -> Vec<&'a ConfigAxis> {
 pub fn build(input: &ConfigInput) -> FirmwareConfig {
     let extra = input.extra();
     let ordered = marlin_order(&extra);
-    let reordered = ordered
-        .iter()
-        .zip(&extra)
-        .any(|(a, b)| a.name != b.name);
+    let reordered = ordered.iter().zip(&extra).any(|(a, b)| a.name != b.name);
     let mut header =
         vec!["; flavour Marlin 2.1: extra axes are set in Configuration.h as".to_string()];
     let mut text = vec![
@@ -71,7 +68,11 @@ pub fn build(input: &ConfigInput) -> FirmwareConfig {
             text.push(format!("#define AXIS{n}_ROTATES   // left out of the move length when a linear axis moves (NIST), which --feed tip computes F for"));
         }
         let (lo, hi, why) = if a.limited() {
-            (a.min, a.max, "the range every move of this file was checked against")
+            (
+                a.min,
+                a.max,
+                "the range every move of this file was checked against",
+            )
         } else if a.rotary {
             (
                 a.min.max(-RRF_UNLIMITED_ROTARY_DEG),
@@ -82,7 +83,11 @@ pub fn build(input: &ConfigInput) -> FirmwareConfig {
             (f64::NAN, f64::NAN, "")
         };
         if lo.is_finite() && hi.is_finite() {
-            text.push(format!("#define {id}_MIN_POS {}   // {}: {why}", num(lo), a.unit()));
+            text.push(format!(
+                "#define {id}_MIN_POS {}   // {}: {why}",
+                num(lo),
+                a.unit()
+            ));
             text.push(format!("#define {id}_MAX_POS {}", num(hi)));
         } else {
             text.push(format!(

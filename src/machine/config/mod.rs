@@ -243,7 +243,11 @@ mod tests {
             .collect();
         assert_eq!(
             defines,
-            ["#define AXIS4_NAME 'A'", "#define AXIS4_ROTATES", "#define AXIS5_NAME 'U'"],
+            [
+                "#define AXIS4_NAME 'A'",
+                "#define AXIS4_ROTATES",
+                "#define AXIS5_NAME 'U'"
+            ],
             "{}",
             marlin.text
         );
@@ -257,7 +261,10 @@ mod tests {
         spec.firmware_linear_axes = Some(vec!["X".into()]);
         let e = for_spec(&spec, None, FeedMode::Tip).unwrap_err();
         assert_eq!(e.code(), "machine.bad-spec");
-        assert!(e.to_string().contains("'X', which is not a rotary axis"), "{e}");
+        assert!(
+            e.to_string().contains("'X', which is not a rotary axis"),
+            "{e}"
+        );
 
         spec.firmware_linear_axes = None;
         spec.axis_names = Some(["X", "Y", "Z", "D", "A"].map(String::from).to_vec());

@@ -68,9 +68,8 @@ fn m208(a: &ConfigAxis) -> Vec<(String, String)> {
 /// The `config.g` fragment and the header (see the module documentation).
 pub fn build(input: &ConfigInput) -> FirmwareConfig {
     let extra = input.extra();
-    let mut header = vec![
-        "; flavour RepRapFirmware 3.3 or later: this file expects in config.g".to_string(),
-    ];
+    let mut header =
+        vec!["; flavour RepRapFirmware 3.3 or later: this file expects in config.g".to_string()];
     let mut text = vec![
         title(";", "RepRapFirmware", "config.g", input),
         format!(
