@@ -188,7 +188,7 @@ impl MachineEmitter {
         })
     }
 
-    /// Use other interpolation bounds (tests).
+    /// Use other interpolation bounds (`--interpolation`, `--interpolation-caps`).
     pub fn with_bounds(mut self, bounds: Bounds) -> MachineEmitter {
         self.bounds = bounds;
         self
@@ -461,8 +461,13 @@ impl Emitter for MachineEmitter {
                 }
             ),
             format!(
-                "; warpslice interpolation bound = {} mm / {} deg",
-                self.bounds.max_position_mm, self.bounds.max_angle_deg
+                "; warpslice interpolation bound = {} mm / {} deg{}",
+                self.bounds.max_position_mm,
+                self.bounds.max_angle_deg,
+                match (self.bounds.max_step_mm, self.bounds.max_step_deg) {
+                    (Some(mm), Some(deg)) => format!("; moves capped at {mm} mm / {deg} deg"),
+                    _ => String::new(),
+                }
             ),
         ];
         lines.push(format!(

@@ -354,6 +354,15 @@ pub enum MachineError {
         /// Why.
         reason: String,
     },
+    /// A machine option (`--interpolation`, `--interpolation-caps`) has an unusable value.
+    BadOption {
+        /// The option's flag name without dashes (`interpolation`).
+        name: &'static str,
+        /// The value given.
+        value: String,
+        /// What the option accepts.
+        allowed: &'static str,
+    },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
         /// Name of the machine (preset or JSON `name`).
@@ -443,6 +452,10 @@ impl fmt::Display for MachineError {
                 f,
                 "machine {machine}: the collision check cannot judge this machine: {reason}; turn check_collisions off for it"
             ),
+            MachineError::BadOption { name, value, allowed } => write!(
+                f,
+                "--{name} {value}: expected {allowed}"
+            ),
             MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
@@ -469,6 +482,7 @@ crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     BadSpec => "machine.bad-spec", "the machine's parameters are unusable";
     BadCsv => "machine.bad-csv", "a kinematics CSV line is invalid";
     MandrelMismatch => "machine.mandrel-mismatch", "a cylindrical job whose axis is not the mandrel's";
+    BadOption => "machine.bad-option", "a machine option (--interpolation, …) has an unusable value";
     UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
     Collision => "machine.collision", "a head part would hit the printed material or the bed";
     CollisionUnsupported => "machine.collision-unsupported", "the collision check cannot judge this machine";
