@@ -25,8 +25,10 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "common/cli_part.rs"]
+#[allow(dead_code)]
 mod cli_part;
 #[path = "common/synthetic.rs"]
+#[allow(dead_code)]
 mod synthetic;
 
 use std::collections::{BTreeMap, BTreeSet};

@@ -12,12 +12,16 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "common/cli_part.rs"]
+#[allow(dead_code)]
 mod cli_part;
 #[path = "common/firmware.rs"]
+#[allow(dead_code)]
 mod firmware;
 #[path = "common/fk.rs"]
+#[allow(dead_code)]
 mod fk;
 #[path = "common/synthetic.rs"]
+#[allow(dead_code)]
 mod synthetic;
 
 use glam::DVec3;

@@ -20,12 +20,16 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 #[path = "common/cli_part.rs"]
+#[allow(dead_code)]
 mod cli_part;
 #[path = "common/firmware.rs"]
+#[allow(dead_code)]
 mod firmware;
 #[path = "common/skip.rs"]
+#[allow(dead_code)]
 mod skip;
 #[path = "common/synthetic.rs"]
+#[allow(dead_code)]
 mod synthetic;
 
 use std::collections::BTreeMap;

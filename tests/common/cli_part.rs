@@ -1,7 +1,6 @@
 //! A warped 20 mm cube through the CLI with the synthetic slicer's G-code (no real slicer: a
 //! test using it cannot skip), and the machine presets with a warp each prints, where the part
 //! goes, and the axis letters docs/machines.md gives them.
-#![allow(dead_code)]
 
 use std::path::PathBuf;
 use std::process::Command;
