@@ -10,7 +10,11 @@
 #   slicers  PrusaSlicer, Slic3r, CuraEngine (Debian packages) and Cura's definitions (CURA_RES)
 #   wasm     wasm32-unknown-unknown target, wasm-pack, wasm-bindgen-cli (version from Cargo.lock)
 #   web      node/npm, chromium and chromium-driver (for the browser tests)
-#   all      core slicers wasm, g++ (the fuzz tier), plus web once www/package.json exists
+#   rs274    LinuxCNC's RS274NGC interpreter (Debian's linuxcnc-uspace and libboost-python,
+#            downloaded and extracted, not installed: ~375 packages otherwise) into
+#            WARPSLICE_RS274_DIR (default ~/.cache/warpslice/rs274), the oracle of
+#            tests/rs274_oracle.rs (native tier); exports WARPSLICE_RS274_ROOT
+#   all      core slicers wasm rs274, g++ (the fuzz tier), plus web once www/package.json exists
 #
 # Needs Debian/Ubuntu (apt-get) and root or sudo for the system packages; everything else goes
 # to ~/.cargo/bin. Environment: CURA_RES (use this Cura resources folder instead of installing),
@@ -218,6 +222,32 @@ ws_node() {
   ws_apt_install nodejs:node npm:npm
 }
 
+# LinuxCNC's `gcode` Python module (scripts/rs274_oracle.py): extracted from the two Debian
+# packages that hold it and its one library, never installed (linuxcnc-uspace would pull ~375
+# packages, systemd among them). Idempotent: nothing is downloaded when the module imports.
+ws_rs274() {
+  local dest="${WARPSLICE_RS274_DIR:-$HOME/.cache/warpslice/rs274}"
+  export WARPSLICE_RS274_ROOT="$dest/root"
+  if python3 "$WS_ROOT/scripts/rs274_oracle.py" --probe >/dev/null 2>&1; then
+    ws_say "rs274 interpreter present (WARPSLICE_RS274_ROOT=$WARPSLICE_RS274_ROOT)"
+    return 0
+  fi
+  command -v python3 >/dev/null 2>&1 || ws_apt_install python3:python3
+  ws_apt_update_once
+  ws_say "extracting LinuxCNC's RS274NGC interpreter into $dest (apt-get download linuxcnc-uspace libboost-python1.74.0)"
+  mkdir -p "$dest"
+  (
+    cd "$dest" &&
+      rm -rf root ./*.deb &&
+      ws_logged apt-get -o DPkg::Lock::Timeout=900 download -qq linuxcnc-uspace libboost-python1.74.0 &&
+      for deb in ./*.deb; do ws_logged dpkg-deb -x "$deb" root || exit 1; done &&
+      rm -f ./*.deb
+  ) || ws_die "could not download/extract linuxcnc-uspace into $dest"
+  python3 "$WS_ROOT/scripts/rs274_oracle.py" --probe ||
+    ws_die "LinuxCNC's gcode module in $WARPSLICE_RS274_ROOT does not import (python3 $(python3 -c 'import sys; print(sys.version.split()[0])'))"
+  ws_say "rs274 interpreter installed (WARPSLICE_RS274_ROOT=$WARPSLICE_RS274_ROOT)"
+}
+
 ws_web() {
   ws_node
   ws_apt_install chromium:chromium chromium-driver:chromedriver
@@ -244,6 +274,7 @@ ws_setup() {
       ws_node
       ;;
     web) ws_web ;;
+    rs274) ws_rs274 ;;
     all)
       ws_rust
       ws_clippy
@@ -251,12 +282,13 @@ ws_setup() {
       ws_apt_install g++:g++
       ws_apt_install prusa-slicer:prusa-slicer slic3r:slic3r cura-engine:CuraEngine
       ws_cura_definitions
+      ws_rs274
       ws_wasm_target
       ws_wasm_tools
       ws_node
       if [[ -f "$WS_ROOT/www/package.json" ]]; then ws_web; fi
       ;;
-    *) ws_die "unknown component '$c' (core, slicers, wasm, web, all)" ;;
+    *) ws_die "unknown component '$c' (core, slicers, wasm, web, rs274, all)" ;;
     esac
   done
   rm -f "$WS_SETUP_LOG"

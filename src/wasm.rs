@@ -445,6 +445,27 @@ pub fn describe_machine(machine: &str) -> Result<String, JsValue> {
     serde_json::to_string(&info).map_err(|e| bad_options(&e.to_string()))
 }
 
+/// The firmware configuration fragment for the unwarp options' machine, flavour and feed (the
+/// CLI's `--config-out`): the text to paste into the firmware's configuration, with the file
+/// it belongs in as its first line's subject. 3-axis options (no `machine`) are refused
+/// (`options.invalid`): they need no configuration.
+#[wasm_bindgen]
+pub fn firmware_config(options_json: &str) -> Result<JsValue, JsValue> {
+    let settings = unwarp_settings(options_json)?;
+    let c = settings
+        .output
+        .firmware_config()
+        .map_err(js)?
+        .ok_or_else(|| {
+            bad_options("firmware_config: the options give no machine (3-axis output needs no firmware configuration)")
+        })?;
+    let obj = js_sys::Object::new();
+    set(&obj, "file", &JsValue::from_str(c.file))?;
+    set(&obj, "flavour", &JsValue::from_str(c.flavour.name()))?;
+    set(&obj, "text", &JsValue::from_str(&c.text))?;
+    Ok(obj.into())
+}
+
 /// Everything the core says of itself, as JSON (see [`crate::describe`]): warps and their
 /// parameters, the options of both steps, the machines and their capabilities, feature names,
 /// error codes. The page builds its forms and advice from it.

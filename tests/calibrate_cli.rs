@@ -49,6 +49,23 @@ fn origin_writes_a_machine_that_test_print_uses() {
     ]);
     assert!(ok, "{err}");
     assert!(out.contains("A^B_pos") && out.contains("θ = asin"), "{out}");
+    // the G55 line: the offsets in force (RRF's object model) plus B''_pos, axis by axis
+    let origin: Vec<f64> = out
+        .split("new origin B''_pos (current frame; shift the G55 frame by it) = (")
+        .nth(1)
+        .and_then(|r| r.split(')').next())
+        .expect("the origin line")
+        .split(", ")
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let g10 = out
+        .lines()
+        .find(|l| l.starts_with("G10 L2 P2 "))
+        .expect("a G10 L2 P2 line");
+    for (i, (letter, v)) in ["X", "Y", "Z"].iter().zip(&origin).enumerate() {
+        let want = format!("{letter}{{move.axes[{i}].workplaceOffsets[1] + {v:.6}}}");
+        assert!(g10.contains(&want), "{want} not in {g10}");
+    }
     let gcode = d.join("a.gcode");
     let stl = d.join("a.stl");
     let (ok, out, err) = run(&[
@@ -85,7 +102,7 @@ fn malformed_measurements_fail_with_the_line_number() {
 
 #[test]
 fn probes_and_simulation_print_results() {
-    let (ok, out, err) = run(&[
+    let a_pos = [
         "calibrate",
         "probe",
         "a-pos",
@@ -95,7 +112,13 @@ fn probes_and_simulation_print_results() {
         "4.2",
         "--y-minus90",
         "-3.8",
-    ]);
+    ];
+    // the probe bias c_y has no default: the thesis printer's 0.453 is not another probe's
+    let (ok, _, err) = run(&a_pos);
+    assert!(!ok && err.contains("--c-y"), "{err}");
+    let mut with_c_y = a_pos.to_vec();
+    with_c_y.extend_from_slice(&["--c-y", "0.453"]);
+    let (ok, out, err) = run(&with_c_y);
     assert!(ok, "{err}");
     assert!(out.contains("-0.2265"), "{out}");
     let (ok, out, err) = run(&[
@@ -126,4 +149,90 @@ fn probes_and_simulation_print_results() {
     assert!(ok, "{err}");
     assert!(out.contains("tip error max 0.6981"), "{out}");
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
+
+/// §5.1.7 end to end: an A axis that turns `actual = k·commanded + c` (k = 0.9972, c = −0.2°)
+/// tilts the flat of the B axle at ±90° by α = actual − commanded, so two probes 10 mm apart
+/// read z₂ − z₁ = 10·sin α; `a-scaling` at both ends, then `a-steps`, must give back the
+/// steps per degree S/k and the zero shift c.
+#[test]
+fn a_steps_per_degree_undoes_a_simulated_scaling_and_names_the_zero_shift() {
+    let (k, c, s) = (0.9972f64, -0.2f64, 35.556f64);
+    let alpha = |cmd: f64| -> String {
+        let a = (k * cmd + c - cmd).to_radians();
+        let (ok, out, err) = run(&[
+            "calibrate",
+            "probe",
+            "a-scaling",
+            "--z1",
+            "1",
+            "--z2",
+            &format!("{}", 1.0 + 10.0 * a.sin()),
+        ]);
+        assert!(ok, "{err}");
+        out.split("α = ")
+            .nth(1)
+            .unwrap()
+            .split('°')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    let (plus, minus) = (alpha(90.0), alpha(-90.0));
+    let (ok, out, err) = run(&[
+        "calibrate",
+        "probe",
+        "a-steps",
+        "--alpha-plus",
+        &plus,
+        "--alpha-minus",
+        &minus,
+        "--steps-per-deg",
+        &s.to_string(),
+    ]);
+    assert!(ok, "{err}");
+    let want = format!("M92 A{:.4}", s / k);
+    assert!(out.contains(&want), "{want} not in {out}");
+    assert!(out.contains("zero-point shift = -0.2000°"), "{out}");
+    let (ok, _, err) = run(&[
+        "calibrate",
+        "probe",
+        "a-steps",
+        "--alpha-plus",
+        "50",
+        "--alpha-minus",
+        "0",
+        "--steps-per-deg",
+        "10",
+    ]);
+    assert!(!ok && err.contains("small angle error below 45°"), "{err}");
+}
+
+/// The Eq. 5.4 note (as printed, m_yx measures a taper) is in the help and in the output, not
+/// only in a code comment.
+#[test]
+fn eq_5_4_note_is_in_help_and_output() {
+    let (ok, help, _) = run(&["calibrate", "probe", "a-dir", "--help"]);
+    assert!(ok && help.contains("taper"), "{help}");
+    let (ok, out, err) = run(&[
+        "calibrate",
+        "probe",
+        "a-dir",
+        "--z-x",
+        "1,1",
+        "--d-zx",
+        "10",
+        "--z-y",
+        "1,1",
+        "--d-zy",
+        "10",
+        "--y-x1",
+        "-5,5",
+        "--y-x2",
+        "-5,5",
+        "--d-yx",
+        "20",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("measures a taper"), "{out}");
 }

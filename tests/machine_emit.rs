@@ -82,7 +82,7 @@ fn warp_for(preset: &str) -> WarpSpec {
 fn centre_for(preset: &str) -> Option<&'static str> {
     match preset {
         "core-r-theta" => Some("60,0"),
-        "open5x-ab" | "lathe-a" => Some("0,0"),
+        "open5x-ab" | "open5x-prusa-uv" | "open5x-jubilee-bc" | "lathe-a" => Some("0,0"),
         _ => None,
     }
 }
@@ -279,11 +279,22 @@ fn tip_speed_case(
         .iter()
         .map(|n| n.chars().next().unwrap())
         .collect();
+    // the axes the firmware is configured to turn: Open5x's published Duet 2 config.g creates
+    // U and V without R1 (`M584 X0 Y1 Z2 E3 U4 V5`), so RepRapFirmware (and Marlin without
+    // AXISn_ROTATES) count their degrees as linear; Klipper's rule does not ask
+    let configured_linear: &[char] = match (name, flavour) {
+        (
+            "open5x-prusa-uv",
+            common::firmware::Firmware::Rrf | common::firmware::Firmware::Marlin,
+        ) => &['U', 'V'],
+        _ => &[],
+    };
     let rotary: Vec<char> = m
         .limits()
         .iter()
         .filter(|l| l.rotary)
         .map(|l| l.name.chars().next().unwrap())
+        .filter(|c| !configured_linear.contains(c))
         .collect();
     let out = |feed: FeedMode| -> Result<String, String> {
         let opts = UnwarpSettings {

@@ -391,7 +391,7 @@ fn machine_setup(name: &str) -> (MachineSpec, Option<[f64; 2]>) {
         p.axis_z_mm = -MANDREL_RADIUS;
     }
     let place = match name {
-        "open5x-ab" | "lathe-a" => Some([0.0, 0.0]),
+        "open5x-ab" | "open5x-prusa-uv" | "open5x-jubilee-bc" | "lathe-a" => Some([0.0, 0.0]),
         // off the polar centre (its singular point)
         "core-r-theta" => Some([60.0, 0.0]),
         _ => None,

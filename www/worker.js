@@ -187,7 +187,10 @@ async function unwarpFile(msg) {
         pv.machineFrameError = String(e?.message ?? e);
       }
     }
-    self.postMessage({ id, type: 'done', blob, report, registration, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
+    // The firmware configuration this machine G-code needs (the CLI's --config-out): a second
+    // download; none for 3-axis output.
+    const config = msg.options.machine ? ws.firmware_config(JSON.stringify(msg.options)) : null;
+    self.postMessage({ id, type: 'done', blob, report, registration, config, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {
     stream.free();
   }

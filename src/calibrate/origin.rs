@@ -249,6 +249,27 @@ fn v3(v: DVec3) -> String {
 }
 
 impl OriginReport {
+    /// The RepRapFirmware line that moves the G55 frame (the B-axis frame, seed 004 §4.3.2's
+    /// `update_g55`) to the computed origin: the measurements are relative to the G55 frame in
+    /// force, so the new offset is the old one plus B''_pos (machine = program + offset):
+    /// `G10 L2 P2 X{move.axes[0].workplaceOffsets[1] + x} …` (P2 = G55; the object-model
+    /// expressions need RepRapFirmware 3.3 or later; run it once per measurement cycle).
+    pub fn g55_line(&self) -> String {
+        let o = self.result.origin;
+        let axis = |i: usize, v: f64| {
+            format!(
+                "{}{{move.axes[{i}].workplaceOffsets[1] + {v:.6}}}",
+                ["X", "Y", "Z"][i]
+            )
+        };
+        format!(
+            "G10 L2 P2 {} {} {}   ; set G55 to the new origin (RepRapFirmware 3.3+: the offsets in force plus B''_pos; run once per measurement cycle)",
+            axis(0, o.x),
+            axis(1, o.y),
+            axis(2, o.z)
+        )
+    }
+
     /// The human-readable report (what the CLI prints).
     pub fn to_text(&self) -> String {
         let r = &self.result;
@@ -277,6 +298,7 @@ impl OriginReport {
             "new origin B''_pos (current frame; shift the G55 frame by it) = {} mm\n",
             v3(r.origin)
         ));
+        s.push_str(&format!("{}\n", self.g55_line()));
         s.push_str(&format!(
             "A^B_pos (A axis from the B axis) = {} mm, distance between the axes {:.6} mm\n",
             v3(r.a_from_b),

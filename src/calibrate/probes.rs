@@ -44,7 +44,13 @@ pub const AXLE_FLATS: f64 = 4.0;
 pub const B_PROBE_Z: f64 = -10.0;
 /// Distance between the two heights of the A scaling probe (§5.1.7), mm.
 pub const A_SCALING_DISTANCE: f64 = 10.0;
-/// The probe bias c_y of the author's printer (§6.1.1), mm.
+/// Eq. 5.4 as printed, said where it is used (CLI help and output): m_yx is the difference of
+/// the two Y probes' *half differences*, which measures how the part's width changes along X (a
+/// taper), not the slope of its centre line (that is the difference of the half *sums*). It is
+/// the slope only when the probe script records the two side probes with opposite signs.
+pub const EQ_5_4_NOTE: &str = "Eq. 5.4 as printed takes m_yx from the half *differences* of the two Y probes at each X: with plain Y coordinates that measures a taper (the width changing along X), not the slope of the centre line (the half sums). It is the slope only if your probe script records the -Y and +Y probes with opposite signs (as probe travel); check yours before trusting A_dir's Y component.";
+/// The probe bias c_y of the author's printer (§6.1.1), mm: an example, never a default (each
+/// probe has its own; measure it as §6.1.1 does, with an object of known size).
 pub const THESIS_C_Y: f64 = 0.453;
 
 /// One probe computation: its inputs (JSON tag `kind`, the names the thesis uses).
@@ -128,6 +134,15 @@ pub enum ProbeInput {
         #[serde(default = "a_scaling_distance")]
         distance: f64,
     },
+    /// §5.1.7: the A axis' steps per degree from the α of its ±90° orientations.
+    AStepsPerDegree {
+        /// α₊: the α (§5.1.7) measured with A at +90°, degrees.
+        alpha_plus_deg: f64,
+        /// α₋: the α measured with A at −90°, degrees.
+        alpha_minus_deg: f64,
+        /// The steps per degree the firmware had when they were measured (`M92 A…`).
+        steps_per_deg: f64,
+    },
     /// §5.1.8.
     Wobble {
         /// z_shift from the Z-bias probing (§5.1.6), mm.
@@ -203,6 +218,16 @@ pub enum ProbeOutput {
     AScaling {
         /// α: the signed angle error of the A axis, degrees.
         alpha_deg: f64,
+    },
+    /// §5.1.7: the corrected steps per degree and the zero-point shift left.
+    AStepsPerDegree {
+        /// k: the A axis turns k degrees per commanded degree.
+        k: f64,
+        /// The corrected steps per degree: the old over k.
+        steps_per_deg: f64,
+        /// The symmetric part of the error (α₊ + α₋)/2, degrees: a zero-point shift, not a
+        /// scaling (§5.1.7: redetermine the zero point, §5.1.2).
+        zero_shift_deg: f64,
     },
     /// §5.1.8: z_d and the Eq. 5.1 correction at A = −90°, −45°, 0°, 45°, 90°.
     Wobble {
@@ -307,6 +332,23 @@ pub fn a_scaling(z1: f64, z2: f64, distance: f64) -> Result<f64, CalibError> {
     Ok(num::deg(num::asin(r)))
 }
 
+/// §5.1.7: the A axis' scaling from the α of its ±90° orientations, `(k, zero_shift)`.
+///
+/// α is the actual minus the commanded angle (a right-hand turn δ too far about +X tilts the
+/// flat, level at the ideal pose, so that z rises toward +Y: α = asin((z₂ − z₁)/d) = δ, at
+/// +90° and at −90° alike). The axis turns `actual = k·commanded + c`; at ±90°:
+/// `90k + c = 90 + α₊` and `−90k + c = −90 + α₋`, so
+/// `k = 1 + (α₊ − α₋)/180` and `c = (α₊ + α₋)/2`. The firmware's steps per degree become
+/// `S / k` (fewer degrees per step when the axis turned too far); c is the mirrored offset the
+/// thesis attributes to the zero point (§5.1.7). On the thesis printer (§6.1) α₋ ≈ −0.126°,
+/// α₊ ≈ −0.63°: k ≈ 0.9972, more steps ("requiring more steps", §5.1.7).
+pub fn a_steps_per_degree(alpha_plus_deg: f64, alpha_minus_deg: f64) -> (f64, f64) {
+    (
+        1.0 + (alpha_plus_deg - alpha_minus_deg) / 180.0,
+        (alpha_plus_deg + alpha_minus_deg) / 2.0,
+    )
+}
+
 /// §5.1.8: `z_d = z_shift − ab_z`.
 pub fn wobble_z_d(z_shift: f64, ab_z: f64) -> f64 {
     z_shift - ab_z
@@ -391,6 +433,33 @@ pub fn evaluate(input: &ProbeInput) -> Result<ProbeOutput, CalibError> {
                 alpha_deg: a_scaling(*z1, *z2, *distance)?,
             }
         }
+        ProbeInput::AStepsPerDegree {
+            alpha_plus_deg,
+            alpha_minus_deg,
+            steps_per_deg,
+        } => {
+            finite(
+                "A steps per degree",
+                &[*alpha_plus_deg, *alpha_minus_deg, *steps_per_deg],
+            )?;
+            if !(*steps_per_deg > 0.0
+                && alpha_plus_deg.abs() < 45.0
+                && alpha_minus_deg.abs() < 45.0)
+            {
+                return Err(CalibError::BadInput {
+                    what: "A steps per degree".to_string(),
+                    message: format!(
+                        "steps per degree {steps_per_deg} must be positive and each α (here {alpha_plus_deg}°, {alpha_minus_deg}°) a small angle error below 45°"
+                    ),
+                });
+            }
+            let (k, zero_shift_deg) = a_steps_per_degree(*alpha_plus_deg, *alpha_minus_deg);
+            ProbeOutput::AStepsPerDegree {
+                k,
+                steps_per_deg: steps_per_deg / k,
+                zero_shift_deg,
+            }
+        }
         ProbeInput::Wobble { z_shift, ab_z } => {
             finite("wobble", &[*z_shift, *ab_z])?;
             let z_d = wobble_z_d(*z_shift, *ab_z);
@@ -428,7 +497,7 @@ impl ProbeOutput {
                 m_yx,
                 a_dir,
             } => format!(
-                "m_zx = {m_zx:.7}\nm_zy = {m_zy:.7} (A levelness, {:.4}°)\nm_yx = {m_yx:.7}\nA_dir = {} (Eq. 5.4)\na_z_in_y {m_zy}\na_axis_dir {{{},{},{}}}\n",
+                "m_zx = {m_zx:.7}\nm_zy = {m_zy:.7} (A levelness, {:.4}°)\nm_yx = {m_yx:.7}\nA_dir = {} (Eq. 5.4)\na_z_in_y {m_zy}\na_axis_dir {{{},{},{}}}\nnote: {EQ_5_4_NOTE}\n",
                 num::deg(num::atan(*m_zy)),
                 v(a_dir),
                 a_dir.x,
@@ -457,6 +526,16 @@ impl ProbeOutput {
             ),
             ProbeOutput::AScaling { alpha_deg } => format!(
                 "α = {alpha_deg:.6}° (§5.1.7: the signed angle error of the A axis in this orientation)\n"
+            ),
+            ProbeOutput::AStepsPerDegree {
+                k,
+                steps_per_deg,
+                zero_shift_deg,
+            } => format!(
+                "k = {k:.6} (the A axis turns k° per commanded degree, §5.1.7)
+steps per degree = {steps_per_deg:.4} (set it in the firmware: M92 A{steps_per_deg:.4}, and in the homing scripts)
+zero-point shift = {zero_shift_deg:.4}° (the symmetric part (α₊ + α₋)/2: redetermine the zero point after setting the scaling, §5.1.2)
+"
             ),
             ProbeOutput::Wobble { z_d, correction } => {
                 let mut s = format!("z_d = {z_d:.6} mm (§5.1.8; set \"z_wobble_mm\": {z_d} in the machine JSON)\nEq. 5.1 correction:");

@@ -33,6 +33,16 @@ impl FeedMode {
             _ => None,
         }
     }
+
+    /// The CLI name (`tip`, `xyz`, `all-axes`, `inverse-time`).
+    pub fn name(self) -> &'static str {
+        match self {
+            FeedMode::Tip => "tip",
+            FeedMode::Xyz => "xyz",
+            FeedMode::AllAxes => "all-axes",
+            FeedMode::InverseTime => "inverse-time",
+        }
+    }
 }
 
 /// What the machine emitter measured over the file.

@@ -49,6 +49,7 @@
 use glam::DVec3;
 
 use super::angles::wrap180;
+use super::config::{build as build_config, input_for, ConfigInput};
 use super::feed::{output_feed, FeedMode};
 use super::flavour::Flavour;
 use super::reach::Reach;
@@ -84,6 +85,11 @@ struct Pose {
 pub struct MachineEmitter {
     machine: Box<dyn Machine>,
     limits: Vec<AxisLimit>,
+    /// The axes as the firmware is configured (its length rule's rotary flags:
+    /// `firmware_linear_axes` count as linear).
+    rule_limits: Vec<AxisLimit>,
+    /// What the header's configuration summary is built from.
+    config: ConfigInput,
     preset: String,
     flavour: Flavour,
     feed: FeedMode,
@@ -137,7 +143,16 @@ impl MachineEmitter {
             axis_bounds.iter().map(|b| b.rotary).collect(),
         );
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
+        let config = input_for(spec, machine.as_ref(), feed)?;
         flavour.check(machine.name(), &limits, feed)?;
+        let rule_limits = limits
+            .iter()
+            .zip(&config.axes)
+            .map(|(l, a)| AxisLimit {
+                rotary: a.firmware_rotary,
+                ..l.clone()
+            })
+            .collect();
         let unlimited = limits
             .iter()
             .map(|l| l.rotary && !(l.min.is_finite() && l.max.is_finite()))
@@ -152,6 +167,8 @@ impl MachineEmitter {
             preset: machine.name().to_string(),
             machine,
             limits,
+            rule_limits,
+            config,
             flavour,
             feed,
             bounds: DEFAULT_BOUNDS,
@@ -171,7 +188,7 @@ impl MachineEmitter {
         })
     }
 
-    /// Use other interpolation bounds (tests).
+    /// Use other interpolation bounds (`--interpolation`, `--interpolation-caps`).
     pub fn with_bounds(mut self, bounds: Bounds) -> MachineEmitter {
         self.bounds = bounds;
         self
@@ -260,7 +277,7 @@ impl MachineEmitter {
         let firmware_length =
             self.flavour
                 .length_rule()
-                .length(&self.limits, &read(from), &read(axes), de);
+                .length(&self.rule_limits, &read(from), &read(axes), de);
         for (l, &v) in self.limits.iter().zip(axes) {
             out.push(b' ');
             out.extend_from_slice(l.name.as_bytes());
@@ -444,8 +461,13 @@ impl Emitter for MachineEmitter {
                 }
             ),
             format!(
-                "; warpslice interpolation bound = {} mm / {} deg",
-                self.bounds.max_position_mm, self.bounds.max_angle_deg
+                "; warpslice interpolation bound = {} mm / {} deg{}",
+                self.bounds.max_position_mm,
+                self.bounds.max_angle_deg,
+                match (self.bounds.max_step_mm, self.bounds.max_step_deg) {
+                    (Some(mm), Some(deg)) => format!("; moves capped at {mm} mm / {deg} deg"),
+                    _ => String::new(),
+                }
             ),
         ];
         lines.push(format!(
@@ -469,19 +491,17 @@ impl Emitter for MachineEmitter {
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
-        // the firmware's limits as checked: the kinematic ranges within the file's travel
-        let checked: Vec<AxisLimit> = self
-            .reach
-            .bounds()
-            .iter()
-            .map(|b| AxisLimit {
-                name: b.name.clone(),
-                rotary: b.rotary,
-                min: b.min,
-                max: b.max,
-            })
-            .collect();
-        lines.extend(self.flavour.header(&checked, self.feed));
+        // the firmware's configuration for the limits as checked (the kinematic ranges within
+        // the file's travel): its summary
+        let config = build_config(self.flavour, &self.config);
+        let summary = config.header.len() > 1;
+        lines.extend(config.header);
+        if summary {
+            lines.push(format!(
+                ";   (the whole fragment for {}, ready to paste: --config-out FILE)",
+                config.file
+            ));
+        }
         for l in lines {
             out.extend_from_slice(l.as_bytes());
             out.push(b'\n');

@@ -146,216 +146,24 @@ impl Flavour {
         self != Flavour::Klipper
     }
 
-    /// Header comment lines (without the leading `; warpslice machine = …` line): a
-    /// `; flavour …` line, then `;   …` lines a user pastes (without `;   `) into the firmware's
-    /// configuration, each with its reason after `; `.
-    ///
-    /// RepRapFirmware (3.3 and later): `M584 … R1` creates rotary axes, `R0` linear ones, and
-    /// `S1` keeps a rotary axis out of the feed-rate length when a linear axis moves (NIST
-    /// RS274 §2.1.2.5; RRF's default for `R1`) while `S0` counts its degrees like millimetres:
-    /// `S0` for `--feed all-axes`, `S1` otherwise (`tip` computes F for exactly that rule).
+    /// Header comment lines (without the leading `; warpslice machine = …` line) for axes
+    /// `limits` with no feed limits and Cartesian drive: a `; flavour …` line, then `;   …`
+    /// lines a user pastes (without `;   `) into the firmware's configuration, each with its
+    /// reason after `; ` (see [`super::config`], which the emitter calls with the machine's
+    /// full [`super::config::ConfigInput`]).
     pub fn header(self, limits: &[AxisLimit], feed: FeedMode) -> Vec<String> {
-        let extra: Vec<&AxisLimit> = limits
-            .iter()
-            .filter(|l| !["X", "Y", "Z"].contains(&l.name.as_str()))
-            .collect();
-        let mut lines = Vec::new();
-        match self {
-            Flavour::RepRapFirmware => {
-                lines.push(
-                    "; flavour RepRapFirmware 3.3 or later: this file expects in config.g".into(),
-                );
-                let mut m = String::from(";   M584");
-                for (i, l) in limits.iter().enumerate() {
-                    m.push_str(&format!(" {}<driver{i}>", l.name));
-                }
-                m.push_str(&format!(
-                    " E<driver{}>   ; your board's drivers; E: RRF 3.3 and later need the extruder drive(s) declared in M584",
-                    limits.len()
-                ));
-                lines.push(m);
-                for l in &extra {
-                    lines.push(format!(
-                        ";   axis {} is {} (create it with M584 … {}{})",
-                        l.name,
-                        if l.rotary {
-                            "rotary, degrees"
-                        } else {
-                            "linear, mm"
-                        },
-                        l.name,
-                        match (l.rotary, feed) {
-                            (false, _) => " R0",
-                            (true, FeedMode::AllAxes) => " R1 S0",
-                            (true, _) => " R1 S1",
-                        }
-                    ));
-                }
-                for l in limits {
-                    lines.extend(rrf_m208(l));
-                }
-                lines.push(
-                    ";   M564 H1 S1   ; RRF's default: moves need homed axes and are clamped to the M208 limits, so the limits above must hold every value this file writes (M564 S0 would drop the clamp everywhere: not advised)".into(),
-                );
-                if feed == FeedMode::InverseTime {
-                    lines.push(format!(
-                        ";   G93 inverse-time feed: RepRapFirmware {RRF_G93_VERSION} or later (older versions read F as mm/min)"
-                    ));
-                }
-            }
-            Flavour::Marlin => {
-                lines.push("; flavour Marlin 2.1: extra axes are set in Configuration.h as".into());
-                for (i, l) in extra.iter().enumerate() {
-                    lines.push(format!(
-                        ";   #define AXIS{}_NAME '{}'   // {}",
-                        i + 4,
-                        l.name,
-                        if l.rotary {
-                            "rotary (AXIS*_ROTATES), degrees"
-                        } else {
-                            "linear, mm"
-                        }
-                    ));
-                }
-                for l in limits {
-                    if l.min.is_finite() || l.max.is_finite() {
-                        lines.push(format!(
-                            ";   axis {} travel [{}, {}] {}",
-                            l.name,
-                            l.min,
-                            l.max,
-                            if l.rotary { "deg" } else { "mm" }
-                        ));
-                    }
-                }
-            }
-            Flavour::Klipper if extra.is_empty() => lines.push("; flavour Klipper (3-axis)".into()),
-            Flavour::Klipper => {
-                lines.push(format!(
-                    "; flavour Klipper (extra G-code axes: mainline since {KLIPPER_GCODE_AXIS_SINCE}): this file expects in printer.cfg"
-                ));
-                for l in &extra {
-                    lines.push(format!(
-                        ";   [manual_stepper {}]   ; axis {}, {}: step_pin, dir_pin, enable_pin, microsteps, rotation_distance ({}){}",
-                        klipper_stepper(l),
-                        l.name,
-                        if l.rotary { "rotary, degrees" } else { "linear, mm" },
-                        if l.rotary {
-                            "degrees per motor turn"
-                        } else {
-                            "mm per motor turn"
-                        },
-                        klipper_travel(l)
-                    ));
-                }
-                for l in limits.iter().filter(|l| !extra.contains(l)) {
-                    let travel = klipper_travel(l);
-                    if let Some(t) = travel.strip_prefix(", ") {
-                        lines.push(format!(
-                            ";   [stepper_{}] {t}   ; axis {} travel, mm",
-                            l.name.to_ascii_lowercase(),
-                            l.name
-                        ));
-                    }
-                }
-                lines.push(
-                    ";   and, before this file's moves (the start G-code or a [delayed_gcode]):"
-                        .into(),
-                );
-                for l in &extra {
-                    lines.push(format!(
-                        ";   MANUAL_STEPPER STEPPER={} GCODE_AXIS={} LIMIT_VELOCITY=<{u}/s> LIMIT_ACCEL=<{u}/s²> INSTANTANEOUS_CORNER_VELOCITY=<{u}/s>",
-                        klipper_stepper(l),
-                        l.name,
-                        u = if l.rotary { "deg" } else { "mm" }
-                    ));
-                }
-                lines.push(format!(
-                    ";   INSTANTANEOUS_CORNER_VELOCITY: an extra axis' junction speed defaults to {KLIPPER_EXTRA_AXIS_CORNER_DEFAULT} mm/s (deg/s); this file splits curved moves into short pieces, so set it near the axis' speed on the path or every junction slows the print"
-                ));
-                lines.push(
-                    ";   Klipper times a move by its X Y Z length (the largest E or extra-axis change when X Y Z are still, which it runs as an extrude-only move: mind max_extrude_only_velocity and LIMIT_ACCEL): --feed tip computes F for that rule; Klipper has no G93".into(),
-                );
-                if extra
-                    .iter()
-                    .any(|l| l.rotary && !(l.min.is_finite() && l.max.is_finite()))
-                {
-                    lines.push(
-                        ";   Klipper's G92 sets X Y Z E only: an unlimited rotary axis is written unwrapped (no resets), so give it no position limits".into(),
-                    );
-                }
-            }
-        }
-        lines
+        let input = super::config::ConfigInput {
+            machine: String::new(),
+            axes: limits.iter().map(super::config::ConfigAxis::from).collect(),
+            feed,
+            drive: super::config::AxisDrive::Cartesian,
+        };
+        super::config::build(self, &input).header
     }
 }
 
-/// Klipper's `[manual_stepper]` section name warpslice suggests for extra axis `l`.
-fn klipper_stepper(l: &AxisLimit) -> String {
-    format!("axis_{}", l.name.to_ascii_lowercase())
-}
-
-/// The `position_min` / `position_max` advice of a Klipper extra axis.
-fn klipper_travel(l: &AxisLimit) -> String {
-    let n = crate::num::fmt_shortest;
-    match (l.min.is_finite(), l.max.is_finite()) {
-        (true, true) => format!(", position_min: {}, position_max: {}", n(l.min), n(l.max)),
-        (true, false) => format!(", position_min: {}", n(l.min)),
-        (false, true) => format!(", position_max: {}", n(l.max)),
-        (false, false) => String::new(),
-    }
-}
-
-/// The first RepRapFirmware version with `G93` inverse-time feed (its documentation says 3.2;
-/// the code has it from 3.5.0).
-pub const RRF_G93_VERSION: &str = "3.5.0";
-/// Since when mainline Klipper takes extra G-code axes (`MANUAL_STEPPER … GCODE_AXIS=`).
-pub const KLIPPER_GCODE_AXIS_SINCE: &str = "2025-05";
-/// Klipper's default `INSTANTANEOUS_CORNER_VELOCITY` of an extra axis, mm/s (deg/s).
-pub const KLIPPER_EXTRA_AXIS_CORNER_DEFAULT: f64 = 1.0;
-/// The `M208` range written for a rotary axis without limits (a slip ring, a mandrel), degrees:
-/// RepRapFirmware clamps every homed axis to its `M208` range, so "unlimited" is a range wider
-/// than any file turns it (warpslice resets such an axis modulo 360° at each layer change).
-pub const RRF_UNLIMITED_ROTARY_DEG: f64 = 100_000.0;
-
-/// The `M208` lines of axis `l`: `M208 <L><min> S1` (minimum) and `M208 <L><max> S0`
-/// (maximum) for each finite end; an unlimited rotary axis gets
-/// ±[`RRF_UNLIMITED_ROTARY_DEG`]; an unlimited linear axis keeps the machine's own limits (a
-/// note says so).
-fn rrf_m208(l: &AxisLimit) -> Vec<String> {
-    let n = crate::num::fmt_shortest;
-    let unit = if l.rotary { "degrees" } else { "mm" };
-    let mut out = Vec::new();
-    for (v, s, end) in [(l.min, 1, "minimum"), (l.max, 0, "maximum")] {
-        if v.is_finite() {
-            out.push(format!(
-                ";   M208 {}{} S{s}   ; axis {} {end}, {unit}",
-                l.name,
-                n(v),
-                l.name
-            ));
-        } else if l.rotary {
-            let w = if s == 1 {
-                -RRF_UNLIMITED_ROTARY_DEG
-            } else {
-                RRF_UNLIMITED_ROTARY_DEG
-            };
-            out.push(format!(
-                ";   M208 {}{} S{s}   ; axis {} turns without limit: a range wider than any layer turns it",
-                l.name,
-                n(w),
-                l.name
-            ));
-        }
-    }
-    if out.is_empty() {
-        out.push(format!(
-            ";   axis {}: keep your M208 {} limits (the machine file gives none)",
-            l.name, l.name
-        ));
-    }
-    out
-}
+pub use super::config::klipper::{KLIPPER_EXTRA_AXIS_CORNER_DEFAULT, KLIPPER_GCODE_AXIS_SINCE};
+pub use super::config::rrf::{RRF_G93_VERSION, RRF_UNLIMITED_ROTARY_DEG};
 
 #[cfg(test)]
 mod tests {
@@ -381,9 +189,12 @@ mod tests {
             .header(&limits, FeedMode::AllAxes)
             .join("\n");
         assert!(all.contains("M584 … A R1 S0"), "{all}");
+        // Marlin: the rotary axis first (AXIS5_ROTATES requires AXIS4_ROTATES), said so
         let marlin = Flavour::Marlin.header(&limits, FeedMode::Xyz).join("\n");
         assert!(
-            marlin.contains("#define AXIS4_NAME 'U'") && marlin.contains("AXIS5_NAME 'A'"),
+            marlin.contains("#define AXIS4_NAME 'A'   // rotary")
+                && marlin.contains("AXIS5_NAME 'U'   // linear")
+                && marlin.contains("machine's order U A is configured as A U"),
             "{marlin}"
         );
     }

@@ -47,6 +47,7 @@ pub mod axes;
 pub mod batch;
 pub mod bhead;
 pub mod cartesian;
+pub mod config;
 pub mod emit;
 pub mod feed;
 pub mod flavour;
@@ -190,6 +191,11 @@ pub trait Machine: Send + Sync + fmt::Debug {
     }
     /// What the machine says of itself (see [`Capabilities`]).
     fn capabilities(&self) -> Capabilities;
+    /// How the firmware must map this machine's axis letters to motors (its kinematics
+    /// setting, [`config::AxisDrive`]); by default X Y Z are Cartesian coordinates.
+    fn axis_drive(&self) -> config::AxisDrive {
+        config::AxisDrive::Cartesian
+    }
     /// Refuse a job this machine would print wrong although every point is reachable (the
     /// lathe: a cylindrical warp whose axis is not the mandrel's). `model_to_output` moves the
     /// job's model frame to the output frame.
@@ -348,6 +354,15 @@ pub enum MachineError {
         /// Why.
         reason: String,
     },
+    /// A machine option (`--interpolation`, `--interpolation-caps`) has an unusable value.
+    BadOption {
+        /// The option's flag name without dashes (`interpolation`).
+        name: &'static str,
+        /// The value given.
+        value: String,
+        /// What the option accepts.
+        allowed: &'static str,
+    },
     /// The firmware flavour cannot drive this machine.
     UnsupportedFlavour {
         /// Name of the machine (preset or JSON `name`).
@@ -437,6 +452,10 @@ impl fmt::Display for MachineError {
                 f,
                 "machine {machine}: the collision check cannot judge this machine: {reason}; turn check_collisions off for it"
             ),
+            MachineError::BadOption { name, value, allowed } => write!(
+                f,
+                "--{name} {value}: expected {allowed}"
+            ),
             MachineError::UnsupportedFlavour { machine, flavour, reason } => write!(
                 f,
                 "machine {machine}: flavour {flavour} refused: {reason}"
@@ -463,6 +482,7 @@ crate::error_codes!(MachineError, ERROR_CODES, "machine" {
     BadSpec => "machine.bad-spec", "the machine's parameters are unusable";
     BadCsv => "machine.bad-csv", "a kinematics CSV line is invalid";
     MandrelMismatch => "machine.mandrel-mismatch", "a cylindrical job whose axis is not the mandrel's";
+    BadOption => "machine.bad-option", "a machine option (--interpolation, …) has an unusable value";
     UnsupportedFlavour => "machine.unsupported-flavour", "the firmware flavour cannot drive this machine";
     Collision => "machine.collision", "a head part would hit the printed material or the bed";
     CollisionUnsupported => "machine.collision-unsupported", "the collision check cannot judge this machine";

@@ -26,7 +26,22 @@ pub struct MachineOptions {
     /// `--allow-collisions`: with the check on, write the file and list every finding (in the
     /// report and as comments at its end) instead of refusing it (`machine.collision`).
     pub allow_collisions: bool,
+    /// `--interpolation LIN,ANG`: the largest deviation of the firmware's linear interpolation
+    /// in machine space from the intended path, tip mm and tool-axis degrees (default 0.02,
+    /// 0.1; seed 001 §4.5's worst case for its 1 mm / 1° spacing: 0.05,0.01).
+    pub interpolation: Option<[f64; 2]>,
+    /// `--interpolation-caps MM,DEG`: also split every output move longer than MM of tip travel
+    /// or turning the tool axis by more than DEG (seed 001 §4.5 recommends 1,1).
+    pub interpolation_caps: Option<[f64; 2]>,
 }
+
+/// The range `--interpolation` and `--interpolation-caps` accept for each of their two numbers
+/// (mm or degrees): above zero, and at most this — a bound wider than the paper's 1 mm / 1°
+/// caps by a factor of ten would not bound anything the printer does.
+pub const INTERPOLATION_MAX: f64 = 10.0;
+/// The smallest value they accept: below the G-code's 3-decimal resolution (0.001 mm) a bound
+/// cannot be met by any written move.
+pub const INTERPOLATION_MIN: f64 = 0.001;
 
 /// `machine` in the options JSON: `null`, a preset name or a machine object.
 fn machine_from_json<'de, D: serde::Deserializer<'de>>(
@@ -50,12 +65,59 @@ fn machine_from_json<'de, D: serde::Deserializer<'de>>(
 }
 
 impl MachineOptions {
+    /// The firmware configuration these options' output needs (`--config-out`, wasm
+    /// `firmware_config`): `None` for 3-axis output; the flavour's refusal when it cannot
+    /// drive the machine with this feed (as the emitter refuses the G-code).
+    pub fn firmware_config(&self) -> Result<Option<super::config::FirmwareConfig>, MachineError> {
+        self.machine
+            .as_ref()
+            .map(|spec| super::config::for_spec(spec, self.flavour, self.feed))
+            .transpose()
+    }
+
     /// The emitter these options ask for: 3-axis, or the machine's.
     pub fn emitter(&self) -> Result<Box<dyn Emitter>, MachineError> {
+        let bounds = self.bounds()?;
         Ok(match &self.machine {
             None => Box::new(Cartesian::new()),
-            Some(spec) => Box::new(MachineEmitter::new(spec, self.flavour, self.feed)?),
+            Some(spec) => {
+                Box::new(MachineEmitter::new(spec, self.flavour, self.feed)?.with_bounds(bounds))
+            }
         })
+    }
+
+    /// The interpolation bounds these options ask for ([`super::tessellate::DEFAULT_BOUNDS`]
+    /// with `--interpolation` and `--interpolation-caps`); a value outside
+    /// [[`INTERPOLATION_MIN`], [`INTERPOLATION_MAX`]] is [`MachineError::BadOption`].
+    pub fn bounds(&self) -> Result<super::tessellate::Bounds, MachineError> {
+        let check = |name: &'static str, v: Option<[f64; 2]>| -> Result<(), MachineError> {
+            match v {
+                Some([a, b])
+                    if ![a, b].iter().all(|x| {
+                        x.is_finite() && (INTERPOLATION_MIN..=INTERPOLATION_MAX).contains(x)
+                    }) =>
+                {
+                    Err(MachineError::BadOption {
+                        name,
+                        value: format!("{a},{b}"),
+                        allowed: "two numbers mm,degrees, each from 0.001 to 10 (seed 001's: --interpolation 0.05,0.01 --interpolation-caps 1,1)",
+                    })
+                }
+                _ => Ok(()),
+            }
+        };
+        check("interpolation", self.interpolation)?;
+        check("interpolation-caps", self.interpolation_caps)?;
+        let mut b = super::tessellate::DEFAULT_BOUNDS;
+        if let Some([mm, deg]) = self.interpolation {
+            b.max_position_mm = mm;
+            b.max_angle_deg = deg;
+        }
+        if let Some([mm, deg]) = self.interpolation_caps {
+            b.max_step_mm = Some(mm);
+            b.max_step_deg = Some(deg);
+        }
+        Ok(b)
     }
 }
 
@@ -74,6 +136,14 @@ pub const PARAMS: &[Param] = &[
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
         .help("sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; refuse the file on a collision"),
+    Param::number("interpolation", "--interpolation", "Interpolation bound mm,deg")
+        .of(ParamType::Pair)
+        .optional()
+        .help("largest deviation of the firmware's machine-space interpolation from the path, tip mm and tool-axis degrees (default 0.02,0.1; seed 001 §4.5's worst case for 1 mm / 1° spacing: 0.05,0.01)"),
+    Param::number("interpolation_caps", "--interpolation-caps", "Move caps mm,deg")
+        .of(ParamType::Pair)
+        .optional()
+        .help("also split every machine move longer than mm of tip travel or turning the tool by more than deg (seed 001 §4.5 recommends 1,1)"),
     Param::number("allow_collisions", "--allow-collisions", "Allow collisions")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))

@@ -135,6 +135,11 @@ impl Machine for RTheta {
         DVec3::new(a(0), 0.0, a(2))
     }
 
+    /// X is the radius and C the turntable angle, written raw: each letter one motor, not the firmware's polar kinematics.
+    fn axis_drive(&self) -> super::config::AxisDrive {
+        super::config::AxisDrive::RawPolar
+    }
+
     fn capabilities(&self) -> Capabilities {
         Capabilities {
             summary: "polar printer (turning bed, radial head) with a tilting nozzle".into(),

@@ -108,6 +108,13 @@ pub struct MachineSpec {
     /// [`super::travel`].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_feed: Option<BTreeMap<String, f64>>,
+    /// Rotary axes the firmware is configured to treat as linear (letters), e.g. Open5x's
+    /// published Duet 2 configuration, which creates U and V without `R1`: their degrees then
+    /// count in the firmware's move length like millimetres, and `--feed tip` computes F for
+    /// that ([`super::config`], [`super::length_rule`]). `null`: every rotary axis is
+    /// configured rotary.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub firmware_linear_axes: Option<Vec<String>>,
     /// Kinematics and parameters.
     #[serde(flatten)]
     pub kinematics: Kinematics,

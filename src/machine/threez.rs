@@ -258,6 +258,11 @@ impl Machine for ThreeZ {
         DVec3::new(a(0), a(1), z / zs as f64)
     }
 
+    /// The bed's three Z motors are three axes (Z U V), each driven alone.
+    fn axis_drive(&self) -> super::config::AxisDrive {
+        super::config::AxisDrive::SeparateZ
+    }
+
     fn capabilities(&self) -> Capabilities {
         {
             let v = self.params.build_volume_mm;

@@ -42,6 +42,7 @@ export const ADVICE = {
   'unwarp.shape-mismatch': 'This G-code does not fit this job\'s part: it was sliced from another warp (angle, direction, centre) or another model, or the slicer placement given is wrong. Slice the warped STL of step 3 with these warp settings, or leave “Slicer placement” empty.',
   'unwarp.bad-place': 'Give “place” as two numbers x,y in mm, or switch it off.',
   'unwarp.option': 'An unwarp option is outside its range: the message names it; change it in step 4.',
+  'machine.bad-option': 'A machine option is outside its range (the message says which and what it takes): correct it in step 4 (interpolation bounds are two numbers mm,degrees from 0.001 to 10).',
   'machine.unsupported-flavour': 'This firmware cannot drive this machine\'s axes: choose another firmware (flavour) in step 4, or the machine\'s default.',
   'unwarp.probe-in-region': 'The slicer homes Z or probes the bed (G28, G29, G30) in the middle of the print, where the part stands: move that command to the start G-code, or home only X and Y (G28 X Y).',
   'machine.pose-lost': 'A command in the middle of the print (G28 X Y, G27, a tool change) moves the head where the G-code does not say, and this machine cannot come back safely: move it to the start or end G-code, or unwarp for a 3-axis printer.',

@@ -70,6 +70,7 @@ export function resetResult() {
   clearGroup(state.view.pathGroup);
   setDownload('result-download', null);
   setDownload('summary-download', null);
+  setDownload('config-download', null);
   $('summary').replaceChildren();
   $('progress').value = 0;
   $('progress-text').textContent = '';
@@ -229,6 +230,10 @@ export async function doUnwarp(file) {
     state.result = out;
     const name = baseName(file.name);
     setDownload('result-download', out.blob, `${name}.${m.name}.gcode`);
+    if (out.config) {
+      // the firmware configuration the G-code needs, ready to paste (the CLI's --config-out)
+      setDownload('config-download', new Blob([out.config.text], { type: 'text/plain' }), `${name}.${m.name}.${out.config.flavour}.${out.config.file}.txt`);
+    }
     const summary = makeSummary(out, file);
     setDownload('summary-download', new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
     info($('summary'), Object.entries(summary.display));

@@ -203,12 +203,22 @@ async function pageVsCli(label, stlPath, setForm, warpArgs, unwarpArgs = []) {
   assert(wStl.equals(cStl), `${label}: warped STL (${wStl.length} B, ${sha(wStl)}) differs from the CLI's (${cStl.length} B, ${sha(cStl)}) for ${warpArgs.join(' ')}`);
   assert(JSON.stringify(JSON.parse(wJob)) === JSON.stringify(JSON.parse(readFileSync(join(dir, 'C.job.json')))), `${label}: job differs from the CLI's`);
   slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
-  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '--stl', join(dir, 'C.stl'), ...unwarpArgs, '-o', join(dir, 'C.out.gcode')]);
+  // a machine's output: the CLI's --config-out too (not a flag of the page's command line)
+  const machine = unwarpArgs.includes('--machine');
+  const configOut = machine ? ['--config-out', join(dir, 'C.cfg')] : [];
+  sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'C.job.json'), '--stl', join(dir, 'C.stl'), ...unwarpArgs, ...configOut, '-o', join(dir, 'C.out.gcode')]);
   await unwarpInBrowser(join(dir, 'W.gcode'));
   await screenshot(`${label}-toolpath`);
   const out = await download('result-download', join(dir, 'B.out.gcode'));
   const cli = readFileSync(join(dir, 'C.out.gcode'));
   assert(out.equals(cli), `${label}: browser G-code (${out.length} B, ${sha(out)}) is not byte-identical to the CLI's (${cli.length} B, ${sha(cli)}) for unwarp ${unwarpArgs.join(' ')}`);
+  if (machine) {
+    // the page's second download is the CLI's --config-out, byte for byte
+    const cfg = await download('config-download', join(dir, 'B.cfg'));
+    assert(cfg.equals(readFileSync(join(dir, 'C.cfg'))), `${label}: the page's firmware configuration differs from the CLI's --config-out`);
+  } else {
+    assert(await page.locator('[data-testid="config-download"].disabled').count() === 1, `${label}: a 3-axis result offers no firmware configuration`);
+  }
   // The page's own command lines (summary) are the ones just run, up to file names.
   const summary = JSON.parse(await download('summary-download', join(dir, 'summary.json')));
   const flags = (args) => {
@@ -398,7 +408,7 @@ try {
       const machineArgs = name === 'cartesian' ? [] : ['--machine', name];
       // the machines turning about the origin get the part placed there (the polar one off
       // its centre), in the page and on the CLI alike
-      const place = { 'open5x-ab': [0, 0], 'lathe-a': [0, 0], 'core-r-theta': [60, 0] }[name];
+      const place = { 'open5x-ab': [0, 0], 'open5x-prusa-uv': [0, 0], 'open5x-jubilee-bc': [0, 0], 'lathe-a': [0, 0], 'core-r-theta': [60, 0] }[name];
       await tid('place-on').setChecked(!!place);
       if (place) {
         await page.locator('#p-place-x').fill(String(place[0]));

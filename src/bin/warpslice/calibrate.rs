@@ -114,12 +114,17 @@ pub enum ProbeCommand {
         y90: f64,
         #[arg(long, allow_hyphen_values = true)]
         y_minus90: f64,
-        #[arg(long, allow_hyphen_values = true, default_value_t = probes::THESIS_C_Y)]
+        /// c_y: your probe's Y bias, mm (required: measured with an object of known size,
+        /// §6.1.1; the thesis printer's was 0.453, another probe's is not)
+        #[arg(long, allow_hyphen_values = true)]
         c_y: f64,
         #[arg(long, default_value_t = probes::PROBE_RADIUS)]
         r_p: f64,
     },
-    /// Eq. 5.4: A_dir from the probed slopes.
+    /// Eq. 5.4: A_dir from the probed slopes. Note: as printed, m_yx takes the half
+    /// differences of the two Y probes at each X: with plain Y coordinates that measures a taper
+    /// (the width changing along X), not the centre line's slope (the half sums); it is the slope
+    /// only if your probe script records the -Y and +Y probes with opposite signs.
     ADir {
         /// z_{x,1},z_{x,2}
         #[arg(long, value_parser = pair, allow_hyphen_values = true)]
@@ -187,6 +192,19 @@ pub enum ProbeCommand {
         z2: f64,
         #[arg(long, default_value_t = probes::A_SCALING_DISTANCE)]
         distance: f64,
+    },
+    /// §5.1.7: the A axis' steps per degree from the α measured at A = +90° and −90°
+    /// (`a-scaling` at each), and the zero-point shift left.
+    ASteps {
+        /// α at A = +90°, degrees.
+        #[arg(long, allow_hyphen_values = true)]
+        alpha_plus: f64,
+        /// α at A = −90°, degrees.
+        #[arg(long, allow_hyphen_values = true)]
+        alpha_minus: f64,
+        /// The firmware's steps per degree when they were measured (M92 A…).
+        #[arg(long)]
+        steps_per_deg: f64,
     },
     /// §5.1.8: wobble z_d from z_shift and the Z of A^B_pos.
     Wobble {
@@ -309,6 +327,15 @@ fn probe_input(p: ProbeCommand) -> Result<ProbeInput, String> {
             d_f,
         },
         ProbeCommand::AScaling { z1, z2, distance } => ProbeInput::AScaling { z1, z2, distance },
+        ProbeCommand::ASteps {
+            alpha_plus,
+            alpha_minus,
+            steps_per_deg,
+        } => ProbeInput::AStepsPerDegree {
+            alpha_plus_deg: alpha_plus,
+            alpha_minus_deg: alpha_minus,
+            steps_per_deg,
+        },
         ProbeCommand::Wobble { z_shift, ab_z } => ProbeInput::Wobble { z_shift, ab_z },
     })
 }

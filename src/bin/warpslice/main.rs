@@ -71,6 +71,11 @@ mod cli {
             /// The unwarped G-code to write.
             #[arg(short, long)]
             output: PathBuf,
+            /// With --machine: also write the firmware configuration the G-code needs
+            /// (RepRapFirmware config.g lines, Marlin Configuration.h block, Klipper
+            /// printer.cfg sections, per --flavour) to this file, ready to paste.
+            #[arg(long)]
+            config_out: Option<PathBuf>,
         },
         /// Warp, slice with a real slicer installed here, and unwarp: the main job in one command.
         Run {
@@ -88,6 +93,11 @@ mod cli {
             /// next to it).
             #[arg(short, long)]
             output: PathBuf,
+            /// With --machine: also write the firmware configuration the G-code needs
+            /// (RepRapFirmware config.g lines, Marlin Configuration.h block, Klipper
+            /// printer.cfg sections, per --flavour) to this file, ready to paste.
+            #[arg(long)]
+            config_out: Option<PathBuf>,
         },
         /// Calibrate an A/B rotary table (seed 004): origin, probes, test prints, simulation.
         Calibrate {
@@ -264,6 +274,38 @@ mod cli {
         say!("wrote {}", output.display());
     }
 
+    /// `--config-out FILE`: the firmware configuration of the output, built before the unwarp
+    /// (a machine the flavour refuses fails here, before any file is written), written after
+    /// it (no fragment for a G-code that was not written).
+    fn firmware_config(
+        settings: &warpslice::pipeline::UnwarpSettings,
+        path: Option<&Path>,
+    ) -> Result<Option<(PathBuf, warpslice::machine::config::FirmwareConfig)>, String> {
+        let Some(path) = path else { return Ok(None) };
+        let c = settings
+            .output
+            .firmware_config()
+            .map_err(|e| e.to_string())?
+            .ok_or("--config-out needs --machine: 3-axis G-code needs no firmware configuration")?;
+        Ok(Some((path.to_path_buf(), c)))
+    }
+
+    fn write_config(
+        config: Option<(PathBuf, warpslice::machine::config::FirmwareConfig)>,
+    ) -> Result<(), String> {
+        if let Some((path, c)) = config {
+            write(&path, c.text.as_bytes())?;
+            say!(
+                "wrote {} ({} lines for {}'s {})",
+                path.display(),
+                c.text.lines().count(),
+                c.flavour.name(),
+                c.file
+            );
+        }
+        Ok(())
+    }
+
     fn run() -> Result<(), String> {
         let cli = Cli::parse();
         match cli.command {
@@ -281,6 +323,7 @@ mod cli {
                 unwarp,
                 stl,
                 output,
+                config_out,
             } => {
                 let job_file = job;
                 let job = files::read_job(&job_file).map_err(|e| files::in_file(&job_file, &e))?;
@@ -302,6 +345,7 @@ mod cli {
                     }
                     beside
                 });
+                let config = firmware_config(&settings, config_out.as_deref())?;
                 files::unwarp_file(
                     &gcode,
                     &job,
@@ -311,6 +355,7 @@ mod cli {
                     &mut Steps { bar: None },
                 )
                 .map_err(|e| files::in_file(&gcode, &e))?;
+                write_config(config)?;
             }
             Command::Run {
                 model,
@@ -319,7 +364,9 @@ mod cli {
                 warp,
                 unwarp,
                 output,
+                config_out,
             } => {
+                let config = firmware_config(&unwarp.settings, config_out.as_deref())?;
                 let kind: warpslice::slicer::SlicerKind = slicer
                     .parse()
                     .map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
@@ -341,6 +388,7 @@ mod cli {
                     &mut Steps { bar: None },
                 )
                 .map_err(|e| e.to_string())?;
+                write_config(config)?;
             }
             Command::Kinematics { direction, machine } => {
                 let m = machine_spec(&machine)?.build().map_err(|e| e.to_string())?;
