@@ -18,6 +18,7 @@
 //! `allow_collisions` writes the file and lists the findings instead of refusing it with
 //! [`crate::machine::MachineError::Collision`]).
 
+pub mod contact;
 pub mod material;
 pub mod solid;
 pub mod sweep;

@@ -20,6 +20,7 @@
 
 use glam::{DMat3, DVec3};
 
+use super::contact::ContactSurface;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use crate::emit::CollisionFinding;
@@ -56,6 +57,9 @@ struct Part {
     shape: Local,
     /// Farthest point from the tip, mm.
     reach: f64,
+    /// The part starts at the tip (the nozzle): the contact rule applies to it
+    /// ([`super::contact`]).
+    tip: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -105,10 +109,15 @@ impl Part {
                 (Local::Box { min, max }, min.abs().max(max.abs()).length())
             }
         };
+        let tip = match shape {
+            Local::Frustum { s0, .. } => s0 <= 0.0,
+            Local::Box { min, .. } => min.z <= 0.0,
+        };
         Part {
             name: p.name().to_string(),
             shape,
             reach,
+            tip,
         }
     }
 
@@ -165,6 +174,10 @@ pub struct Checker {
     material: Material,
     stats: CheckStats,
     findings: Vec<CollisionFinding>,
+    layer: u32,
+    /// The widest bead deposited so far (the contact surface's w), mm.
+    max_width: f64,
+    diag: bool,
 }
 
 impl std::fmt::Debug for Checker {
@@ -199,6 +212,9 @@ impl Checker {
             material: Material::new(),
             stats: CheckStats::default(),
             findings: Vec::new(),
+            layer: 0,
+            max_width: 0.0,
+            diag: std::env::var_os("WARPSLICE_COLLISION_DIAG").is_some(),
         })
     }
 
@@ -261,6 +277,7 @@ impl Checker {
         include_start: bool,
     ) -> Result<(), MachineError> {
         self.stats.moves += 1;
+        self.layer = layer;
         let at =
             |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
         let p0 = self.pose(from)?;
@@ -290,7 +307,31 @@ impl Checker {
             self.stats.samples += 1;
             for part in &self.parts {
                 let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
-                for (obstacle, depth, at) in self.penetrations(&solid) {
+                let contact = part
+                    .tip
+                    .then(|| ContactSurface::new(pose.p, pose.n, self.max_width));
+                for (obstacle, depth, at, bead) in self.penetrations(&solid, contact.as_ref()) {
+                    if self.diag {
+                        let lb = self.material.layer_of(bead);
+                        let class = if obstacle == "bed" {
+                            "bed"
+                        } else if bead as u64 == self.material.beads {
+                            "extended"
+                        } else if lb == Some(layer) {
+                            "same-layer"
+                        } else if lb.map(|l| l + 1) == Some(layer) {
+                            "below"
+                        } else {
+                            "older"
+                        };
+                        let q = DVec3::from_array(at) + DVec3::Z * depth;
+                        let sx = pose.n.dot(q - pose.p);
+                        eprintln!(
+                            "DIAG {line} {} {class} {depth:.3} {sx:.3} {:.1}",
+                            part.name,
+                            pose.n.angle_between(DVec3::Z).to_degrees()
+                        );
+                    }
                     match found
                         .iter_mut()
                         .find(|f| f.part == part.name && f.obstacle == obstacle)
@@ -318,42 +359,57 @@ impl Checker {
 
     /// The deepest overlap of `solid` with the material and with the bed (each only if above
     /// the contact tolerance): `(obstacle, depth, [x, y, z_in])`.
-    fn penetrations(&self, solid: &Posed) -> Vec<(&'static str, f64, [f64; 3])> {
+    fn penetrations(
+        &self,
+        solid: &Posed,
+        contact: Option<&ContactSurface>,
+    ) -> Vec<(&'static str, f64, [f64; 3], u32)> {
         let (lo, hi) = solid.aabb();
         let tol = CONTACT_TOLERANCE_MM;
         let mut out = Vec::new();
-        let mut best: Option<(f64, [f64; 3])> = None;
-        let consider = |h: f64, x: f64, y: f64, best: &mut Option<(f64, [f64; 3])>| {
-            if let Some((zi, zo)) = solid.column(x, y) {
-                let d = h.min(zo) - zi;
-                if d > tol && best.is_none_or(|(b, _)| d > b) {
-                    *best = Some((d, [x, y, zi]));
+        let mut best: Option<(f64, [f64; 3], u32)> = None;
+        let consider = |h: f64,
+                        x: f64,
+                        y: f64,
+                        bead: u32,
+                        contact: Option<&ContactSurface>,
+                        best: &mut Option<(f64, [f64; 3], u32)>| {
+                if let Some((zi, zo)) = solid.column(x, y) {
+                    let top = h.min(zo);
+                    let d = match contact {
+                        Some(c) => c.depth_above(x, y, zi, top),
+                        None => top - zi,
+                    };
+                    if d > tol && best.is_none_or(|(b, _, _)| d > b) {
+                        *best = Some((d, [x, y, zi], bead));
+                    }
                 }
-            }
-        };
+            };
         self.material.for_cells_above(
             (lo.x, lo.y, hi.x, hi.y),
             lo.z + tol,
             lo.z,
             |c, r| solid.distance(c) > r,
-            |i, j, h| consider(h, centre(i), centre(j), &mut best),
+            |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
         );
-        if let Some((d, at)) = best {
-            out.push(("material", d, at));
+        if let Some((d, at, bead)) = best {
+            out.push(("material", d, at, bead));
         }
         let top = self.bed.top();
         if lo.z < top - tol {
             let mut best = None;
+            // the bed is a plane, not beads: its contact surface has no half bead
+            let bed_contact = contact.map(|c| c.for_plane());
             for j in cell_of(lo.y)..=cell_of(hi.y) {
                 for i in cell_of(lo.x)..=cell_of(hi.x) {
                     let (x, y) = (centre(i), centre(j));
                     if self.bed.covers(x, y) {
-                        consider(top, x, y, &mut best);
+                        consider(top, x, y, 0, bed_contact.as_ref(), &mut best);
                     }
                 }
             }
-            if let Some((d, at)) = best {
-                out.push(("bed", d, at));
+            if let Some((d, at, _)) = best {
+                out.push(("bed", d, at, 0));
             }
         }
         out
@@ -362,6 +418,7 @@ impl Checker {
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
     /// sampled at the pieces the firmware's interpolation gives, each piece a straight bead.
     pub fn deposit(&mut self, from: &[f64], to: &[f64], width: f64) -> Result<(), MachineError> {
+        self.max_width = self.max_width.max(width);
         let a = self.pose(from)?;
         let b = self.pose(to)?;
         // a straight bead when the pose is fixed; pieces of at most a cell otherwise
@@ -380,7 +437,7 @@ impl Checker {
                 self.pose(&axes)?
             };
             let n = (prev.n + next.n).normalize_or(next.n);
-            self.material.deposit(prev.p, next.p, n, width);
+            self.material.deposit(prev.p, next.p, n, width, self.layer);
             prev = next;
         }
         Ok(())
