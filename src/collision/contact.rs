@@ -24,7 +24,10 @@
 //! and a collision above it. The depth of a finding on a vertical line (x, y) through the part
 //! is the length of the line that is both in the material, inside the part and above the
 //! contact surface: `top − max(z_in, t₀)`, `top = min(h, z_out)`, t₀ where the line crosses the
-//! contact surface. Every other part (heater block, heat sink, …) has no contact surface: any
+//! contact surface, less one layer height `h` when the material is the current layer's (the
+//! face presses the beads beside the one it lays by up to their own height: the RTN turning in
+//! place at the tip sweeps its tilted face through the end of the bead it has just laid, 0.17 mm
+//! on the 20 mm box). Every other part (heater block, heat sink, …) has no contact surface: any
 //! overlap is a collision.
 //!
 //! What the rule still finds: the tip pressed into material more than `(w/2)·tan β_max`

@@ -180,6 +180,36 @@ impl Material {
         }
     }
 
+    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
+    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
+    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
+    pub fn max_over(&self, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> f64 {
+        let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
+        let t = TILE as i64;
+        let b = BLOCK as i64;
+        let mut best = f64::NEG_INFINITY;
+        for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
+            for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
+                let Some(tile) = self.tiles.get(&(ti, tj)) else {
+                    continue;
+                };
+                if (tile.max as f64) <= best {
+                    continue;
+                }
+                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
+                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
+                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
+                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
+                for bj in bj0..=bj1 {
+                    for bi in bi0..=bi1 {
+                        best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
+                    }
+                }
+            }
+        }
+        best
+    }
+
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
     /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
     /// half_diagonal)` says the solid cannot reach the block's region from height `zlow` (the

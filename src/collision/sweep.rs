@@ -35,6 +35,9 @@ pub const SAMPLE_STEP_MM: f64 = 0.2;
 /// (mm) is the nozzle resting on the bead it prints on (3-decimal output rounding 0.0005 mm,
 /// the interpolation bound 0.02 mm, the flat tip against the neighbouring bead's edge).
 pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
+/// The layer height when the G-code gives none (`;HEIGHT:`), mm: the slicers' usual 0.2 mm
+/// (and `../shared/tools/slice.sh`'s).
+pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
 
@@ -177,6 +180,9 @@ pub struct Checker {
     layer: u32,
     /// The widest bead deposited so far (the contact surface's w), mm.
     max_width: f64,
+    /// The layer height the current layer's beads may be pressed by, mm
+    /// ([`super::contact`]).
+    layer_height: f64,
     diag: bool,
 }
 
@@ -214,8 +220,18 @@ impl Checker {
             findings: Vec::new(),
             layer: 0,
             max_width: 0.0,
+            layer_height: DEFAULT_LAYER_HEIGHT_MM,
             diag: std::env::var_os("WARPSLICE_COLLISION_DIAG").is_some(),
         })
+    }
+
+    /// The layer height of the beads deposited from now on (the slicer's `;HEIGHT:`), mm: the
+    /// depth by which the nozzle's face may press the current layer's beads (contact, see
+    /// [`super::contact`]). Values outside (0, 2] mm are ignored.
+    pub fn set_layer_height(&mut self, h: f64) {
+        if h > 0.0 && h <= 2.0 {
+            self.layer_height = h;
+        }
     }
 
     /// The machine checked.
@@ -302,15 +318,41 @@ impl Checker {
             n = (n * 2).min(MAX_SAMPLES);
         };
         let start = usize::from(!include_start);
+        let poses = &poses[start..];
+        // per part, over the whole move: can it reach the material or the bed at all? (the
+        // union of its boxes against the material's block maxima and the bed's top)
+        let tol = CONTACT_TOLERANCE_MM;
+        let reachable: Vec<(bool, bool)> = self
+            .parts
+            .iter()
+            .map(|part| {
+                let (mut lo, mut hi) =
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+                for pose in poses {
+                    let (l, h) = part.pose(pose.p, pose.n, pose.frame.as_ref()).aabb();
+                    lo = lo.min(l);
+                    hi = hi.max(h);
+                }
+                (
+                    self.material.max_over((lo.x, lo.y, hi.x, hi.y)) > lo.z + tol,
+                    lo.z < self.bed.top() - tol,
+                )
+            })
+            .collect();
         let mut found: Vec<CollisionFinding> = Vec::new();
-        for pose in &poses[start..] {
+        for pose in poses {
             self.stats.samples += 1;
-            for part in &self.parts {
+            for (part, &(mat, bed)) in self.parts.iter().zip(&reachable) {
+                if !mat && !bed {
+                    continue;
+                }
                 let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
                 let contact = part
                     .tip
                     .then(|| ContactSurface::new(pose.p, pose.n, self.max_width));
-                for (obstacle, depth, at, bead) in self.penetrations(&solid, contact.as_ref()) {
+                for (obstacle, depth, at, bead) in
+                    self.penetrations(&solid, contact.as_ref(), mat, bed)
+                {
                     if self.diag {
                         let lb = self.material.layer_of(bead);
                         let class = if obstacle == "bed" {
@@ -363,6 +405,8 @@ impl Checker {
         &self,
         solid: &Posed,
         contact: Option<&ContactSurface>,
+        material: bool,
+        bed: bool,
     ) -> Vec<(&'static str, f64, [f64; 3], u32)> {
         let (lo, hi) = solid.aabb();
         let tol = CONTACT_TOLERANCE_MM;
@@ -374,37 +418,55 @@ impl Checker {
                         bead: u32,
                         contact: Option<&ContactSurface>,
                         best: &mut Option<(f64, [f64; 3], u32)>| {
-                if let Some((zi, zo)) = solid.column(x, y) {
-                    let top = h.min(zo);
-                    let d = match contact {
-                        Some(c) => c.depth_above(x, y, zi, top),
-                        None => top - zi,
-                    };
-                    if d > tol && best.is_none_or(|(b, _, _)| d > b) {
-                        *best = Some((d, [x, y, zi], bead));
+            if let Some((zi, zo)) = solid.column(x, y) {
+                let top = h.min(zo);
+                let d = match contact {
+                    // the current layer's beads may be pressed by a layer height
+                    Some(c) => {
+                        let d = c.depth_above(x, y, zi, top);
+                        if d > tol && self.material.layer_of(bead) == Some(self.layer) {
+                            d - self.layer_height
+                        } else {
+                            d
+                        }
                     }
+                    None => top - zi,
+                };
+                if d > tol && best.is_none_or(|(b, _, _)| d > b) {
+                    *best = Some((d, [x, y, zi], bead));
                 }
-            };
-        self.material.for_cells_above(
-            (lo.x, lo.y, hi.x, hi.y),
-            lo.z + tol,
-            lo.z,
-            |c, r| solid.distance(c) > r,
-            |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
-        );
+            }
+        };
+        if material {
+            self.material.for_cells_above(
+                (lo.x, lo.y, hi.x, hi.y),
+                lo.z + tol,
+                lo.z,
+                |c, r| solid.distance(c) > r,
+                |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
+            );
+        }
         if let Some((d, at, bead)) = best {
             out.push(("material", d, at, bead));
         }
         let top = self.bed.top();
-        if lo.z < top - tol {
+        if bed && lo.z < top - tol {
             let mut best = None;
             // the bed is a plane, not beads: its contact surface has no half bead
             let bed_contact = contact.map(|c| c.for_plane());
-            for j in cell_of(lo.y)..=cell_of(hi.y) {
-                for i in cell_of(lo.x)..=cell_of(hi.x) {
-                    let (x, y) = (centre(i), centre(j));
-                    if self.bed.covers(x, y) {
-                        consider(top, x, y, 0, bed_contact.as_ref(), &mut best);
+            // without a contact surface the deepest overlap with a plane is under the solid's
+            // lowest point, when the bed is there (else the cells are scanned)
+            let low = solid.lowest();
+            if bed_contact.is_none() && self.bed.covers(low.x, low.y) {
+                consider(top, low.x, low.y, 0, None, &mut best);
+            }
+            if best.is_none() {
+                for j in cell_of(lo.y)..=cell_of(hi.y) {
+                    for i in cell_of(lo.x)..=cell_of(hi.x) {
+                        let (x, y) = (centre(i), centre(j));
+                        if self.bed.covers(x, y) {
+                            consider(top, x, y, 0, bed_contact.as_ref(), &mut best);
+                        }
                     }
                 }
             }
