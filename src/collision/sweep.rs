@@ -418,6 +418,10 @@ impl Checker {
                         bead: u32,
                         contact: Option<&ContactSurface>,
                         best: &mut Option<(f64, [f64; 3], u32)>| {
+            // the depth is at most h − z_in (the contact surface only takes from it)
+            if h - solid.floor_at(x, y) <= tol {
+                return;
+            }
             if let Some((zi, zo)) = solid.column(x, y) {
                 let top = h.min(zo);
                 let d = match contact {
@@ -438,8 +442,17 @@ impl Checker {
             }
         };
         if material {
+            // only the columns near the tip can reach the highest material under the solid
+            let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+            if let (Some(r), Posed::Frustum { o, .. }) = (
+                solid.radius_below(self.material.max_over((x0, y0, x1, y1)) - tol),
+                solid,
+            ) {
+                (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+                (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+            }
             self.material.for_cells_above(
-                (lo.x, lo.y, hi.x, hi.y),
+                (x0, y0, x1, y1),
                 lo.z + tol,
                 lo.z,
                 |c, r| solid.distance(c) > r,
@@ -459,10 +472,15 @@ impl Checker {
             let low = solid.lowest();
             if bed_contact.is_none() && self.bed.covers(low.x, low.y) {
                 consider(top, low.x, low.y, 0, None, &mut best);
-            }
-            if best.is_none() {
-                for j in cell_of(lo.y)..=cell_of(hi.y) {
-                    for i in cell_of(lo.x)..=cell_of(hi.x) {
+            } else {
+                let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+                if let (Some(r), Posed::Frustum { o, .. }) = (solid.radius_below(top - tol), solid)
+                {
+                    (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+                    (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+                }
+                for j in cell_of(y0)..=cell_of(y1) {
+                    for i in cell_of(x0)..=cell_of(x1) {
                         let (x, y) = (centre(i), centre(j));
                         if self.bed.covers(x, y) {
                             consider(top, x, y, 0, bed_contact.as_ref(), &mut best);
