@@ -295,7 +295,10 @@ fn rtn_rotate_around_sweeps_the_nozzle_into_the_part_at_1_mm_lift() {
     // may be pressed by (0.2 mm)
     let q = glam::DVec3::new(0.0, -2.125, z_in - 3.0);
     let axis = glam::DVec3::new(0.0, -45f64.to_radians().sin(), 45f64.to_radians().cos());
-    let (s_q, rho_q) = (axis.dot(q), (q.length_squared() - axis.dot(q).powi(2)).sqrt());
+    let (s_q, rho_q) = (
+        axis.dot(q),
+        (q.length_squared() - axis.dot(q).powi(2)).sqrt(),
+    );
     assert!(s_q > (rho_q + 0.225) * 30f64.to_radians().tan() + 1.0);
     let at_lean = 6.0 - z_in - 0.2;
     // the deepest over the turn is at least that one (sampled within 0.2 mm of it); at most

@@ -72,7 +72,9 @@ impl ContactSurface {
     /// The surface for the tip at `p`, tool axis `n` (unit), beads of width `width` (mm; 0 for
     /// the bed).
     pub fn new(p: DVec3, n: DVec3, width: f64) -> ContactSurface {
-        let tan_beta = crate::num::tan(crate::num::rad(MAX_FACE_TILT_DEG));
+        static TAN_BETA: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+        let tan_beta =
+            *TAN_BETA.get_or_init(|| crate::num::tan(crate::num::rad(MAX_FACE_TILT_DEG)));
         // cos θ − tan β sin θ > 0 (module documentation)
         let sin_t = (1.0 - n.z * n.z).max(0.0).sqrt();
         ContactSurface {
@@ -82,6 +84,42 @@ impl ContactSurface {
             tan_beta,
             monotone: n.z - tan_beta * sin_t > 0.0,
         }
+    }
+
+    /// A lower bound of the height of the points above the contact surface on the vertical
+    /// line through (x, y) (−∞: none known), cheap enough to skip a line before the exact test.
+    ///
+    /// A point `q` above the surface has `s > (ρ + c) T` (`c = w/2`, `T = tan β_max`), lies within
+    /// `s sin θ + ρ` of the tip horizontally (θ the tool's tilt) and has
+    /// `q_z − p_z ≥ s n_z − ρ sin θ`. For θ ≤ β_max (`T n_z ≥ sin θ`) that is smallest on the
+    /// surface at the least ρ that reaches the line's horizontal distance D:
+    /// `ρ_min = max(0, (D − c T sin θ)/(1 + T sin θ))`, giving
+    /// `p_z + ρ_min (T n_z − sin θ) + c T n_z`.
+    pub fn floor_at(&self, x: f64, y: f64) -> f64 {
+        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let t = self.tan_beta;
+        let gain = t * self.n.z - sin_t;
+        if gain < 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        let (dx, dy) = (x - self.p.x, y - self.p.y);
+        let d = (dx * dx + dy * dy).sqrt();
+        let rho = ((d - self.half_width * t * sin_t) / (1.0 + t * sin_t)).max(0.0);
+        self.p.z + rho * gain + self.half_width * t * self.n.z
+    }
+
+    /// A horizontal radius about the tip outside which no point above the contact surface is
+    /// below height `m` (`None`: none known): where [`ContactSurface::floor_at`] reaches `m`,
+    /// `D = ρ (1 + T sin θ) + c T sin θ` with `ρ = (m − p_z − c T n_z)/(T n_z − sin θ)`.
+    pub fn radius_below(&self, m: f64) -> Option<f64> {
+        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let t = self.tan_beta;
+        let gain = t * self.n.z - sin_t;
+        if gain <= 1e-12 {
+            return None;
+        }
+        let rho = ((m - self.p.z - self.half_width * t * self.n.z) / gain).max(0.0);
+        Some(rho * (1.0 + t * sin_t) + self.half_width * t * sin_t)
     }
 
     /// The same pose against a plane (the bed): no half bead (w = 0).
@@ -152,6 +190,26 @@ mod tests {
         // the bed (w = 0) under a tip 0.2 mm into it
         let bed = ContactSurface::new(DVec3::ZERO, DVec3::Z, 0.0);
         assert!((bed.depth_above(0.0, 0.0, 0.0, 0.2) - 0.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_floor_bound_is_below_every_point_above_the_contact_surface() {
+        // brute force over tilts, lines and heights: every point above the surface is above
+        // the bound
+        for tilt in [0.0f64, 10.0, 25.0, 30.0] {
+            let n = DVec3::new(tilt.to_radians().sin(), 0.0, tilt.to_radians().cos());
+            let c = ContactSurface::new(DVec3::new(1.0, 2.0, 3.0), n, 0.45);
+            for (x, y) in [(1.0, 2.0), (1.3, 2.0), (0.2, 2.5), (3.0, 0.0), (1.0, 4.0)] {
+                let floor = c.floor_at(x, y);
+                let mut z = -5.0;
+                while z < 10.0 {
+                    if c.excess(DVec3::new(x, y, z)) > 0.0 {
+                        assert!(z >= floor - 1e-9, "tilt {tilt} ({x}, {y}): {z} < {floor}");
+                    }
+                    z += 0.001;
+                }
+            }
+        }
     }
 
     #[test]

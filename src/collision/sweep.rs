@@ -160,6 +160,16 @@ impl Part {
     }
 }
 
+/// A material cell a part may reach during a move ([`Checker::swept_cells`]): its centre,
+/// top and bead.
+#[derive(Clone, Copy, Debug)]
+struct SweptCell {
+    x: f64,
+    y: f64,
+    h: f64,
+    bead: u32,
+}
+
 /// One sampled pose.
 #[derive(Clone, Copy, Debug)]
 struct Pose {
@@ -183,7 +193,6 @@ pub struct Checker {
     /// The layer height the current layer's beads may be pressed by, mm
     /// ([`super::contact`]).
     layer_height: f64,
-    diag: bool,
 }
 
 impl std::fmt::Debug for Checker {
@@ -221,7 +230,6 @@ impl Checker {
             layer: 0,
             max_width: 0.0,
             layer_height: DEFAULT_LAYER_HEIGHT_MM,
-            diag: std::env::var_os("WARPSLICE_COLLISION_DIAG").is_some(),
         })
     }
 
@@ -339,10 +347,26 @@ impl Checker {
                 )
             })
             .collect();
+        // a translation (the pose fixed): the cells each frustum part can reach over the
+        // whole move, found once
+        let fixed = p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
+        let swept: Vec<Option<Vec<SweptCell>>> = self
+            .parts
+            .iter()
+            .zip(&reachable)
+            .map(|(part, &(mat, _))| {
+                (fixed && mat)
+                    .then(|| self.swept_cells(part, &p0, &p1))
+                    .flatten()
+            })
+            .collect();
         let mut found: Vec<CollisionFinding> = Vec::new();
         for pose in poses {
             self.stats.samples += 1;
-            for (part, &(mat, bed)) in self.parts.iter().zip(&reachable) {
+            for ((part, &(mut mat, bed)), cells) in self.parts.iter().zip(&reachable).zip(&swept) {
+                if cells.as_ref().is_some_and(|c| c.is_empty()) {
+                    mat = false;
+                }
                 if !mat && !bed {
                     continue;
                 }
@@ -350,30 +374,9 @@ impl Checker {
                 let contact = part
                     .tip
                     .then(|| ContactSurface::new(pose.p, pose.n, self.max_width));
-                for (obstacle, depth, at, bead) in
-                    self.penetrations(&solid, contact.as_ref(), mat, bed)
+                for (obstacle, depth, at, _) in
+                    self.penetrations(&solid, contact.as_ref(), mat, cells.as_deref(), bed)
                 {
-                    if self.diag {
-                        let lb = self.material.layer_of(bead);
-                        let class = if obstacle == "bed" {
-                            "bed"
-                        } else if bead as u64 == self.material.beads {
-                            "extended"
-                        } else if lb == Some(layer) {
-                            "same-layer"
-                        } else if lb.map(|l| l + 1) == Some(layer) {
-                            "below"
-                        } else {
-                            "older"
-                        };
-                        let q = DVec3::from_array(at) + DVec3::Z * depth;
-                        let sx = pose.n.dot(q - pose.p);
-                        eprintln!(
-                            "DIAG {line} {} {class} {depth:.3} {sx:.3} {:.1}",
-                            part.name,
-                            pose.n.angle_between(DVec3::Z).to_degrees()
-                        );
-                    }
                     match found
                         .iter_mut()
                         .find(|f| f.part == part.name && f.obstacle == obstacle)
@@ -406,6 +409,7 @@ impl Checker {
         solid: &Posed,
         contact: Option<&ContactSurface>,
         material: bool,
+        cells: Option<&[SweptCell]>,
         bed: bool,
     ) -> Vec<(&'static str, f64, [f64; 3], u32)> {
         let (lo, hi) = solid.aabb();
@@ -419,7 +423,11 @@ impl Checker {
                         contact: Option<&ContactSurface>,
                         best: &mut Option<(f64, [f64; 3], u32)>| {
             // the depth is at most h − z_in (the contact surface only takes from it)
-            if h - solid.floor_at(x, y) <= tol {
+            let floor = match contact {
+                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
+                None => solid.floor_at(x, y),
+            };
+            if h - floor <= tol {
                 return;
             }
             if let Some((zi, zo)) = solid.column(x, y) {
@@ -441,13 +449,22 @@ impl Checker {
                 }
             }
         };
-        if material {
+        if let (true, Some(cells)) = (material, cells) {
+            for c in cells {
+                consider(c.h, c.x, c.y, c.bead, contact, &mut best);
+            }
+        } else if material {
             // only the columns near the tip can reach the highest material under the solid
             let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
-            if let (Some(r), Posed::Frustum { o, .. }) = (
-                solid.radius_below(self.material.max_over((x0, y0, x1, y1)) - tol),
-                solid,
+            let m = self.material.max_over((x0, y0, x1, y1)) - tol;
+            let r = match (
+                solid.radius_below(m),
+                contact.and_then(|c| c.radius_below(m)),
             ) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            if let (Some(r), Posed::Frustum { o, .. }) = (r, solid) {
                 (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
                 (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
             }
@@ -493,6 +510,80 @@ impl Checker {
             }
         }
         out
+    }
+
+    /// The material cells a frustum part can reach while it translates from pose `a` to `b`
+    /// (same tool axis and frame): `None` for other parts. The part's floor
+    /// ([`Posed::floor_at`], and the contact surface's for the tip part,
+    /// [`ContactSurface::floor_at`]) depends on the horizontal distance D from the tip only, and
+    /// grows with D; over the move a cell is at least `D_min` (its distance from the tip's
+    /// path) from the tip, and the tip at least as high as its lower end: the floor of the
+    /// part at that lowest tip, placed at the path's point nearest the cell, bounds every
+    /// sampled pose's floor from below, so a cell under it cannot be reached.
+    fn swept_cells(&self, part: &Part, a: &Pose, b: &Pose) -> Option<Vec<SweptCell>> {
+        let tol = CONTACT_TOLERANCE_MM;
+        let low_z = a.p.z.min(b.p.z);
+        let at = |xy: glam::DVec2| DVec3::new(xy.x, xy.y, low_z);
+        let sa = part.pose(a.p, a.n, a.frame.as_ref());
+        if !matches!(sa, Posed::Frustum { .. }) {
+            return None;
+        }
+        let sb = part.pose(b.p, b.n, b.frame.as_ref());
+        let (la, ha) = sa.aabb();
+        let (lb, hb) = sb.aabb();
+        let (lo, hi) = (la.min(lb), ha.max(hb));
+        let base = part.pose(at(a.p.truncate()), a.n, a.frame.as_ref());
+        let m = self.material.max_over((lo.x, lo.y, hi.x, hi.y)) - tol;
+        let contact = |tip: DVec3| {
+            part.tip
+                .then(|| ContactSurface::new(tip, a.n, self.max_width))
+        };
+        let r = match (
+            base.radius_below(m),
+            contact(at(a.p.truncate())).and_then(|c| c.radius_below(m)),
+        ) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        };
+        let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+        if let Some(r) = r {
+            x0 = x0.max(a.p.x.min(b.p.x) - r);
+            y0 = y0.max(a.p.y.min(b.p.y) - r);
+            x1 = x1.min(a.p.x.max(b.p.x) + r);
+            y1 = y1.min(a.p.y.max(b.p.y) + r);
+        }
+        let (pa, d) = (a.p.truncate(), (b.p - a.p).truncate());
+        let l2 = d.length_squared();
+        let mut cells = Vec::new();
+        self.material.for_cells_above(
+            (x0, y0, x1, y1),
+            lo.z + tol,
+            lo.z,
+            |_, _| false,
+            |i, j, h, bead| {
+                let c = glam::DVec2::new(centre(i), centre(j));
+                let t = if l2 > 0.0 {
+                    ((c - pa).dot(d) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let tip = at(pa + d * t);
+                let solid = part.pose(tip, a.n, a.frame.as_ref());
+                let mut floor = solid.floor_at(c.x, c.y);
+                if let Some(k) = contact(tip) {
+                    floor = floor.max(k.floor_at(c.x, c.y));
+                }
+                if h - floor > tol {
+                    cells.push(SweptCell {
+                        x: c.x,
+                        y: c.y,
+                        h,
+                        bead,
+                    });
+                }
+            },
+        );
+        Some(cells)
     }
 
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
