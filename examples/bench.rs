@@ -8,6 +8,9 @@
 //!    in the output — streamed in 1 MiB chunks through both passes into a file (memory bounded
 //!    by streaming): input MB/s and output lines/s.
 //!    Peak memory: VmHWM of this process (Linux), printed after each step.
+//! 3. the collision check: `unwarp --machine` of the same G-code into memory per preset,
+//!    without and with the check (`--presets a,b` runs only those): the time ratio and the
+//!    check's MB/s of output.
 //!
 //! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
 //! `bash scripts/bench-wasm.sh` (run this bench first).
@@ -200,5 +203,61 @@ mod native {
             lines_out as f64 / t_unwarp / 1e6,
             peak_mib()
         );
+
+        // 3. the collision check's cost: `unwarp --machine` of the same G-code into memory,
+        // without and with the check (with allow_collisions, so every move is checked even
+        // when the default head finds a collision)
+        let only: Option<String> = std::env::args().skip_while(|a| a != "--presets").nth(1);
+        for (name, place) in [
+            ("cartesian", None),
+            ("fullcontrol-prusa-b", None),
+            ("rtn-slicer4rtn", None),
+            ("pax-5axis", None),
+            ("open5x-ab", Some([0.0, 0.0])),
+            ("ratrig-vcore3-3z", None),
+        ] {
+            if only
+                .as_ref()
+                .is_some_and(|o| !o.split(',').any(|p| p == name))
+            {
+                continue;
+            }
+            let spec = warpslice::machine::preset(name).expect("preset");
+            let settings = |check: bool| {
+                let mut s = warpslice::pipeline::UnwarpSettings::with_machine(
+                    UnwarpOptions {
+                        place,
+                        ..UnwarpOptions::default()
+                    },
+                    spec.clone(),
+                );
+                s.output.no_collision_check = !check;
+                s.output.allow_collisions = true;
+                s
+            };
+            let run = |check: bool| {
+                let t = Instant::now();
+                let r = warpslice::pipeline::unwarp(&gcode, &w.job, &settings(check));
+                (t.elapsed().as_secs_f64(), r)
+            };
+            let (t_off, off) = run(false);
+            let (t_on, on) = run(true);
+            match (off, on) {
+                (Ok(off), Ok(on)) => {
+                    let found = on.report.machine.as_ref().map_or(0, |m| m.collisions.len());
+                    println!(
+                        "unwarp --machine {name}: {:.1} MB out in {t_off:.2} s; with the collision check {t_on:.2} s (×{:.2}, the check {:.1} MB/s of output; {found} findings)",
+                        off.gcode.len() as f64 / 1e6,
+                        t_on / t_off,
+                        off.gcode.len() as f64 / 1e6 / (t_on - t_off).max(1e-9),
+                    );
+                }
+                (a, b) => println!(
+                    "unwarp --machine {name}: refused ({:?} / {:?})",
+                    a.err().map(|e| e.to_string()),
+                    b.err().map(|e| e.to_string())
+                ),
+            }
+        }
     }
 }

@@ -193,6 +193,8 @@ pub struct Checker {
     /// The layer height the current layer's beads may be pressed by, mm
     /// ([`super::contact`]).
     layer_height: f64,
+    /// Stop checking after the first finding ([`Checker::stop_at_first`]).
+    stop: bool,
 }
 
 impl std::fmt::Debug for Checker {
@@ -230,6 +232,7 @@ impl Checker {
             layer: 0,
             max_width: 0.0,
             layer_height: DEFAULT_LAYER_HEIGHT_MM,
+            stop: false,
         })
     }
 
@@ -240,6 +243,12 @@ impl Checker {
         if h > 0.0 && h <= 2.0 {
             self.layer_height = h;
         }
+    }
+
+    /// Stop checking moves after the first finding (a refusal needs only it; the moves after
+    /// it are still deposited). Off by default: every finding is kept.
+    pub fn stop_at_first(&mut self, yes: bool) {
+        self.stop = yes;
     }
 
     /// The machine checked.
@@ -300,8 +309,11 @@ impl Checker {
         layer: u32,
         include_start: bool,
     ) -> Result<(), MachineError> {
-        self.stats.moves += 1;
         self.layer = layer;
+        if self.stop && !self.findings.is_empty() {
+            return Ok(());
+        }
+        self.stats.moves += 1;
         let at =
             |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
         let p0 = self.pose(from)?;

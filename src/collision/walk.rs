@@ -71,6 +71,11 @@ impl Walker {
         })
     }
 
+    /// Stop checking after the first finding ([`Checker::stop_at_first`]): enough to refuse.
+    pub fn stop_at_first(&mut self, yes: bool) {
+        self.checker.stop_at_first(yes);
+    }
+
     /// The checker (findings, counts, material).
     pub fn checker(&self) -> &Checker {
         &self.checker

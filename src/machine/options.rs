@@ -20,11 +20,13 @@ pub struct MachineOptions {
     pub feed: FeedMode,
     /// `--flavour`: the firmware (overrides the machine's).
     pub flavour: Option<Flavour>,
-    /// `--check-collisions`: sweep the machine's head along every output move against the
-    /// material printed so far and the bed (`crate::collision`). Off by default for now.
-    pub check_collisions: bool,
-    /// `--allow-collisions`: with the check on, write the file and list every finding (in the
-    /// report and as comments at its end) instead of refusing it (`machine.collision`).
+    /// `--no-collision-check` (**unsafe**): skip the collision check, which otherwise sweeps the
+    /// machine's head along every output move against the material printed so far and the bed
+    /// (`crate::collision`) and refuses the file on a collision (`machine.collision`). The check
+    /// is on by default for every machine output.
+    pub no_collision_check: bool,
+    /// `--allow-collisions`: write the file and list every finding (in the report and as
+    /// comments at its end) instead of refusing it (`machine.collision`).
     pub allow_collisions: bool,
 }
 
@@ -50,6 +52,11 @@ fn machine_from_json<'de, D: serde::Deserializer<'de>>(
 }
 
 impl MachineOptions {
+    /// Whether the collision check runs: a machine output without `no_collision_check`.
+    pub fn checks_collisions(&self) -> bool {
+        self.machine.is_some() && !self.no_collision_check
+    }
+
     /// The emitter these options ask for: 3-axis, or the machine's.
     pub fn emitter(&self) -> Result<Box<dyn Emitter>, MachineError> {
         Ok(match &self.machine {
@@ -70,12 +77,12 @@ pub const PARAMS: &[Param] = &[
         .choices(&["reprapfirmware", "marlin", "klipper"])
         .optional()
         .help("the firmware the output is for (default: the machine's, else reprapfirmware)"),
-    Param::number("check_collisions", "--check-collisions", "Check collisions")
+    Param::number("no_collision_check", "--no-collision-check", "Skip the collision check (unsafe)")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; refuse the file on a collision"),
+        .help("UNSAFE: do not sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; by default a collision refuses the file"),
     Param::number("allow_collisions", "--allow-collisions", "Allow collisions")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("with --check-collisions: write the file anyway and list every collision found"),
+        .help("write the file even when the head collides, and list every collision found (report and comments at the end of the file)"),
 ];
