@@ -9,6 +9,9 @@
 //! the bed at 25° near the plate's edge (and not beyond it); a clean file (a printed pad)
 //! reporting nothing; the lathe refused by name.
 
+#[path = "common/synthetic.rs"]
+mod synthetic;
+
 use warpslice::collision::{check_gcode, refusal, CONTACT_TOLERANCE_MM};
 use warpslice::emit::CollisionFinding;
 use warpslice::error::Coded;
@@ -333,4 +336,138 @@ fn machine_file_head_and_bed_parse_and_misspelt_keys_are_refused() {
         .unwrap_err();
     assert_eq!(e.code(), "machine.bad-spec");
     assert!(e.to_string().contains("nozzle"), "{e}");
+}
+
+#[test]
+fn a_vertical_nozzle_riding_a_30_degree_slope_is_contact_not_collision() {
+    // the false positive of the first version (issue 10): a 3-axis nozzle printing a layer
+    // that rises 30° in +X, lines along Y side by side, each layer once uphill and once
+    // downhill (so the face meets both the bead below and the uphill neighbour it just laid);
+    // the nozzle's flat face rides the beads (contact rule, src/collision/contact.rs), the
+    // cone and the heater block (4.5 mm up, 14 mm towards +X: the slope is 0.58 mm per mm, the
+    // pad only 3 mm wide) stay clear
+    let spec = preset("cartesian").unwrap();
+    let t30 = 30f64.to_radians().tan();
+    // `low`: how far below the slope the last layer is printed, mm; its first line's number
+    let slope = |low: f64| {
+        let mut g = Gcode::default();
+        g.line("M83");
+        g.line(";WIDTH:0.45");
+        g.line(";HEIGHT:0.2");
+        g.line("G1 Z5");
+        let xs: Vec<f64> = (0..7).map(|i| 10.0 + 0.45 * i as f64).collect();
+        let mut first = 0;
+        for k in 1..=6 {
+            g.line(";LAYER_CHANGE");
+            let order: Vec<f64> = if k % 2 == 0 {
+                xs.iter().rev().copied().collect()
+            } else {
+                xs.clone()
+            };
+            for x in order {
+                let dz = if k == 6 { low } else { 0.0 };
+                let z = 0.2 * k as f64 + (x - 10.0) * t30 - dz;
+                g.line(&format!("G1 X{x:.3} Y10 Z{:.3}", z + 1.0));
+                let l = g.line(&format!("G1 Z{z:.3}"));
+                if k == 6 && first == 0 {
+                    first = l;
+                }
+                g.line("G1 Y30 E1");
+                g.line(&format!("G1 Z{:.3}", z + 1.0));
+            }
+        }
+        (g.text, first)
+    };
+    let (text, _) = slope(0.0);
+    let f = findings(&text, &spec);
+    assert!(f.is_empty(), "a 30° slope reported {f:?}");
+    // the last layer printed 0.6 mm too low: its first descent pushes the tip 0.4 mm into the
+    // layer below (more than the contact surface's (w/2)·tan 30° = 0.13 mm straight under
+    // the face): found on that line
+    let (text, first) = slope(0.6);
+    let f = findings(&text, &spec);
+    assert_eq!(
+        f.first().map(|f| (f.line, f.part.as_str())),
+        Some((first, "nozzle")),
+        "{f:?}"
+    );
+}
+
+/// The CLI's default: a machine output that collides is refused naming the first finding's
+/// output line; `--allow-collisions` writes it and lists every finding as comments at its
+/// end, the same findings as the library's check of the written file; `--no-collision-check`
+/// writes it without a check. The part: the conic 20 mm cube (30° outward) on the cartesian
+/// preset, whose heater block (14 mm towards +X, 4.5 mm up) meets the cone's rising layers.
+#[test]
+fn the_cli_refuses_a_colliding_machine_output_by_default() {
+    let w = synthetic::conic_cube();
+    let dir = std::env::temp_dir().join(format!("warpslice-collision-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gcode, job, out) = (
+        dir.join("in.gcode"),
+        dir.join("job.json"),
+        dir.join("out.gcode"),
+    );
+    std::fs::write(&gcode, synthetic::gcode(&w.job, true, 1.0)).unwrap();
+    std::fs::write(&job, w.job.to_json_pretty()).unwrap();
+    let run = |extra: &[&str]| {
+        let _ = std::fs::remove_file(&out);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+            .arg("unwarp")
+            .arg(&gcode)
+            .arg("--job")
+            .arg(&job)
+            .args(["--machine", "cartesian", "-o"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let spec = preset("cartesian").unwrap();
+    // --allow-collisions: written, every finding listed
+    let (ok, err) = run(&["--allow-collisions"]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let listed: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("; warpslice collision: "))
+        .collect();
+    // the library's check of the file as written, before the listed comments
+    let body: String = text
+        .lines()
+        .filter(|l| !l.starts_with("; warpslice collision: "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let f = findings(&body, &spec);
+    assert!(!f.is_empty(), "the conic cube's heater block must collide");
+    assert_eq!(listed.len(), f.len(), "{listed:?}");
+    for (l, f) in listed.iter().zip(&f) {
+        assert!(
+            l.starts_with(&format!(
+                "; warpslice collision: line {} layer {}: {} into {}",
+                f.line, f.layer, f.part, f.obstacle
+            )),
+            "{l} vs {f:?}"
+        );
+    }
+    // default: refused, naming the first finding
+    let (ok, err) = run(&[]);
+    assert!(!ok, "a colliding output was written");
+    assert!(
+        err.contains(&format!(
+            "output line {} (layer {}): the {} goes",
+            f[0].line, f[0].layer, f[0].part
+        )) && err.contains("--allow-collisions"),
+        "{err}"
+    );
+    // --no-collision-check: written, nothing listed
+    let (ok, err) = run(&["--no-collision-check"]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!text.contains("; warpslice collision: "));
+    let _ = std::fs::remove_dir_all(&dir);
 }
