@@ -14,9 +14,11 @@
 //! ## Depth
 //! For each sampled pose and part, every height-field cell under the part: the vertical line
 //! through its centre enters the part at `z_in`, leaves at `z_out`; the material fills the
-//! column up to `h`; the overlap is `min(h, z_out) − z_in`. The bed is a column up to its top
-//! over its plate. A finding is an overlap above [`CONTACT_TOLERANCE_MM`], kept per (move,
-//! part, obstacle) with its largest depth.
+//! column up to `h`; the overlap is `min(h, z_out) − z_in`; for the nozzle (the part that
+//! starts at the tip) only the part of it above the contact surface counts, less a layer height
+//! for the current layer's beads ([`super::contact`]). The bed is a column up to its top over
+//! its plate. A finding is an overlap above [`CONTACT_TOLERANCE_MM`], kept per (move, part,
+//! obstacle) with its largest depth.
 
 use glam::{DMat3, DVec3};
 
@@ -31,9 +33,10 @@ use crate::num;
 /// Largest displacement of any head point between two sampled poses of a move, mm: half the
 /// thinnest line width (0.4 mm) the check is built for.
 pub const SAMPLE_STEP_MM: f64 = 0.2;
-/// Contact, not collision: an overlap of a part with the material or the bed up to this depth
-/// (mm) is the nozzle resting on the bead it prints on (3-decimal output rounding 0.0005 mm,
-/// the interpolation bound 0.02 mm, the flat tip against the neighbouring bead's edge).
+/// Overlaps up to this depth (mm) are not reported: the 3-decimal output rounding (0.0005 mm),
+/// the firmware interpolation bound (0.02 mm) and the height field's f32 heights, with margin.
+/// The nozzle's contact with the layer it prints is the contact surface's business
+/// ([`super::contact`]), not this tolerance's.
 pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
 /// The layer height when the G-code gives none (`;HEIGHT:`), mm: the slicers' usual 0.2 mm
 /// (and `../shared/tools/slice.sh`'s).

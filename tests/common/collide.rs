@@ -1,7 +1,7 @@
 //! An independent confirmation of a collision finding (issue 10 §5, "refused with a named
 //! finding that an independent test helper confirms"). It shares nothing with
 //! `warpslice::collision`: its own G-code reading, the tests' forward kinematics
-//! ([`super::fk::Fk`]), the head's solids read from the machine file's data (`MachineSpec::head`,
+//! ([`super::machine::fk::Fk`]), the head's solids read from the machine file's data (`MachineSpec::head`,
 //! `bed`: the JSON, or the kind's documented defaults), printed material as **points** of the
 //! beads (not a height field), and a point-in-solid test per part.
 //!
@@ -27,7 +27,7 @@ use glam::{DMat3, DVec3};
 use warpslice::machine::head::{BedSpec, HeadPart};
 use warpslice::machine::MachineSpec;
 
-use super::fk::Fk;
+use super::machine::fk::Fk;
 
 /// Spacing of the bead samples along the path, mm (a quarter of the line width).
 pub const STEP_MM: f64 = 0.1;
