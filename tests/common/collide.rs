@@ -242,10 +242,10 @@ pub fn confirm(
             .collect();
         let get = |l: &str| words.iter().find(|(k, _)| k == l).map(|(_, v)| *v);
         match (get("G"), get("M")) {
-            (_, Some(m)) if m == 82.0 => rel_e = false,
-            (_, Some(m)) if m == 83.0 => rel_e = true,
-            (Some(g), _) if g == 91.0 => return Err("G91 is not read by this helper".into()),
-            (Some(g), _) if g == 92.0 => {
+            (_, Some(82.0)) => rel_e = false,
+            (_, Some(83.0)) => rel_e = true,
+            (Some(91.0), _) => return Err("G91 is not read by this helper".into()),
+            (Some(92.0), _) => {
                 if let Some(e) = get("E") {
                     e_last = e;
                 }
