@@ -8,6 +8,9 @@
 //!    in the output — streamed in 1 MiB chunks through both passes into a file (memory bounded
 //!    by streaming): input MB/s and output lines/s.
 //!    Peak memory: VmHWM of this process (Linux), printed after each step.
+//! 3. the collision check: `unwarp --machine` of the same G-code into memory per preset,
+//!    without and with the check as by default (`--presets a,b` runs only those): the time
+//!    ratio, and whether the default head passed or was refused (at its first finding).
 //!
 //! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
 //! `bash scripts/bench-wasm.sh` (run this bench first).
@@ -200,5 +203,53 @@ mod native {
             lines_out as f64 / t_unwarp / 1e6,
             peak_mib()
         );
+
+        // 3. the collision check's cost: `unwarp --machine` of the same G-code into memory,
+        // with the check off (--no-collision-check) and as by default (on: refused at the first
+        // finding, so a refused file costs only the walk up to it)
+        let only: Option<String> = std::env::args().skip_while(|a| a != "--presets").nth(1);
+        for (name, place) in [
+            ("cartesian", None),
+            ("fullcontrol-prusa-b", None),
+            ("rtn-slicer4rtn", None),
+            ("pax-5axis", None),
+            ("open5x-ab", Some([0.0, 0.0])),
+            ("ratrig-vcore3-3z", None),
+        ] {
+            if only
+                .as_ref()
+                .is_some_and(|o| !o.split(',').any(|p| p == name))
+            {
+                continue;
+            }
+            let spec = warpslice::machine::preset(name).expect("preset");
+            let run = |check: bool| {
+                let mut s = warpslice::pipeline::UnwarpSettings::with_machine(
+                    UnwarpOptions {
+                        place,
+                        ..UnwarpOptions::default()
+                    },
+                    spec.clone(),
+                );
+                s.output.no_collision_check = !check;
+                let t = Instant::now();
+                let r = warpslice::pipeline::unwarp(&gcode, &w.job, &s);
+                (t.elapsed().as_secs_f64(), r)
+            };
+            let (t_off, off) = run(false);
+            let (t_on, on) = run(true);
+            let mb = off.as_ref().map_or(0.0, |o| o.gcode.len() as f64 / 1e6);
+            let verdict = match on {
+                Ok(_) => "passed: no collision".to_string(),
+                Err(e) => format!(
+                    "refused: {}",
+                    e.to_string().chars().take(110).collect::<String>()
+                ),
+            };
+            println!(
+                "unwarp --machine {name}: {mb:.1} MB out in {t_off:.2} s; with the collision check (default) {t_on:.2} s (×{:.2}); {verdict}",
+                t_on / t_off
+            );
+        }
     }
 }

@@ -39,6 +39,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use glam::DVec3;
+use warpslice::error::Coded;
 use warpslice::machine::{preset, preset_names, MachineSpec};
 
 use warpslice::pipeline::warp_model;
@@ -429,6 +430,34 @@ fn machine_case(
     );
     let out = match unwarp_with_stl(input, expect.job, &opts, Some(stl)) {
         Ok(out) => out,
+        Err(e) if e.code() == "machine.collision" => {
+            // the collision check (on by default) refused it: the file written anyway
+            // (--allow-collisions) and its first finding, confirmed by the independent helper
+            // (tests/common/collide.rs: the tests' kinematics, bead points, the head's solids)
+            let mut allow = opts.clone();
+            allow.output.allow_collisions = true;
+            let out = unwarp_with_stl(input, expect.job, &allow, Some(stl))
+                .map_err(|e| format!("refused ({e}), and refused again with allow_collisions"))?;
+            let f = out
+                .report
+                .machine
+                .as_ref()
+                .and_then(|m| m.collisions.first().cloned())
+                .ok_or(format!(
+                    "refused ({e}) but no finding with allow_collisions"
+                ))?;
+            let text = String::from_utf8_lossy(&out.gcode);
+            return match common::collide::confirm(
+                &spec,
+                &text,
+                f.line as usize,
+                &f.part,
+                &f.obstacle,
+            ) {
+                Ok(_) => Ok(None),
+                Err(why) => Err(format!("refused ({e}), not confirmed independently: {why}")),
+            };
+        }
         Err(e) => {
             let text = e.to_string();
             if !(text.contains("cannot be reached") || text.contains("outside its travel")) {

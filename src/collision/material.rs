@@ -31,6 +31,8 @@ const BLOCKS: usize = TILE / BLOCK;
 /// One tile of the height field.
 struct Tile {
     h: Vec<f32>,
+    /// The bead (1-based index in file order, 0: none) whose top is the cell's height.
+    owner: Vec<u32>,
     block_max: [f32; BLOCKS * BLOCKS],
     max: f32,
 }
@@ -39,6 +41,7 @@ impl Tile {
     fn new() -> Tile {
         Tile {
             h: vec![f32::NEG_INFINITY; TILE * TILE],
+            owner: vec![0; TILE * TILE],
             block_max: [f32::NEG_INFINITY; BLOCKS * BLOCKS],
             max: f32::NEG_INFINITY,
         }
@@ -54,6 +57,8 @@ pub struct Material {
     tiles: HashMap<(i64, i64), Tile>,
     /// Beads deposited.
     pub beads: u64,
+    /// `(first bead, layer)` of every layer deposited, in file order (layers only grow).
+    layer_starts: Vec<(u32, u32)>,
 }
 
 impl std::fmt::Debug for Material {
@@ -101,7 +106,16 @@ impl Material {
         }
     }
 
-    fn raise(&mut self, i: i64, j: i64, z: f64) {
+    /// The layer of bead `bead` (1-based, as [`Material::for_cells_above`] gives it; 0: none).
+    pub fn layer_of(&self, bead: u32) -> Option<u32> {
+        if bead == 0 {
+            return None;
+        }
+        let k = self.layer_starts.partition_point(|(b, _)| *b <= bead);
+        k.checked_sub(1).map(|k| self.layer_starts[k].1)
+    }
+
+    fn raise(&mut self, i: i64, j: i64, z: f64, bead: u32) {
         let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
         let t = self.tiles.entry((ti, tj)).or_insert_with(Tile::new);
         let (ci, cj) = (
@@ -112,16 +126,21 @@ impl Material {
         let c = &mut t.h[cj * TILE + ci];
         if z > *c {
             *c = z;
+            t.owner[cj * TILE + ci] = bead;
             let b = &mut t.block_max[(cj / BLOCK) * BLOCKS + ci / BLOCK];
             *b = b.max(z);
             t.max = t.max.max(z);
         }
     }
 
-    /// Deposit the bead of width `w` from tip `p0` to `p1` printed with tool axis `n` (see the
-    /// module documentation).
-    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, n: DVec3, w: f64) {
+    /// Deposit the bead of width `w` from tip `p0` to `p1` printed with tool axis `n` in layer
+    /// `layer` (see the module documentation); its index is the new [`Material::beads`].
+    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, n: DVec3, w: f64, layer: u32) {
         self.beads += 1;
+        let bead = self.beads.min(u32::MAX as u64) as u32;
+        if self.layer_starts.last().is_none_or(|(_, l)| *l != layer) {
+            self.layer_starts.push((bead, layer));
+        }
         let d = p1 - p0;
         let u = n.cross(d);
         let u = if u.length() > 1e-9 {
@@ -156,22 +175,53 @@ impl Material {
                 } else {
                     0.0
                 };
-                self.raise(i, j, on.z + lambda * u.z);
+                self.raise(i, j, on.z + lambda * u.z, bead);
             }
         }
+    }
+
+    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
+    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
+    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
+    pub fn max_over(&self, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> f64 {
+        let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
+        let t = TILE as i64;
+        let b = BLOCK as i64;
+        let mut best = f64::NEG_INFINITY;
+        for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
+            for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
+                let Some(tile) = self.tiles.get(&(ti, tj)) else {
+                    continue;
+                };
+                if (tile.max as f64) <= best {
+                    continue;
+                }
+                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
+                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
+                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
+                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
+                for bj in bj0..=bj1 {
+                    for bi in bi0..=bi1 {
+                        best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
+                    }
+                }
+            }
+        }
+        best
     }
 
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
     /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
     /// half_diagonal)` says the solid cannot reach the block's region from height `zlow` (the
-    /// solid's lowest point) to the block's top; `visit(i, j, top)`.
+    /// solid's lowest point) to the block's top; `visit(i, j, top, bead)` (the bead whose top it
+    /// is).
     pub fn for_cells_above(
         &self,
         (x0, y0, x1, y1): (f64, f64, f64, f64),
         above: f64,
         zlow: f64,
         mut far: impl FnMut(DVec3, f64) -> bool,
-        mut visit: impl FnMut(i64, i64, f64),
+        mut visit: impl FnMut(i64, i64, f64, u32),
     ) {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
         let t = TILE as i64;
@@ -216,7 +266,7 @@ impl Material {
                                 let ci = (i - ti * t) as usize;
                                 let h = tile.h[cj * TILE + ci] as f64;
                                 if h > above {
-                                    visit(i, j, h);
+                                    visit(i, j, h, tile.owner[cj * TILE + ci]);
                                 }
                             }
                         }

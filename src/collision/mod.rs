@@ -4,9 +4,11 @@
 //! - [`solid`]: a head part placed in the output frame (frustum or oriented box): where a
 //!   vertical line crosses it, its distance from a point.
 //! - [`material`]: the printed material, a sparse height field of the bead tops.
+//! - [`contact`]: where the nozzle's flat face may touch the material it prints on (the
+//!   contact surface `s ≤ (ρ + w/2)·tan 30°`, and a layer height into the current layer).
 //! - [`sweep`]: the [`Checker`]: poses sampled along a move (every head point moves at most
-//!   [`SAMPLE_STEP_MM`] between samples), the overlap of each part with material and bed,
-//!   contact up to [`CONTACT_TOLERANCE_MM`] allowed.
+//!   [`SAMPLE_STEP_MM`] between samples), the overlap of each part with material and bed
+//!   beyond the contact surface, up to [`CONTACT_TOLERANCE_MM`] not reported.
 //! - [`walk`]: a machine G-code through the checker ([`check_gcode`], [`Walker`] for streams).
 //!
 //! Everything happens in the **output frame** (the part's): the material and the bed do not
@@ -14,10 +16,20 @@
 //! ([`crate::machine::Machine::forward`], [`crate::machine::Machine::head_frame`]), so a
 //! turning table and a turning head are the same question.
 //!
-//! The unwarp runs it when the machine options ask (`check_collisions`, off by default;
+//! The unwarp runs it on every machine output (`no_collision_check`, unsafe, skips it;
 //! `allow_collisions` writes the file and lists the findings instead of refusing it with
-//! [`crate::machine::MachineError::Collision`]).
+//! [`crate::machine::MachineError::Collision`] at the first one).
+//!
+//! ## Speed
+//! Per move and part, the union of the part's boxes over the move against the material's block
+//! maxima skips parts that cannot reach anything; a translation (the pose fixed) finds the cells
+//! its frustum parts can reach once ([`Checker`]'s swept cells, from the parts' floor bounds
+//! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]); per pose only cells
+//! within the tip radius under which the part can reach the highest material are visited. The
+//! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
+//! --machine`.
 
+pub mod contact;
 pub mod material;
 pub mod solid;
 pub mod sweep;

@@ -84,6 +84,115 @@ impl Posed {
         }
     }
 
+    /// A lower bound of where the vertical line through (x, y) enters the solid (+∞: it
+    /// cannot; −∞: no bound known), cheap enough to try before [`Posed::column`].
+    ///
+    /// Frustum (s0 ≥ 0): a point `q = o + s a + v` of it (`v ⟂ a`, `|v| ≤ r(s)`, θ the axis'
+    /// tilt from vertical) lies within `s sin θ + r(s)` of the tip horizontally, so the line at
+    /// horizontal distance D meets only `s ≥ s_min = (D − r0 + k s0)/(sin θ + k)`; and
+    /// `q_z ≥ o_z + s a_z − r(s) sin θ`, linear in s, so the bound is the smaller of its values
+    /// at `max(s0, s_min)` and `s1`.
+    pub fn floor_at(&self, x: f64, y: f64) -> f64 {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => {
+                if s0 < 0.0 {
+                    return f64::NEG_INFINITY;
+                }
+                let (dx, dy) = (x - o.x, y - o.y);
+                let d = (dx * dx + dy * dy).sqrt();
+                let sin_t = (1.0 - a.z * a.z).max(0.0).sqrt();
+                let denom = sin_t + k;
+                let s_min = if denom > DEGENERATE {
+                    ((d - r0 + k * s0) / denom).max(s0)
+                } else if d <= r0 {
+                    s0
+                } else {
+                    return f64::INFINITY;
+                };
+                if s_min > s1 {
+                    return f64::INFINITY;
+                }
+                let f = |s: f64| o.z + s * a.z - (r0 + k * (s - s0)) * sin_t;
+                f(s_min).min(f(s1))
+            }
+            Posed::Box { .. } => f64::NEG_INFINITY,
+        }
+    }
+
+    /// A horizontal radius about the tip `o` outside which the solid lies above height `m`
+    /// (`None`: no such bound known): where [`Posed::floor_at`] exceeds `m`. With
+    /// `f(s) = o_z + s a_z − r(s) sin θ` increasing (`a_z ≥ k sin θ`), `f(s*) = m` gives
+    /// `s* = (m − o_z + (r0 − k s0) sin θ)/(a_z − k sin θ)` and the radius
+    /// `D* = s* (sin θ + k) + r0 − k s0`.
+    pub fn radius_below(&self, m: f64) -> Option<f64> {
+        match *self {
+            Posed::Frustum {
+                o, a, s0, r0, k, ..
+            } => {
+                let sin_t = (1.0 - a.z * a.z).max(0.0).sqrt();
+                let slope = a.z - k * sin_t;
+                if s0 < 0.0 || slope <= DEGENERATE {
+                    return None;
+                }
+                let s = ((m - o.z + (r0 - k * s0) * sin_t) / slope).max(s0);
+                Some(s * (sin_t + k) + r0 - k * s0)
+            }
+            Posed::Box { .. } => None,
+        }
+    }
+
+    /// The solid's lowest point (one of them): for a frustum the lower of its end discs' lowest
+    /// points `c − r·h`, `h` the unit of `e_z − a_z a` (steepest ascent in the disc's plane);
+    /// for a box its lowest corner.
+    pub fn lowest(&self) -> DVec3 {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => {
+                let up = DVec3::Z - a * a.z;
+                let h = if up.length() > DEGENERATE {
+                    up.normalize()
+                } else {
+                    DVec3::ZERO
+                };
+                let low0 = o + a * s0 - h * r0;
+                let low1 = o + a * s1 - h * (r0 + k * (s1 - s0));
+                if low0.z <= low1.z {
+                    low0
+                } else {
+                    low1
+                }
+            }
+            Posed::Box { o, r, min, max } => {
+                let mut best = DVec3::splat(f64::INFINITY);
+                for c in 0..8 {
+                    let l = DVec3::new(
+                        if c & 1 == 0 { min.x } else { max.x },
+                        if c & 2 == 0 { min.y } else { max.y },
+                        if c & 4 == 0 { min.z } else { max.z },
+                    );
+                    let w = o + r * l;
+                    if w.z < best.z {
+                        best = w;
+                    }
+                }
+                best
+            }
+        }
+    }
+
     /// Where the vertical line through (x, y) is inside: `(z_in, z_out)`, or `None`.
     pub fn column(&self, x: f64, y: f64) -> Option<(f64, f64)> {
         match *self {
@@ -140,14 +249,22 @@ impl Posed {
                         }
                     }
                 }
-                let mut ts: Vec<f64> = pts
-                    .iter()
-                    .copied()
-                    .filter(|t| t.is_finite() && *t >= ta && *t <= tb)
-                    .collect();
-                ts.sort_by(f64::total_cmp);
+                // the candidate ends in order (no allocation: at most four)
+                let mut ts = [0.0; 4];
+                let mut m = 0;
+                for t in pts {
+                    if t.is_finite() && t >= ta && t <= tb {
+                        let mut k = m;
+                        while k > 0 && ts[k - 1] > t {
+                            ts[k] = ts[k - 1];
+                            k -= 1;
+                        }
+                        ts[k] = t;
+                        m += 1;
+                    }
+                }
                 let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for p in ts.windows(2) {
+                for p in ts[..m].windows(2) {
                     if f(0.5 * (p[0] + p[1])) <= 0.0 {
                         lo = lo.min(p[0]);
                         hi = hi.max(p[1]);

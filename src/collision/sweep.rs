@@ -14,12 +14,15 @@
 //! ## Depth
 //! For each sampled pose and part, every height-field cell under the part: the vertical line
 //! through its centre enters the part at `z_in`, leaves at `z_out`; the material fills the
-//! column up to `h`; the overlap is `min(h, z_out) − z_in`. The bed is a column up to its top
-//! over its plate. A finding is an overlap above [`CONTACT_TOLERANCE_MM`], kept per (move,
-//! part, obstacle) with its largest depth.
+//! column up to `h`; the overlap is `min(h, z_out) − z_in`; for the nozzle (the part that
+//! starts at the tip) only the part of it above the contact surface counts, less a layer height
+//! for the current layer's beads ([`super::contact`]). The bed is a column up to its top over
+//! its plate. A finding is an overlap above [`CONTACT_TOLERANCE_MM`], kept per (move, part,
+//! obstacle) with its largest depth.
 
 use glam::{DMat3, DVec3};
 
+use super::contact::ContactSurface;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use crate::emit::CollisionFinding;
@@ -30,10 +33,14 @@ use crate::num;
 /// Largest displacement of any head point between two sampled poses of a move, mm: half the
 /// thinnest line width (0.4 mm) the check is built for.
 pub const SAMPLE_STEP_MM: f64 = 0.2;
-/// Contact, not collision: an overlap of a part with the material or the bed up to this depth
-/// (mm) is the nozzle resting on the bead it prints on (3-decimal output rounding 0.0005 mm,
-/// the interpolation bound 0.02 mm, the flat tip against the neighbouring bead's edge).
+/// Overlaps up to this depth (mm) are not reported: the 3-decimal output rounding (0.0005 mm),
+/// the firmware interpolation bound (0.02 mm) and the height field's f32 heights, with margin.
+/// The nozzle's contact with the layer it prints is the contact surface's business
+/// ([`super::contact`]), not this tolerance's.
 pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
+/// The layer height when the G-code gives none (`;HEIGHT:`), mm: the slicers' usual 0.2 mm
+/// (and `../shared/tools/slice.sh`'s).
+pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
 
@@ -56,6 +63,9 @@ struct Part {
     shape: Local,
     /// Farthest point from the tip, mm.
     reach: f64,
+    /// The part starts at the tip (the nozzle): the contact rule applies to it
+    /// ([`super::contact`]).
+    tip: bool,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -105,10 +115,15 @@ impl Part {
                 (Local::Box { min, max }, min.abs().max(max.abs()).length())
             }
         };
+        let tip = match shape {
+            Local::Frustum { s0, .. } => s0 <= 0.0,
+            Local::Box { min, .. } => min.z <= 0.0,
+        };
         Part {
             name: p.name().to_string(),
             shape,
             reach,
+            tip,
         }
     }
 
@@ -148,6 +163,16 @@ impl Part {
     }
 }
 
+/// A material cell a part may reach during a move ([`Checker::swept_cells`]): its centre,
+/// top and bead.
+#[derive(Clone, Copy, Debug)]
+struct SweptCell {
+    x: f64,
+    y: f64,
+    h: f64,
+    bead: u32,
+}
+
 /// One sampled pose.
 #[derive(Clone, Copy, Debug)]
 struct Pose {
@@ -165,6 +190,14 @@ pub struct Checker {
     material: Material,
     stats: CheckStats,
     findings: Vec<CollisionFinding>,
+    layer: u32,
+    /// The widest bead deposited so far (the contact surface's w), mm.
+    max_width: f64,
+    /// The layer height the current layer's beads may be pressed by, mm
+    /// ([`super::contact`]).
+    layer_height: f64,
+    /// Stop checking after the first finding ([`Checker::stop_at_first`]).
+    stop: bool,
 }
 
 impl std::fmt::Debug for Checker {
@@ -199,7 +232,26 @@ impl Checker {
             material: Material::new(),
             stats: CheckStats::default(),
             findings: Vec::new(),
+            layer: 0,
+            max_width: 0.0,
+            layer_height: DEFAULT_LAYER_HEIGHT_MM,
+            stop: false,
         })
+    }
+
+    /// The layer height of the beads deposited from now on (the slicer's `;HEIGHT:`), mm: the
+    /// depth by which the nozzle's face may press the current layer's beads (contact, see
+    /// [`super::contact`]). Values outside (0, 2] mm are ignored.
+    pub fn set_layer_height(&mut self, h: f64) {
+        if h > 0.0 && h <= 2.0 {
+            self.layer_height = h;
+        }
+    }
+
+    /// Stop checking moves after the first finding (a refusal needs only it; the moves after
+    /// it are still deposited). Off by default: every finding is kept.
+    pub fn stop_at_first(&mut self, yes: bool) {
+        self.stop = yes;
     }
 
     /// The machine checked.
@@ -260,6 +312,10 @@ impl Checker {
         layer: u32,
         include_start: bool,
     ) -> Result<(), MachineError> {
+        self.layer = layer;
+        if self.stop && !self.findings.is_empty() {
+            return Ok(());
+        }
         self.stats.moves += 1;
         let at =
             |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
@@ -285,12 +341,57 @@ impl Checker {
             n = (n * 2).min(MAX_SAMPLES);
         };
         let start = usize::from(!include_start);
+        let poses = &poses[start..];
+        // per part, over the whole move: can it reach the material or the bed at all? (the
+        // union of its boxes against the material's block maxima and the bed's top)
+        let tol = CONTACT_TOLERANCE_MM;
+        let reachable: Vec<(bool, bool)> = self
+            .parts
+            .iter()
+            .map(|part| {
+                let (mut lo, mut hi) =
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+                for pose in poses {
+                    let (l, h) = part.pose(pose.p, pose.n, pose.frame.as_ref()).aabb();
+                    lo = lo.min(l);
+                    hi = hi.max(h);
+                }
+                (
+                    self.material.max_over((lo.x, lo.y, hi.x, hi.y)) > lo.z + tol,
+                    lo.z < self.bed.top() - tol,
+                )
+            })
+            .collect();
+        // a translation (the pose fixed): the cells each frustum part can reach over the
+        // whole move, found once
+        let fixed = p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
+        let swept: Vec<Option<Vec<SweptCell>>> = self
+            .parts
+            .iter()
+            .zip(&reachable)
+            .map(|(part, &(mat, _))| {
+                (fixed && mat)
+                    .then(|| self.swept_cells(part, &p0, &p1))
+                    .flatten()
+            })
+            .collect();
         let mut found: Vec<CollisionFinding> = Vec::new();
-        for pose in &poses[start..] {
+        for pose in poses {
             self.stats.samples += 1;
-            for part in &self.parts {
+            for ((part, &(mut mat, bed)), cells) in self.parts.iter().zip(&reachable).zip(&swept) {
+                if cells.as_ref().is_some_and(|c| c.is_empty()) {
+                    mat = false;
+                }
+                if !mat && !bed {
+                    continue;
+                }
                 let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
-                for (obstacle, depth, at) in self.penetrations(&solid) {
+                let contact = part
+                    .tip
+                    .then(|| ContactSurface::new(pose.p, pose.n, self.max_width));
+                for (obstacle, depth, at, _) in
+                    self.penetrations(&solid, contact.as_ref(), mat, cells.as_deref(), bed)
+                {
                     match found
                         .iter_mut()
                         .find(|f| f.part == part.name && f.obstacle == obstacle)
@@ -318,50 +419,192 @@ impl Checker {
 
     /// The deepest overlap of `solid` with the material and with the bed (each only if above
     /// the contact tolerance): `(obstacle, depth, [x, y, z_in])`.
-    fn penetrations(&self, solid: &Posed) -> Vec<(&'static str, f64, [f64; 3])> {
+    fn penetrations(
+        &self,
+        solid: &Posed,
+        contact: Option<&ContactSurface>,
+        material: bool,
+        cells: Option<&[SweptCell]>,
+        bed: bool,
+    ) -> Vec<(&'static str, f64, [f64; 3], u32)> {
         let (lo, hi) = solid.aabb();
         let tol = CONTACT_TOLERANCE_MM;
         let mut out = Vec::new();
-        let mut best: Option<(f64, [f64; 3])> = None;
-        let consider = |h: f64, x: f64, y: f64, best: &mut Option<(f64, [f64; 3])>| {
+        let mut best: Option<(f64, [f64; 3], u32)> = None;
+        let consider = |h: f64,
+                        x: f64,
+                        y: f64,
+                        bead: u32,
+                        contact: Option<&ContactSurface>,
+                        best: &mut Option<(f64, [f64; 3], u32)>| {
+            // the depth is at most h − z_in (the contact surface only takes from it)
+            let floor = match contact {
+                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
+                None => solid.floor_at(x, y),
+            };
+            if h - floor <= tol {
+                return;
+            }
             if let Some((zi, zo)) = solid.column(x, y) {
-                let d = h.min(zo) - zi;
-                if d > tol && best.is_none_or(|(b, _)| d > b) {
-                    *best = Some((d, [x, y, zi]));
+                let top = h.min(zo);
+                let d = match contact {
+                    // the current layer's beads may be pressed by a layer height
+                    Some(c) => {
+                        let d = c.depth_above(x, y, zi, top);
+                        if d > tol && self.material.layer_of(bead) == Some(self.layer) {
+                            d - self.layer_height
+                        } else {
+                            d
+                        }
+                    }
+                    None => top - zi,
+                };
+                if d > tol && best.is_none_or(|(b, _, _)| d > b) {
+                    *best = Some((d, [x, y, zi], bead));
                 }
             }
         };
-        self.material.for_cells_above(
-            (lo.x, lo.y, hi.x, hi.y),
-            lo.z + tol,
-            lo.z,
-            |c, r| solid.distance(c) > r,
-            |i, j, h| consider(h, centre(i), centre(j), &mut best),
-        );
-        if let Some((d, at)) = best {
-            out.push(("material", d, at));
+        if let (true, Some(cells)) = (material, cells) {
+            for c in cells {
+                consider(c.h, c.x, c.y, c.bead, contact, &mut best);
+            }
+        } else if material {
+            // only the columns near the tip can reach the highest material under the solid
+            let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+            let m = self.material.max_over((x0, y0, x1, y1)) - tol;
+            let r = match (
+                solid.radius_below(m),
+                contact.and_then(|c| c.radius_below(m)),
+            ) {
+                (Some(a), Some(b)) => Some(a.min(b)),
+                (a, b) => a.or(b),
+            };
+            if let (Some(r), Posed::Frustum { o, .. }) = (r, solid) {
+                (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+                (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+            }
+            self.material.for_cells_above(
+                (x0, y0, x1, y1),
+                lo.z + tol,
+                lo.z,
+                |c, r| solid.distance(c) > r,
+                |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
+            );
+        }
+        if let Some((d, at, bead)) = best {
+            out.push(("material", d, at, bead));
         }
         let top = self.bed.top();
-        if lo.z < top - tol {
+        if bed && lo.z < top - tol {
             let mut best = None;
-            for j in cell_of(lo.y)..=cell_of(hi.y) {
-                for i in cell_of(lo.x)..=cell_of(hi.x) {
-                    let (x, y) = (centre(i), centre(j));
-                    if self.bed.covers(x, y) {
-                        consider(top, x, y, &mut best);
+            // the bed is a plane, not beads: its contact surface has no half bead
+            let bed_contact = contact.map(|c| c.for_plane());
+            // without a contact surface the deepest overlap with a plane is under the solid's
+            // lowest point, when the bed is there (else the cells are scanned)
+            let low = solid.lowest();
+            if bed_contact.is_none() && self.bed.covers(low.x, low.y) {
+                consider(top, low.x, low.y, 0, None, &mut best);
+            } else {
+                let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+                if let (Some(r), Posed::Frustum { o, .. }) = (solid.radius_below(top - tol), solid)
+                {
+                    (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+                    (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+                }
+                for j in cell_of(y0)..=cell_of(y1) {
+                    for i in cell_of(x0)..=cell_of(x1) {
+                        let (x, y) = (centre(i), centre(j));
+                        if self.bed.covers(x, y) {
+                            consider(top, x, y, 0, bed_contact.as_ref(), &mut best);
+                        }
                     }
                 }
             }
-            if let Some((d, at)) = best {
-                out.push(("bed", d, at));
+            if let Some((d, at, _)) = best {
+                out.push(("bed", d, at, 0));
             }
         }
         out
     }
 
+    /// The material cells a frustum part can reach while it translates from pose `a` to `b`
+    /// (same tool axis and frame): `None` for other parts. The part's floor
+    /// ([`Posed::floor_at`], and the contact surface's for the tip part,
+    /// [`ContactSurface::floor_at`]) depends on the horizontal distance D from the tip only, and
+    /// grows with D; over the move a cell is at least `D_min` (its distance from the tip's
+    /// path) from the tip, and the tip at least as high as its lower end: the floor of the
+    /// part at that lowest tip, placed at the path's point nearest the cell, bounds every
+    /// sampled pose's floor from below, so a cell under it cannot be reached.
+    fn swept_cells(&self, part: &Part, a: &Pose, b: &Pose) -> Option<Vec<SweptCell>> {
+        let tol = CONTACT_TOLERANCE_MM;
+        let low_z = a.p.z.min(b.p.z);
+        let at = |xy: glam::DVec2| DVec3::new(xy.x, xy.y, low_z);
+        let sa = part.pose(a.p, a.n, a.frame.as_ref());
+        if !matches!(sa, Posed::Frustum { .. }) {
+            return None;
+        }
+        let sb = part.pose(b.p, b.n, b.frame.as_ref());
+        let (la, ha) = sa.aabb();
+        let (lb, hb) = sb.aabb();
+        let (lo, hi) = (la.min(lb), ha.max(hb));
+        let base = part.pose(at(a.p.truncate()), a.n, a.frame.as_ref());
+        let m = self.material.max_over((lo.x, lo.y, hi.x, hi.y)) - tol;
+        let contact = |tip: DVec3| {
+            part.tip
+                .then(|| ContactSurface::new(tip, a.n, self.max_width))
+        };
+        let r = match (
+            base.radius_below(m),
+            contact(at(a.p.truncate())).and_then(|c| c.radius_below(m)),
+        ) {
+            (Some(x), Some(y)) => Some(x.min(y)),
+            (x, y) => x.or(y),
+        };
+        let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+        if let Some(r) = r {
+            x0 = x0.max(a.p.x.min(b.p.x) - r);
+            y0 = y0.max(a.p.y.min(b.p.y) - r);
+            x1 = x1.min(a.p.x.max(b.p.x) + r);
+            y1 = y1.min(a.p.y.max(b.p.y) + r);
+        }
+        let (pa, d) = (a.p.truncate(), (b.p - a.p).truncate());
+        let l2 = d.length_squared();
+        let mut cells = Vec::new();
+        self.material.for_cells_above(
+            (x0, y0, x1, y1),
+            lo.z + tol,
+            lo.z,
+            |_, _| false,
+            |i, j, h, bead| {
+                let c = glam::DVec2::new(centre(i), centre(j));
+                let t = if l2 > 0.0 {
+                    ((c - pa).dot(d) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let tip = at(pa + d * t);
+                let solid = part.pose(tip, a.n, a.frame.as_ref());
+                let mut floor = solid.floor_at(c.x, c.y);
+                if let Some(k) = contact(tip) {
+                    floor = floor.max(k.floor_at(c.x, c.y));
+                }
+                if h - floor > tol {
+                    cells.push(SweptCell {
+                        x: c.x,
+                        y: c.y,
+                        h,
+                        bead,
+                    });
+                }
+            },
+        );
+        Some(cells)
+    }
+
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
     /// sampled at the pieces the firmware's interpolation gives, each piece a straight bead.
     pub fn deposit(&mut self, from: &[f64], to: &[f64], width: f64) -> Result<(), MachineError> {
+        self.max_width = self.max_width.max(width);
         let a = self.pose(from)?;
         let b = self.pose(to)?;
         // a straight bead when the pose is fixed; pieces of at most a cell otherwise
@@ -380,7 +623,7 @@ impl Checker {
                 self.pose(&axes)?
             };
             let n = (prev.n + next.n).normalize_or(next.n);
-            self.material.deposit(prev.p, next.p, n, width);
+            self.material.deposit(prev.p, next.p, n, width, self.layer);
             prev = next;
         }
         Ok(())

@@ -8,7 +8,8 @@
 //!   written + offset).
 //! - E: `M82`/`M83` (relative by default, as warpslice writes for PrusaSlicer), `G92 E`. A move
 //!   extrudes when E grows.
-//! - Line width: the slicer's `;WIDTH:` comments, else [`DEFAULT_LINE_WIDTH_MM`].
+//! - Line width: the slicer's `;WIDTH:` comments, else [`DEFAULT_LINE_WIDTH_MM`]; layer
+//!   height: `;HEIGHT:`, else [`super::sweep::DEFAULT_LAYER_HEIGHT_MM`].
 //! - Layer: the count of the slicer's layer-change comments (`;LAYER_CHANGE`, `;LAYER:`).
 //! - Lines are 1-based, as an editor shows them.
 
@@ -70,6 +71,11 @@ impl Walker {
         })
     }
 
+    /// Stop checking after the first finding ([`Checker::stop_at_first`]): enough to refuse.
+    pub fn stop_at_first(&mut self, yes: bool) {
+        self.checker.stop_at_first(yes);
+    }
+
     /// The checker (findings, counts, material).
     pub fn checker(&self) -> &Checker {
         &self.checker
@@ -109,6 +115,12 @@ impl Walker {
             let c = c.trim_ascii_start();
             if c.starts_with(b"LAYER_CHANGE") || c.starts_with(b"LAYER:") {
                 self.layer += 1;
+            } else if let Some(h) = c
+                .strip_prefix(b"HEIGHT:")
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| h.trim().parse::<f64>().ok())
+            {
+                self.checker.set_layer_height(h);
             } else if let Some(w) = c.strip_prefix(b"WIDTH:") {
                 if let Some(w) = std::str::from_utf8(w)
                     .ok()

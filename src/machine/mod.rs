@@ -443,14 +443,14 @@ impl fmt::Display for MachineError {
             ),
             MachineError::Collision { machine, finding: c, total } => write!(
                 f,
-                "machine {machine}: output line {} (layer {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) ({total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
+                "machine {machine}: output line {} (layer {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) (at least {total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
                 c.line, c.layer, c.part, c.depth_mm,
                 if c.obstacle == "bed" { "bed" } else { "printed material" },
                 c.at[0], c.at[1], c.at[2], if *total == 1 { "" } else { "s" }
             ),
             MachineError::CollisionUnsupported { machine, reason } => write!(
                 f,
-                "machine {machine}: the collision check cannot judge this machine: {reason}; turn check_collisions off for it"
+                "machine {machine}: the collision check cannot judge this machine: {reason}; the unwarp skips the check on it and says so in its warnings"
             ),
             MachineError::BadOption { name, value, allowed } => write!(
                 f,

@@ -20,11 +20,13 @@ pub struct MachineOptions {
     pub feed: FeedMode,
     /// `--flavour`: the firmware (overrides the machine's).
     pub flavour: Option<Flavour>,
-    /// `--check-collisions`: sweep the machine's head along every output move against the
-    /// material printed so far and the bed (`crate::collision`). Off by default for now.
-    pub check_collisions: bool,
-    /// `--allow-collisions`: with the check on, write the file and list every finding (in the
-    /// report and as comments at its end) instead of refusing it (`machine.collision`).
+    /// `--no-collision-check` (**unsafe**): skip the collision check, which otherwise sweeps the
+    /// machine's head along every output move against the material printed so far and the bed
+    /// (`crate::collision`) and refuses the file on a collision (`machine.collision`). The check
+    /// is on by default for every machine output.
+    pub no_collision_check: bool,
+    /// `--allow-collisions`: write the file and list every finding (in the report and as
+    /// comments at its end) instead of refusing it (`machine.collision`).
     pub allow_collisions: bool,
     /// `--interpolation LIN,ANG`: the largest deviation of the firmware's linear interpolation
     /// in machine space from the intended path, tip mm and tool-axis degrees (default 0.02,
@@ -73,6 +75,11 @@ impl MachineOptions {
             .as_ref()
             .map(|spec| super::config::for_spec(spec, self.flavour, self.feed))
             .transpose()
+    }
+
+    /// Whether the collision check runs: a machine output without `no_collision_check`.
+    pub fn checks_collisions(&self) -> bool {
+        self.machine.is_some() && !self.no_collision_check
     }
 
     /// The emitter these options ask for: 3-axis, or the machine's.
@@ -132,10 +139,10 @@ pub const PARAMS: &[Param] = &[
         .choices(&["reprapfirmware", "marlin", "klipper"])
         .optional()
         .help("the firmware the output is for (default: the machine's, else reprapfirmware)"),
-    Param::number("check_collisions", "--check-collisions", "Check collisions")
+    Param::number("no_collision_check", "--no-collision-check", "Skip the collision check (unsafe)")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; refuse the file on a collision"),
+        .help("UNSAFE: do not sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; by default a collision refuses the file"),
     Param::number("interpolation", "--interpolation", "Interpolation bound mm,deg")
         .of(ParamType::Pair)
         .optional()
@@ -147,5 +154,5 @@ pub const PARAMS: &[Param] = &[
     Param::number("allow_collisions", "--allow-collisions", "Allow collisions")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("with --check-collisions: write the file anyway and list every collision found"),
+        .help("write the file even when the head collides, and list every collision found (report and comments at the end of the file)"),
 ];

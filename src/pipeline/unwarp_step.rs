@@ -99,14 +99,46 @@ pub fn unwarp_with_stl(
     stl: Option<&[u8]>,
 ) -> Result<UnwarpOutput, Error> {
     let mut out = unwarper_with_stl(job, settings, stl)?.run(gcode)?;
-    if let (true, Some(spec)) = (
-        settings.output.check_collisions,
-        settings.output.machine.as_ref(),
-    ) {
-        let (findings, _) = crate::collision::check_gcode(&out.gcode, spec)?;
+    if let Some(mut w) = walker(settings, &mut out.report)? {
+        w.push(&out.gcode)?;
+        let (findings, _) = w.finish()?;
+        let spec = settings
+            .output
+            .machine
+            .as_ref()
+            .expect("a walker has a machine");
         apply_findings(settings, spec, findings, &mut out.gcode, &mut out.report)?;
     }
     Ok(out)
+}
+
+/// The collision check's walker when it runs (a machine output, unless `no_collision_check`;
+/// see [`crate::collision`]). A machine the check cannot judge (the lathe: its layers are not
+/// graphs over the bed) gets no check, and the report says so in its warnings.
+fn walker(
+    settings: &UnwarpSettings,
+    report: &mut crate::unwarp::UnwarpReport,
+) -> Result<Option<crate::collision::Walker>, Error> {
+    let Some(spec) = settings.output.machine.as_ref() else {
+        return Ok(None);
+    };
+    if !settings.output.checks_collisions() {
+        return Ok(None);
+    }
+    match crate::collision::Walker::new(spec) {
+        Ok(mut w) => {
+            // a refusal needs only the first finding
+            w.stop_at_first(!settings.output.allow_collisions);
+            Ok(Some(w))
+        }
+        Err(crate::machine::MachineError::CollisionUnsupported { machine, reason }) => {
+            report.warnings.push(format!(
+                "machine {machine}: the collision check was not run: {reason}; check the head's clearance yourself"
+            ));
+            Ok(None)
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 /// The collision check's verdict: refuse (`machine.collision`) unless `allow_collisions`;
@@ -166,13 +198,8 @@ pub fn unwarp_stream<R: std::io::Read>(
         message: e.to_string(),
     };
     let mut u = unwarper_with_stl(job, settings, stl)?;
-    let mut walker = match (
-        settings.output.check_collisions,
-        settings.output.machine.as_ref(),
-    ) {
-        (true, Some(spec)) => Some(crate::collision::Walker::new(spec)?),
-        _ => None,
-    };
+    let mut unsupported = crate::unwarp::UnwarpReport::default();
+    let mut walker = walker(settings, &mut unsupported)?;
     let mut buf = vec![0u8; STREAM_CHUNK];
     let mut f = open().map_err(io)?;
     loop {
@@ -199,6 +226,7 @@ pub fn unwarp_stream<R: std::io::Read>(
         progress(n as u64);
     }
     let mut report = u.finish()?;
+    report.warnings.extend(unsupported.warnings);
     let mut chunk = u.take_output();
     if let (Some(mut w), Some(spec)) = (walker, settings.output.machine.as_ref()) {
         w.push(&chunk)?;

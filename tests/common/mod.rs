@@ -4,6 +4,7 @@
 
 pub mod check;
 pub mod closed;
+pub mod collide;
 pub mod firmware;
 pub mod inside;
 pub mod machine;

@@ -1,0 +1,221 @@
+//! Contact, not collision: where the nozzle's tip may touch the material it prints on.
+//!
+//! ## The physical picture
+//! The nozzle's flat face (radius `r_f`, about the tool axis `n`, at the tip `p`) presses the
+//! bead it lays onto the layer's surface. A layer that is not normal to the tool axis meets the
+//! face at an angle β (the angle between `n` and the layer's normal): a 3-axis nozzle printing a
+//! 30° cone has β = 30°, the RTN's fixed 45° on a 30° cone 15°, a 5-axis head following the
+//! normal ≈ 0. The layer's surface through the tip then rises, within the face and beside it,
+//! up to `ρ·tan β` above the face's plane at distance ρ from the axis; and the beads already
+//! laid beside the tip (the same layer's neighbours, the bead being extended, the bead below)
+//! have flat tops a line width `w` wide (the face flattens them, [`super::material`]), so a
+//! bead whose centre line is at ρ + w/2 still covers ρ. The face rides on that material: it is
+//! contact (the bead is ironed), not a collision.
+//!
+//! ## The rule
+//! In the tool frame (axial coordinate `s = n·(q − p)`, radius `ρ = |q − p − s n|`), material
+//! at a point `q` inside the tip part (the head part that starts at the tip: the nozzle) is
+//! contact when it lies on or under the **contact surface**
+//!
+//! ```text
+//!     s ≤ (ρ + w/2) · tan β_max          (β_max = MAX_FACE_TILT_DEG; w/2 = 0 for the bed)
+//! ```
+//!
+//! and a collision above it. The depth of a finding on a vertical line (x, y) through the part
+//! is the length of the line that is both in the material, inside the part and above the
+//! contact surface: `top − max(z_in, t₀)`, `top = min(h, z_out)`, t₀ where the line crosses the
+//! contact surface, less one layer height `h` when the material is the current layer's (the
+//! face presses the beads beside the one it lays by up to their own height: the RTN turning in
+//! place at the tip sweeps its tilted face through the end of the bead it has just laid, 0.17 mm
+//! on the 20 mm box). Every other part (heater block, heat sink, …) has no contact surface: any
+//! overlap is a collision.
+//!
+//! What the rule still finds: the tip pressed into material more than `(w/2)·tan β_max`
+//! (0.13 mm for a 0.45 mm line) straight below the face; material above the face's plane at the
+//! rim steeper than β_max (a layer the face cannot ride); the nozzle's cone flank reaching
+//! material beyond where a β_max surface through the tip meets it (for the default V6 nozzle,
+//! 40° half-angle, r_f = 0.5 mm, that is ρ > (r_f + (w/2) tan β tan ψ) / (1 − tan β tan ψ) =
+//! 1.18 mm, s > 0.81 mm); and any material below the tip's own layer that the face reaches,
+//! since the older layers lie at least a layer height under the current surface.
+//!
+//! ## Monotone along a vertical line
+//! On the line `q(t) = (x, y, t)`, `v(t) = s(t) − (ρ(t) + w/2) tan β` has
+//! `v'(t) = n_z − tan β · ρ'(t) ≥ cos θ − tan β sin θ` (θ the tool's tilt from vertical, since
+//! `|ρ'| ≤ sin θ`), which is positive while θ < 90° − β_max (60°): the part above the contact
+//! surface is one interval ending at the top, and t₀ is found by bisection. For steeper tilts
+//! the rule is not applied (the whole overlap counts: more findings, never fewer).
+
+use glam::DVec3;
+
+/// β_max: the largest angle between the tool axis and the layer's normal at which the nozzle's
+/// flat face still rides on the layer, degrees. 30°: the acceptance warps' slope (conic 30°
+/// printed by a vertical nozzle), seed 001's tilt limit of the triple-Z bed (≤ 30°) and the
+/// usual limit of non-planar printing with a 40° nozzle cone; a steeper layer is ploughed by
+/// the nozzle's flank, which the rule then reports.
+pub const MAX_FACE_TILT_DEG: f64 = 30.0;
+
+/// Bisection steps for t₀: the vertical lines the check meets are at most a few mm inside a
+/// part, so 40 halvings leave < 1e-11 mm.
+const BISECTION_STEPS: usize = 40;
+
+/// The contact surface of one pose of the tip part (see the module documentation).
+#[derive(Clone, Copy, Debug)]
+pub struct ContactSurface {
+    p: DVec3,
+    n: DVec3,
+    half_width: f64,
+    tan_beta: f64,
+    monotone: bool,
+}
+
+impl ContactSurface {
+    /// The surface for the tip at `p`, tool axis `n` (unit), beads of width `width` (mm; 0 for
+    /// the bed).
+    pub fn new(p: DVec3, n: DVec3, width: f64) -> ContactSurface {
+        static TAN_BETA: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+        let tan_beta =
+            *TAN_BETA.get_or_init(|| crate::num::tan(crate::num::rad(MAX_FACE_TILT_DEG)));
+        // cos θ − tan β sin θ > 0 (module documentation)
+        let sin_t = (1.0 - n.z * n.z).max(0.0).sqrt();
+        ContactSurface {
+            p,
+            n,
+            half_width: 0.5 * width,
+            tan_beta,
+            monotone: n.z - tan_beta * sin_t > 0.0,
+        }
+    }
+
+    /// A lower bound of the height of the points above the contact surface on the vertical
+    /// line through (x, y) (−∞: none known), cheap enough to skip a line before the exact test.
+    ///
+    /// A point `q` above the surface has `s > (ρ + c) T` (`c = w/2`, `T = tan β_max`), lies within
+    /// `s sin θ + ρ` of the tip horizontally (θ the tool's tilt) and has
+    /// `q_z − p_z ≥ s n_z − ρ sin θ`. For θ ≤ β_max (`T n_z ≥ sin θ`) that is smallest on the
+    /// surface at the least ρ that reaches the line's horizontal distance D:
+    /// `ρ_min = max(0, (D − c T sin θ)/(1 + T sin θ))`, giving
+    /// `p_z + ρ_min (T n_z − sin θ) + c T n_z`.
+    pub fn floor_at(&self, x: f64, y: f64) -> f64 {
+        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let t = self.tan_beta;
+        let gain = t * self.n.z - sin_t;
+        if gain < 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        let (dx, dy) = (x - self.p.x, y - self.p.y);
+        let d = (dx * dx + dy * dy).sqrt();
+        let rho = ((d - self.half_width * t * sin_t) / (1.0 + t * sin_t)).max(0.0);
+        self.p.z + rho * gain + self.half_width * t * self.n.z
+    }
+
+    /// A horizontal radius about the tip outside which no point above the contact surface is
+    /// below height `m` (`None`: none known): where [`ContactSurface::floor_at`] reaches `m`,
+    /// `D = ρ (1 + T sin θ) + c T sin θ` with `ρ = (m − p_z − c T n_z)/(T n_z − sin θ)`.
+    pub fn radius_below(&self, m: f64) -> Option<f64> {
+        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let t = self.tan_beta;
+        let gain = t * self.n.z - sin_t;
+        if gain <= 1e-12 {
+            return None;
+        }
+        let rho = ((m - self.p.z - self.half_width * t * self.n.z) / gain).max(0.0);
+        Some(rho * (1.0 + t * sin_t) + self.half_width * t * sin_t)
+    }
+
+    /// The same pose against a plane (the bed): no half bead (w = 0).
+    pub fn for_plane(&self) -> ContactSurface {
+        ContactSurface {
+            half_width: 0.0,
+            ..*self
+        }
+    }
+
+    /// `v(q) = s − (ρ + w/2)·tan β_max`: how far `q` stands above the contact surface along the
+    /// tool axis (≤ 0: contact).
+    pub fn excess(&self, q: DVec3) -> f64 {
+        let d = q - self.p;
+        let s = self.n.dot(d);
+        let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+        s - (rho + self.half_width) * self.tan_beta
+    }
+
+    /// The length of the vertical line (x, y) between `z_in` and `top` (the material inside the
+    /// part) that lies above the contact surface, mm.
+    pub fn depth_above(&self, x: f64, y: f64, z_in: f64, top: f64) -> f64 {
+        if top <= z_in {
+            return 0.0;
+        }
+        if !self.monotone {
+            return top - z_in;
+        }
+        let v = |t: f64| self.excess(DVec3::new(x, y, t));
+        if v(top) <= 0.0 {
+            return 0.0;
+        }
+        if v(z_in) > 0.0 {
+            return top - z_in;
+        }
+        // v(lo) ≤ 0 < v(hi)
+        let (mut lo, mut hi) = (z_in, top);
+        for _ in 0..BISECTION_STEPS {
+            let mid = 0.5 * (lo + hi);
+            if v(mid) > 0.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        top - hi
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_vertical_nozzle_on_a_30_degree_layer_is_contact_and_a_plunge_is_not() {
+        let c = ContactSurface::new(DVec3::ZERO, DVec3::Z, 0.45);
+        let t30 = 30f64.to_radians().tan();
+        // the layer's surface through the tip, rising 30°, and the uphill bead's flat top
+        // reaching w/2 further: contact at the face's rim (ρ = 0.5)
+        assert!(c.depth_above(0.5, 0.0, 0.0, 0.5 * t30) == 0.0);
+        assert!(c.depth_above(0.5, 0.0, 0.0, (0.5 + 0.225) * t30 - 1e-9) == 0.0);
+        // 0.1 mm above that surface: 0.1 mm of the line is above it
+        let d = c.depth_above(0.5, 0.0, 0.0, (0.5 + 0.225) * t30 + 0.1);
+        assert!((d - 0.1).abs() < 1e-9, "{d}");
+        // straight below the face, pressed 0.5 mm in: all but (w/2)·tan 30° is a collision
+        let d = c.depth_above(0.0, 0.0, 0.0, 0.5);
+        assert!((d - (0.5 - 0.225 * t30)).abs() < 1e-9, "{d}");
+        // the bed (w = 0) under a tip 0.2 mm into it
+        let bed = ContactSurface::new(DVec3::ZERO, DVec3::Z, 0.0);
+        assert!((bed.depth_above(0.0, 0.0, 0.0, 0.2) - 0.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_floor_bound_is_below_every_point_above_the_contact_surface() {
+        // brute force over tilts, lines and heights: every point above the surface is above
+        // the bound
+        for tilt in [0.0f64, 10.0, 25.0, 30.0] {
+            let n = DVec3::new(tilt.to_radians().sin(), 0.0, tilt.to_radians().cos());
+            let c = ContactSurface::new(DVec3::new(1.0, 2.0, 3.0), n, 0.45);
+            for (x, y) in [(1.0, 2.0), (1.3, 2.0), (0.2, 2.5), (3.0, 0.0), (1.0, 4.0)] {
+                let floor = c.floor_at(x, y);
+                let mut z = -5.0;
+                while z < 10.0 {
+                    if c.excess(DVec3::new(x, y, z)) > 0.0 {
+                        assert!(z >= floor - 1e-9, "tilt {tilt} ({x}, {y}): {z} < {floor}");
+                    }
+                    z += 0.001;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn beyond_sixty_degrees_of_tilt_the_whole_overlap_counts() {
+        let n = DVec3::new(70f64.to_radians().sin(), 0.0, 70f64.to_radians().cos());
+        let c = ContactSurface::new(DVec3::ZERO, n, 0.45);
+        assert!((c.depth_above(0.1, 0.0, -0.1, 0.05) - 0.15).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,360 @@
+//! An independent confirmation of a collision finding (issue 10 §5, "refused with a named
+//! finding that an independent test helper confirms"). It shares nothing with
+//! `warpslice::collision`: its own G-code reading, the tests' forward kinematics
+//! ([`super::machine::fk::Fk`]), the head's solids read from the machine file's data (`MachineSpec::head`,
+//! `bed`: the JSON, or the kind's documented defaults), printed material as **points** of the
+//! beads (not a height field), and a point-in-solid test per part.
+//!
+//! - Material: every extruding move before the finding's line, its tip path sampled every
+//!   [`STEP_MM`] through the kinematics, each sample giving bead points at the tip and ±w/4
+//!   across (horizontally, perpendicular to the path), each also h/2 and h lower (w, h: the
+//!   slicer's `;WIDTH:`, `;HEIGHT:`; 0.45 and 0.2 mm without them).
+//! - The move: its axes interpolated linearly (as the firmware moves them) at [`POSES`] poses.
+//! - The part at a pose, in the tool frame (origin the tip, z the tool axis n): cone `from ≤ s ≤
+//!   from + length`, `ρ ≤ r_tip + (s − from) tan ψ`; cylinder; box in the frame the machine turns
+//!   (docs/machines.md, src/machine/head.rs module documentation): B head `R_y(B)`, RTN
+//!   `R_z(φ)·R_y(tilt)` with φ the azimuth of n, PAX `R_z(A − offset)·R_y(B)`, cartesian the
+//!   identity; other machines check a box as the cylinder about the tool axis that contains it.
+//! - Contact (docs/machines.md, "Collision check"): a material point inside the part that starts
+//!   at the tip counts only above the contact surface `s > (ρ + w/2)·tan 30°`, and by more than
+//!   a layer height when it is of the move's own layer.
+//! - The bed: the part's corners / rim points below the bed's top over the bed.
+//!
+//! A finding is confirmed when some material point (or, for the bed, some point of the part)
+//! is inside the named part at some pose of the move.
+
+use glam::{DMat3, DVec3};
+use warpslice::machine::head::{BedSpec, HeadPart};
+use warpslice::machine::MachineSpec;
+
+use super::machine::fk::Fk;
+
+/// Spacing of the bead samples along the path, mm (a quarter of the line width).
+pub const STEP_MM: f64 = 0.1;
+/// Poses per move checked.
+pub const POSES: usize = 400;
+
+/// A bead point: where, and the layer it was printed in.
+#[derive(Clone, Copy)]
+struct Point {
+    q: DVec3,
+    layer: u32,
+}
+
+/// `R_z(φ)·R_y(t)` (columns: the tool frame's x, y, z in the output frame).
+fn turned(phi: f64, t: f64) -> DMat3 {
+    let (sp, cp, st, ct) = (phi.sin(), phi.cos(), t.sin(), t.cos());
+    DMat3::from_cols(
+        DVec3::new(ct * cp, ct * sp, -st),
+        DVec3::new(-sp, cp, 0.0),
+        DVec3::new(st * cp, st * sp, ct),
+    )
+}
+
+/// The tool frame for written axes (`None`: not known, boxes as enclosing cylinders).
+fn frame(fk: &Fk, axes: &[f64], n: DVec3) -> Option<DMat3> {
+    match fk {
+        Fk::Cartesian { .. } => Some(DMat3::IDENTITY),
+        Fk::BHead { .. } => Some(turned(0.0, axes[3].to_radians())),
+        Fk::Rtn { .. } => Some(turned(n.y.atan2(n.x), n.z.clamp(-1.0, 1.0).acos())),
+        Fk::Pax { offset_deg, .. } => Some(turned(
+            (axes[3] - offset_deg).to_radians(),
+            axes[4].to_radians(),
+        )),
+        _ => None,
+    }
+}
+
+/// Whether `q` (output frame) is inside `part` posed at tip `p`, axis `n`, frame `r`; for the
+/// tip part also above the contact surface by `press` (mm along the axis).
+fn inside(
+    part: &HeadPart,
+    p: DVec3,
+    n: DVec3,
+    r: Option<&DMat3>,
+    q: DVec3,
+    w: f64,
+    press: f64,
+) -> bool {
+    let d = q - p;
+    let s = n.dot(d);
+    let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+    let t30 = 30f64.to_radians().tan();
+    match part {
+        HeadPart::Cone {
+            tip_radius_mm,
+            half_angle_deg,
+            length_mm,
+            from_mm,
+            ..
+        } => {
+            let inside = s >= *from_mm
+                && s <= from_mm + length_mm
+                && rho <= tip_radius_mm + (s - from_mm) * half_angle_deg.to_radians().tan();
+            let tip = *from_mm <= 0.0;
+            inside && (!tip || s > (rho + w / 2.0) * t30 + press)
+        }
+        HeadPart::Cylinder {
+            radius_mm,
+            from_mm,
+            to_mm,
+            ..
+        } => s >= *from_mm && s <= *to_mm && rho <= *radius_mm,
+        HeadPart::Box { min, max, .. } => match r {
+            Some(r) => {
+                let l = r.transpose() * d;
+                (0..3).all(|i| l[i] >= min[i] && l[i] <= max[i])
+            }
+            None => {
+                let rad = [min[0], max[0]]
+                    .iter()
+                    .flat_map(|x| [min[1], max[1]].map(|y| x.hypot(y)))
+                    .fold(0.0, f64::max);
+                s >= min[2] && s <= max[2] && rho <= rad
+            }
+        },
+        _ => false,
+    }
+}
+
+/// Points of the part's boundary (for the bed): box corners, the cone's and cylinder's end
+/// circles at 72 angles.
+fn boundary(part: &HeadPart, p: DVec3, n: DVec3, r: Option<&DMat3>) -> Vec<DVec3> {
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let circle = |s: f64, rad: f64| -> Vec<DVec3> {
+        (0..72)
+            .map(|k| {
+                let a = k as f64 * 5f64.to_radians();
+                p + n * s + (u * a.cos() + v * a.sin()) * rad
+            })
+            .collect()
+    };
+    match part {
+        HeadPart::Cone {
+            tip_radius_mm,
+            half_angle_deg,
+            length_mm,
+            from_mm,
+            ..
+        } => {
+            let mut c = circle(*from_mm, *tip_radius_mm);
+            c.extend(circle(
+                from_mm + length_mm,
+                tip_radius_mm + length_mm * half_angle_deg.to_radians().tan(),
+            ));
+            c
+        }
+        HeadPart::Cylinder {
+            radius_mm,
+            from_mm,
+            to_mm,
+            ..
+        } => {
+            let mut c = circle(*from_mm, *radius_mm);
+            c.extend(circle(*to_mm, *radius_mm));
+            c
+        }
+        HeadPart::Box { min, max, .. } => match r {
+            Some(r) => (0..8)
+                .map(|c| {
+                    let l = DVec3::new(
+                        if c & 1 == 0 { min[0] } else { max[0] },
+                        if c & 2 == 0 { min[1] } else { max[1] },
+                        if c & 4 == 0 { min[2] } else { max[2] },
+                    );
+                    p + *r * l
+                })
+                .collect(),
+            None => {
+                let rad = [min[0], max[0]]
+                    .iter()
+                    .flat_map(|x| [min[1], max[1]].map(|y| x.hypot(y)))
+                    .fold(0.0, f64::max);
+                let mut c = circle(min[2], rad);
+                c.extend(circle(max[2], rad));
+                c
+            }
+        },
+        _ => Vec::new(),
+    }
+}
+
+fn covers(bed: &BedSpec, q: DVec3) -> Option<f64> {
+    match bed {
+        BedSpec::Plate { min, max, top_mm } => {
+            (q.x >= min[0] && q.x <= max[0] && q.y >= min[1] && q.y <= max[1]).then_some(*top_mm)
+        }
+        BedSpec::Disc {
+            center,
+            radius_mm,
+            top_mm,
+        } => ((q.x - center[0]).hypot(q.y - center[1]) <= *radius_mm).then_some(*top_mm),
+        _ => None,
+    }
+}
+
+/// Confirm the finding "`part` into `obstacle` (`material` or `bed`) on output line `line`
+/// (1-based)" in the machine G-code `gcode` written for `spec`: `Ok(description)` when the
+/// helper finds the part there too.
+pub fn confirm(
+    spec: &MachineSpec,
+    gcode: &str,
+    line: usize,
+    part: &str,
+    obstacle: &str,
+) -> Result<String, String> {
+    let fk = Fk::from_spec(spec)?;
+    let letters: Vec<String> = spec
+        .axis_names()
+        .map_err(|e| e.to_string())?
+        .iter()
+        .map(|n| n[..1].to_ascii_uppercase())
+        .collect();
+    let head = spec.head().map_err(|e| e.to_string())?;
+    let bed = spec.bed().map_err(|e| e.to_string())?;
+    let the_part = head
+        .parts
+        .iter()
+        .find(|p| p.name() == part)
+        .ok_or(format!("no head part '{part}'"))?
+        .clone();
+    let (mut raw, mut offset) = (vec![0.0; letters.len()], vec![0.0; letters.len()]);
+    let (mut rel_e, mut e_last) = (true, 0.0);
+    let (mut w, mut h, mut layer) = (0.45, 0.2, 0u32);
+    let mut points: Vec<Point> = Vec::new();
+    for (i, text) in gcode.lines().enumerate() {
+        let number = i + 1;
+        let (code, comment) = match text.find(';') {
+            Some(k) => (&text[..k], text[k + 1..].trim()),
+            None => (text, ""),
+        };
+        if comment.starts_with("LAYER_CHANGE") || comment.starts_with("LAYER:") {
+            layer += 1;
+        } else if let Some(v) = comment.strip_prefix("WIDTH:") {
+            w = v.trim().parse().unwrap_or(w);
+        } else if let Some(v) = comment.strip_prefix("HEIGHT:") {
+            h = v.trim().parse().unwrap_or(h);
+        }
+        let words: Vec<(String, f64)> = code
+            .split_whitespace()
+            .filter_map(|t| Some((t[..1].to_ascii_uppercase(), t[1..].parse().ok()?)))
+            .collect();
+        let get = |l: &str| words.iter().find(|(k, _)| k == l).map(|(_, v)| *v);
+        match (get("G"), get("M")) {
+            (_, Some(82.0)) => rel_e = false,
+            (_, Some(83.0)) => rel_e = true,
+            (Some(91.0), _) => return Err("G91 is not read by this helper".into()),
+            (Some(92.0), _) => {
+                if let Some(e) = get("E") {
+                    e_last = e;
+                }
+                for (k, l) in letters.iter().enumerate() {
+                    if let Some(v) = get(l) {
+                        offset[k] = raw[k] - v;
+                    }
+                }
+            }
+            (Some(g), _) if g == 0.0 || g == 1.0 => {
+                let from = raw.clone();
+                let mut to = from.clone();
+                let mut any = false;
+                for (k, l) in letters.iter().enumerate() {
+                    if let Some(v) = get(l) {
+                        to[k] = v + offset[k];
+                        any = true;
+                    }
+                }
+                let extrudes = get("E").is_some_and(|e| if rel_e { e > 0.0 } else { e > e_last });
+                if let (Some(e), false) = (get("E"), rel_e) {
+                    e_last = e;
+                }
+                if !any {
+                    continue;
+                }
+                let at = |t: f64| -> Vec<f64> {
+                    from.iter().zip(&to).map(|(a, b)| a + (b - a) * t).collect()
+                };
+                if number == line {
+                    return judge(&fk, &the_part, obstacle, &bed, &points, layer, w, h, &at);
+                }
+                if extrudes {
+                    let (p0, _) = fk.forward(&from)?;
+                    let (p1, _) = fk.forward(&to)?;
+                    let k = ((p1 - p0).length() / STEP_MM).ceil().max(1.0) as usize;
+                    let dir = (p1 - p0).truncate();
+                    let across = if dir.length() > 1e-9 {
+                        DVec3::new(-dir.y, dir.x, 0.0).normalize()
+                    } else {
+                        DVec3::ZERO
+                    };
+                    for j in 0..=k {
+                        let (q, _) = fk.forward(&at(j as f64 / k as f64))?;
+                        for c in [-0.25, 0.0, 0.25] {
+                            for dz in [0.0, 0.5, 1.0] {
+                                points.push(Point {
+                                    q: q + across * (c * w) - DVec3::Z * (dz * h),
+                                    layer,
+                                });
+                            }
+                        }
+                    }
+                }
+                raw = to;
+            }
+            _ => {}
+        }
+    }
+    Err(format!("line {line} is not a move of the file"))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn judge(
+    fk: &Fk,
+    part: &HeadPart,
+    obstacle: &str,
+    bed: &BedSpec,
+    points: &[Point],
+    layer: u32,
+    w: f64,
+    h: f64,
+    at: &dyn Fn(f64) -> Vec<f64>,
+) -> Result<String, String> {
+    for k in 0..=POSES {
+        let axes = at(k as f64 / POSES as f64);
+        let (p, n) = fk.forward(&axes)?;
+        let r = frame(fk, &axes, n);
+        if obstacle == "bed" {
+            for q in boundary(part, p, n, r.as_ref()) {
+                if let Some(top) = covers(bed, q) {
+                    if q.z < top - 0.05 {
+                        return Ok(format!(
+                            "the {} reaches {:.3} mm below the bed at {q}",
+                            part.name(),
+                            top - q.z
+                        ));
+                    }
+                }
+            }
+        } else {
+            for pt in points {
+                if (pt.q - p).length() > 60.0 {
+                    continue;
+                }
+                let press = if pt.layer == layer { h } else { 0.0 };
+                if inside(part, p, n, r.as_ref(), pt.q, w, press) {
+                    return Ok(format!(
+                        "bead point {} of layer {} is inside the {} (tip {p}, axis {n})",
+                        pt.q,
+                        pt.layer,
+                        part.name()
+                    ));
+                }
+            }
+        }
+    }
+    Err(format!(
+        "no {obstacle} inside the {} over the move's {POSES} poses",
+        part.name()
+    ))
+}
