@@ -11,9 +11,13 @@
 //!   `T = 1 / F` in G93), written here.
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "common/check_files.rs"]
+mod check_files;
 mod common;
 #[path = "common/synthetic.rs"]
 mod synthetic;
+
+use check_files::{bhead_speed_file, clean_file, rtn_reach_file, Lines};
 
 use std::process::Command;
 
@@ -194,38 +198,12 @@ fn check_reads_warpslice_output_of_every_preset_on_the_tests_forward_kinematics(
     }
 }
 
-/// Lines of text, numbered as an editor shows them.
-#[derive(Default)]
-struct Lines(String, u64);
-
-impl Lines {
-    fn add(&mut self, l: &str) -> u64 {
-        self.0.push_str(l);
-        self.0.push('\n');
-        self.1 += 1;
-        self.1
-    }
-}
-
-/// An RTN (Slicer4RTN) file whose line `bad` turns A to 175°, past the preset's range.
-fn rtn_reach_file() -> (String, u64, f64) {
-    let mut g = Lines::default();
-    g.add("; hand-written RTN move list");
-    g.add("G90");
-    g.add("M83");
-    g.add("G1 X100 Y100 Z5 A0 F1200");
-    g.add("G1 X101 Y100 Z5 A90 E0.1");
-    let bad = g.add("G1 X102 Y100 Z5 A175 E0.1");
-    g.add("G1 X103 Y100 Z5 A100 E0.1");
+#[test]
+fn a_rotary_axis_past_its_range_is_a_reach_finding_on_its_line() {
+    let (text, bad) = rtn_reach_file();
     let limit = preset_json("rtn-slicer4rtn")["rotation_range_deg"][1]
         .as_f64()
         .unwrap();
-    (g.0, bad, limit)
-}
-
-#[test]
-fn a_rotary_axis_past_its_range_is_a_reach_finding_on_its_line() {
-    let (text, bad, limit) = rtn_reach_file();
     let r = check(
         text.as_bytes(),
         &preset("rtn-slicer4rtn").unwrap(),
@@ -233,6 +211,12 @@ fn a_rotary_axis_past_its_range_is_a_reach_finding_on_its_line() {
     )
     .unwrap();
     assert_eq!(r.counts.reach, 1, "{:?}", r.findings);
+    assert_eq!(
+        r.counts.total(),
+        1,
+        "only the reach finding: {:?}",
+        r.findings
+    );
     let f = r
         .findings
         .iter()
@@ -243,23 +227,10 @@ fn a_rotary_axis_past_its_range_is_a_reach_finding_on_its_line() {
         (bad, Some("A"), Some(175.0), Some(limit))
     );
     let a = r.axes.iter().find(|a| a.axis == "A").unwrap();
-    assert_eq!((a.highest, a.margin_max), (Some(175.0), Some(limit - 175.0)));
-}
-
-/// A B-head file (FullControl style, absolute E) whose line `fast` turns B 60° at F 36000:
-/// a pure rotation, so the firmware takes D = 60° at F: B moves at 36000 °/min.
-fn bhead_speed_file() -> (String, u64) {
-    let mut g = Lines::default();
-    g.add("; FullControl-style B-axis file");
-    g.add("G90");
-    g.add("M82");
-    g.add("G92 E0");
-    g.add("G1 X100 Y100 Z60 B0 F1000");
-    g.add("G1 X110 Y100 Z60 B0 E1.0");
-    let fast = g.add("G1 B60 F36000");
-    g.add("G1 B0 F1000");
-    g.add("G1 X100 Y100 Z62");
-    (g.0, fast)
+    assert_eq!(
+        (a.highest, a.margin_max),
+        (Some(175.0), Some(limit - 175.0))
+    );
 }
 
 #[test]
@@ -284,29 +255,13 @@ fn an_axis_over_its_largest_feed_is_a_speed_finding_with_its_speed() {
     // time: X 10 mm at F1000; B 60° slowed to its limit; B back 60° at F1000 (1000 °/min);
     // the return √(10² + 2²) mm at F1000 (the first move's start is unknown: not timed)
     let want = 10.0 / 1000.0 + 60.0 / max_b + 60.0 / 1000.0 + 104f64.sqrt() / 1000.0;
-    assert!((r.print_time_min - want).abs() < 1e-9, "{} vs {want}", r.print_time_min);
+    assert!(
+        (r.print_time_min - want).abs() < 1e-9,
+        "{} vs {want}",
+        r.print_time_min
+    );
     assert!((r.slowdown_min - (60.0 / max_b - 60.0 / 36000.0)).abs() < 1e-9);
     assert!((r.total_e_mm - 1.0).abs() < 1e-12);
-}
-
-/// A clean cartesian pad (two layers of lines, F 1800 well under every axis' feed).
-fn clean_file() -> String {
-    let mut g = Lines::default();
-    g.add("M83");
-    g.add("G1 Z5 F600");
-    for k in 1..=2 {
-        let z = 0.2 * k as f64;
-        g.add(";LAYER_CHANGE");
-        for i in 0..10 {
-            let x = 50.0 + 0.45 * i as f64;
-            g.add(&format!("G1 Z{:.3} F600", z + 1.0));
-            g.add(&format!("G1 X{x:.3} Y50 F1800"));
-            g.add(&format!("G1 Z{z:.3} F600"));
-            g.add(&format!("G1 X{x:.3} Y60 E0.4 F1800"));
-        }
-    }
-    g.add("G1 Z20 F600");
-    g.0
 }
 
 #[test]
@@ -336,8 +291,12 @@ fn unreadable_input_is_a_named_error() {
     assert!(e.to_string().contains("line 3: '.3'"), "{e}");
     let e = check(b"G1 XNaN Y1\n", &spec, &CheckOptions::default()).unwrap_err();
     assert!(matches!(e, CheckError::BadNumber { line: 1, .. }), "{e:?}");
-    let e = check(&[0x89, b'P', b'N', b'G', 0, 1, 2], &spec, &CheckOptions::default())
-        .unwrap_err();
+    let e = check(
+        &[0x89, b'P', b'N', b'G', 0, 1, 2],
+        &spec,
+        &CheckOptions::default(),
+    )
+    .unwrap_err();
     assert_eq!(e.code(), "check.no-moves", "{e}");
 }
 
@@ -398,7 +357,11 @@ fn another_tools_rtn_file_in_inverse_time_is_read_and_timed() {
     // °/min, under 3600; X 6 mm in 1/40 min = 240 mm/min; Z 2 mm in 1/60 min = 120 mm/min,
     // under 720): no slow-down
     assert_eq!(r.counts.speed, 0, "{:?}", r.findings);
-    assert!((r.print_time_min - minutes).abs() < 1e-9, "{} vs {minutes}", r.print_time_min);
+    assert!(
+        (r.print_time_min - minutes).abs() < 1e-9,
+        "{} vs {minutes}",
+        r.print_time_min
+    );
 }
 
 #[test]
@@ -413,7 +376,10 @@ fn a_fullcontrol_style_b_head_file_is_read_with_its_tilts() {
     let mut e = 0.0;
     for (k, b) in [0.0, 12.0, 27.0, 33.0, 41.0].iter().enumerate() {
         e += 0.2;
-        g.add(&format!("G1 X{:.1} Y100 Z60 B{b} E{e:.3}", 101.0 + k as f64));
+        g.add(&format!(
+            "G1 X{:.1} Y100 Z60 B{b} E{e:.3}",
+            101.0 + k as f64
+        ));
     }
     g.add("G1 E0.8 ; retract (absolute)");
     g.add("G1 X90 Y100 Z70 B0");
@@ -466,18 +432,29 @@ fn cli_check_exits_0_clean_1_with_findings_on_their_lines_2_unreadable() {
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("0 findings"), "{out}");
 
-    let (text, bad, limit) = rtn_reach_file();
+    let (text, bad) = rtn_reach_file();
+    let limit = preset_json("rtn-slicer4rtn")["rotation_range_deg"][1]
+        .as_f64()
+        .unwrap();
     let reach = tmp("reach.gcode", text.as_bytes());
     let (code, out, err) = cli(&["check", &reach, "--machine", "rtn-slicer4rtn"]);
     assert_eq!(code, 1, "{out}{err}");
     assert!(
-        out.contains(&format!("line {bad}: reach: axis A = 175.000 is beyond its limit {limit}")),
+        out.contains(&format!(
+            "line {bad}: reach: axis A = 175.000 is beyond its limit {limit}"
+        )),
         "{out}"
     );
 
     let (text, fast) = bhead_speed_file();
     let speed = tmp("speed.gcode", text.as_bytes());
-    let (code, out, _) = cli(&["check", &speed, "--machine", "fullcontrol-prusa-b", "--json"]);
+    let (code, out, _) = cli(&[
+        "check",
+        &speed,
+        "--machine",
+        "fullcontrol-prusa-b",
+        "--json",
+    ]);
     assert_eq!(code, 1, "{out}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["counts"]["speed"], 1);

@@ -102,9 +102,7 @@ impl CheckStream {
                 Some(c)
             }
             Err(e @ MachineError::CollisionUnsupported { .. }) => {
-                report
-                    .warnings
-                    .push(format!("collisions not checked: {e}"));
+                report.warnings.push(format!("collisions not checked: {e}"));
                 None
             }
             Err(e) => return Err(e.into()),
@@ -263,8 +261,7 @@ impl Parts<'_> {
             });
         }
         let moves = g == 0.0 || g == 1.0 || g == 92.0;
-        for w in crate::gcode::lexer::Words::new(crate::gcode::lexer::split(l.bytes).code)
-            .flatten()
+        for w in crate::gcode::lexer::Words::new(crate::gcode::lexer::split(l.bytes).code).flatten()
         {
             if w.letter == b'F' {
                 if let Some(f) = w.value {

@@ -286,9 +286,10 @@ mod cli {
     ) -> ExitCode {
         let report = (|| -> Result<warpslice::check::CheckReport, String> {
             let spec = machine_spec(machine)?;
-            let mut s = warpslice::check::CheckStream::new(&spec, options)
-                .map_err(|e| e.to_string())?;
-            let mut f = std::fs::File::open(gcode).map_err(|e| format!("{}: {e}", gcode.display()))?;
+            let mut s =
+                warpslice::check::CheckStream::new(&spec, options).map_err(|e| e.to_string())?;
+            let mut f =
+                std::fs::File::open(gcode).map_err(|e| format!("{}: {e}", gcode.display()))?;
             let mut buf = vec![0u8; 1 << 20];
             loop {
                 let n = f
@@ -297,7 +298,8 @@ mod cli {
                 if n == 0 {
                     break;
                 }
-                s.push(&buf[..n]).map_err(|e| format!("{}: {e}", gcode.display()))?;
+                s.push(&buf[..n])
+                    .map_err(|e| format!("{}: {e}", gcode.display()))?;
             }
             s.finish()
                 .map(|(r, _)| r)
@@ -328,7 +330,11 @@ mod cli {
                 say!(
                     "… {} more finding{} (--json lists them)",
                     r.counts.total() - listed,
-                    if r.counts.total() - listed == 1 { "" } else { "s" }
+                    if r.counts.total() - listed == 1 {
+                        ""
+                    } else {
+                        "s"
+                    }
                 );
             }
             if let Some(w) = &r.worst_speed {

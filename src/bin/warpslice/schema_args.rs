@@ -335,7 +335,8 @@ impl clap::FromArgMatches for CheckArgs {
                 insert(&mut obj, p.key, v);
             }
         }
-        let options = serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
+        let options =
+            serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
         Ok(CheckArgs { options })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
