@@ -281,6 +281,57 @@ fn a_clean_file_reports_nothing_and_counts_its_filament_and_tilt() {
     assert_eq!(r.tilt_histogram.iter().sum::<u64>(), 20);
 }
 
+/// A cartesian pad of 10 layers (top at 2.0 mm), then the nozzle plunged to Z 1 at its
+/// middle: line `plunge`.
+fn plunge_file() -> (String, u64) {
+    let mut g = Lines::default();
+    g.add("M83");
+    g.add("G1 Z5 F600");
+    for k in 1..=10 {
+        let z = 0.2 * k as f64;
+        g.add(";LAYER_CHANGE");
+        for i in 0..23 {
+            let x = 10.0 + 0.45 * i as f64;
+            g.add(&format!("G1 Z{:.3} F600", z + 1.0));
+            g.add(&format!("G1 X{x:.3} Y10 F1800"));
+            g.add(&format!("G1 Z{z:.3} F600"));
+            g.add(&format!("G1 X{x:.3} Y20 E0.5 F1800"));
+        }
+    }
+    g.add("G1 Z10 F600");
+    g.add("G1 X15 Y15 F1800");
+    let plunge = g.add("G1 Z1.0 F600");
+    (g.0, plunge)
+}
+
+#[test]
+fn a_plunge_into_the_print_is_a_collision_on_its_line_unless_collisions_are_skipped() {
+    let (text, plunge) = plunge_file();
+    let spec = preset("cartesian").unwrap();
+    let r = check(text.as_bytes(), &spec, &CheckOptions::default()).unwrap();
+    let lines: Vec<u64> = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == FindingKind::Collision)
+        .map(|f| f.line)
+        .collect();
+    assert_eq!(lines, vec![plunge], "{:?}", r.findings);
+    // the flat tip 1 mm below the pad's top (2.0 mm): 1 mm deep
+    let c = r.findings[0].collision.as_ref().unwrap();
+    assert!((c.depth_mm - 1.0).abs() < 1e-4, "{c:?}");
+    assert_eq!(r.findings[0].layer, 10);
+    let skip = CheckOptions {
+        skip_collisions: true,
+        ..CheckOptions::default()
+    };
+    let r = check(text.as_bytes(), &spec, &skip).unwrap();
+    assert!(r.is_clean() && !r.collisions_checked, "{:?}", r.findings);
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.contains("collisions not checked")));
+}
+
 #[test]
 fn unreadable_input_is_a_named_error() {
     let spec = preset("rtn-slicer4rtn").unwrap();

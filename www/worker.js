@@ -135,11 +135,12 @@ function markHits(pv, report) {
 /**
  * `warpslice check` of a File or Blob for `machine` (a preset name or a machine JSON text),
  * streamed in CHUNK slices: `{ report, preview }` (the preview only with `withPath`: points with
- * their file lines, collisions flagged). `onProgress(done, total)` after each slice.
+ * their file lines, collisions flagged). `onProgress(done, total)` after each slice;
+ * `skipCollisions`: reach and speeds only.
  */
-async function checkFile(file, machine, withPath, onProgress = () => {}) {
+async function checkFile(file, machine, withPath, onProgress = () => {}, skipCollisions = false) {
   const total = file.size;
-  const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath }));
+  const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath, skip_collisions: skipCollisions }));
   const preview = withPath ? new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS))) : null;
   const drain = () => {
     if (!preview) return;
@@ -239,11 +240,15 @@ async function unwarpFile(msg) {
     const blob = new Blob(parts, { type: 'text/x-gcode' });
     // The machine file through `warpslice check` (the same reach, collision and speed checks
     // as the CLI's): the findings with the output's line numbers, for the page.
+    // Its path (file lines, collisions flagged) is a second preview the page switches to when a
+    // finding is clicked (the unwarp's own preview has no output lines).
     let check = null;
     let checkError = null;
+    let checkPreview = null;
     if (options.machine) {
       try {
-        check = (await checkFile(blob, machineText(options.machine), false)).report;
+        // the swept collision check only when the unwarp options ask for it (costly on a large file)
+        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !options.check_collisions));
       } catch (e) {
         checkError = errReply(e);
       }
@@ -261,7 +266,11 @@ async function unwarpFile(msg) {
         pv.machineFrameError = String(e?.message ?? e);
       }
     }
-    self.postMessage({ id, type: 'done', blob, report, registration, check, checkError, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
+    if (checkPreview) {
+      const c = checkPreview;
+      transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer);
+    }
+    self.postMessage({ id, type: 'done', blob, report, registration, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {
     stream.free();
   }

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::machine::Flavour;
-use crate::schema::{Param, ParamDefault};
+use crate::schema::{Param, ParamDefault, ParamType};
 
 /// Findings kept in the report's list by default (every finding is counted).
 pub const DEFAULT_MAX_FINDINGS: usize = 1000;
@@ -22,6 +22,9 @@ pub struct CheckOptions {
     pub max_findings: usize,
     /// Keep the tip path (the preview's points; `CheckStream::take_path`).
     pub path: bool,
+    /// Leave the collision check out (reach, speeds, time, E and tilt only): the swept check is
+    /// the costly part on a large file.
+    pub skip_collisions: bool,
 }
 
 impl Default for CheckOptions {
@@ -30,6 +33,7 @@ impl Default for CheckOptions {
             flavour: None,
             max_findings: DEFAULT_MAX_FINDINGS,
             path: false,
+            skip_collisions: false,
         }
     }
 }
@@ -45,6 +49,10 @@ pub const PARAMS: &[Param] = &[
         .step(1.0)
         .default(ParamDefault::Number(DEFAULT_MAX_FINDINGS as f64))
         .help("findings listed in the report (every finding is counted)"),
+    Param::number("skip_collisions", "--skip-collisions", "Skip collisions")
+        .of(ParamType::Bool)
+        .default(ParamDefault::Bool(false))
+        .help("check reach and axis speeds only, not the head's collisions with the print and the bed (the costly part on a large file)"),
 ];
 
 /// A count given as a JSON number: a whole, non-negative number (`1000` or `1000.0`).

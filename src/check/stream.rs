@@ -91,6 +91,12 @@ impl CheckStream {
             ..CheckReport::default()
         };
         let checker = match Checker::new(spec) {
+            Ok(_) if options.skip_collisions => {
+                report
+                    .warnings
+                    .push("collisions not checked (skip_collisions)".to_string());
+                None
+            }
             Ok(c) => {
                 report.collisions_checked = true;
                 report.head_parts = spec

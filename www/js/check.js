@@ -28,11 +28,26 @@ function pointOfLine(d, line) {
   return -1;
 }
 
+/** Move the preview to point `i` of `d`, showing `d` first if another preview is shown. */
+function showPoint(d, i) {
+  if (state.tp.data !== d) {
+    state.tp.data = d;
+    state.tp.built = null;
+    state.tp.firstBuild = true;
+    updateMachineFrameToggle();
+    setViewMode('toolpath');
+    $('findings').dataset.preview = 'check';
+  }
+  gotoPoint(i);
+}
+
 /**
  * Shows a check report in `#findings`: the counts, the first findings (buttons moving the
- * preview to their move when the preview has file lines), the warnings. `null`: clears it.
+ * preview to their move), the warnings. `null`: clears it. `preview`: the checked file's
+ * preview (file lines, collisions flagged); when it is not the one shown (after an unwarp, whose
+ * own preview has no output lines) a click switches the view to it first.
  */
-export function showFindings(report, error = null) {
+export function showFindings(report, error = null, preview = state.tp.data) {
   const box = $('findings');
   box.replaceChildren();
   delete box.dataset.count;
@@ -51,14 +66,14 @@ export function showFindings(report, error = null) {
       : `check: ${total} finding${total === 1 ? '' : 's'} — ${c.reach} reach, ${c.collision} collision, ${c.speed} speed`,
   }));
   const ol = el('ol', { className: 'findings' });
-  const d = state.tp.data;
+  const d = preview;
   for (const f of report.findings.slice(0, FINDINGS_SHOWN)) {
     const i = pointOfLine(d, f.line);
     const text = findingText(f);
     const item = i >= 0
       ? el('button', { type: 'button', textContent: text, dataset: { line: f.line, kind: f.kind } })
       : el('span', { textContent: text, dataset: { line: f.line, kind: f.kind } });
-    if (i >= 0) item.addEventListener('click', () => gotoPoint(i));
+    if (i >= 0) item.addEventListener('click', () => showPoint(d, i));
     ol.append(el('li', {}, item));
   }
   box.append(ol);

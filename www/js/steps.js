@@ -75,6 +75,7 @@ export function resetResult() {
   showFindings(null);
   showUnwarpWarnings(null);
   delete $('findings').dataset.mode;
+  delete $('findings').dataset.preview;
   $('progress').value = 0;
   $('progress-text').textContent = '';
   $('sliders').hidden = true;
@@ -245,7 +246,7 @@ export async function doUnwarp(file) {
     setViewMode('toolpath');
     $('sliders').hidden = false;
     // the worker's `warpslice check` of the machine file (its output lines)
-    showFindings(out.check, out.checkError);
+    showFindings(out.check, out.checkError, out.checkPreview);
     if (out.check) $('findings').dataset.mode = 'unwarp';
     prog.dataset.viewMs = String(Math.round(performance.now() - tv));
     prog.dataset.afterMs = String(Math.round(performance.now() - t0) - Number(prog.dataset.ms));

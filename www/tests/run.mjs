@@ -445,6 +445,14 @@ try {
         const lines = await tid('findings').locator('[data-line]').evaluateAll((es) => es.map((e) => Number(e.dataset.line)));
         const want = rep.findings.slice(0, lines.length).map((f) => f.line);
         assert(JSON.stringify(lines) === JSON.stringify(want), `${name}: finding lines ${lines} vs ${want}`);
+        // a click on the first finding shows the checked output's preview at that line
+        const first = tid('findings').locator('button[data-line]').first();
+        if (await first.count()) {
+          const line = await first.getAttribute('data-line');
+          await first.click();
+          assert((await tid('findings').getAttribute('data-preview')) === 'check', `${name}: the checked output's preview is shown`);
+          assert((await tid('viewport').getAttribute('data-line')) === line, `${name}: the preview moved to line ${line}: ${await tid('viewport').getAttribute('data-line')}`);
+        }
       }
       await screenshot(`preset-${name}-result`);
     }
