@@ -140,23 +140,31 @@ impl CheckStream {
 
     /// Feed the next bytes of the G-code (any chunk size).
     pub fn push(&mut self, bytes: &[u8]) -> Result<(), CheckError> {
-        let mut state = Parts {
-            machine: self.machine.as_ref(),
-            limits: &self.limits,
-            checker: self.checker.as_mut(),
-            reach: &mut self.reach,
-            speeds: &mut self.speeds,
-            rule: self.rule,
-            options: &self.options,
-            report: &mut self.report,
-            feed: &mut self.feed,
-            inverse_time: &mut self.inverse_time,
-            arcs: &mut self.arcs,
-            arc_count: &mut self.arc_count,
-            path: &mut self.path,
-            letters: &self.letters,
-        };
-        self.reader.push(bytes, |l| state.line(l))
+        let (reader, mut state) = self.parts();
+        reader.push(bytes, |l| state.line(l))
+    }
+
+    /// The reader, and the rest of the state a line changes (borrowed apart).
+    fn parts(&mut self) -> (&mut AxisReader, Parts<'_>) {
+        (
+            &mut self.reader,
+            Parts {
+                machine: self.machine.as_ref(),
+                limits: &self.limits,
+                checker: self.checker.as_mut(),
+                reach: &mut self.reach,
+                speeds: &mut self.speeds,
+                rule: self.rule,
+                options: &self.options,
+                report: &mut self.report,
+                feed: &mut self.feed,
+                inverse_time: &mut self.inverse_time,
+                arcs: &mut self.arcs,
+                arc_count: &mut self.arc_count,
+                path: &mut self.path,
+                letters: &self.letters,
+            },
+        )
     }
 
     /// The tip path collected so far (drains it; only with `options.path`).
@@ -164,31 +172,15 @@ impl CheckStream {
         std::mem::take(&mut self.path)
     }
 
-    /// The findings so far (the report's list, without the collisions of the lines still in
-    /// the checker), for a progress display.
+    /// The findings counted so far (every line read is judged), for a progress display.
     pub fn counts(&self) -> FindingCounts {
         self.report.counts
     }
 
     /// The last line (without a newline) and the report.
     pub fn finish(mut self) -> Result<(CheckReport, Vec<PathPoint>), CheckError> {
-        let mut state = Parts {
-            machine: self.machine.as_ref(),
-            limits: &self.limits,
-            checker: self.checker.as_mut(),
-            reach: &mut self.reach,
-            speeds: &mut self.speeds,
-            rule: self.rule,
-            options: &self.options,
-            report: &mut self.report,
-            feed: &mut self.feed,
-            inverse_time: &mut self.inverse_time,
-            arcs: &mut self.arcs,
-            arc_count: &mut self.arc_count,
-            path: &mut self.path,
-            letters: &self.letters,
-        };
-        self.reader.finish(|l| state.line(l))?;
+        let (reader, mut state) = self.parts();
+        reader.finish(|l| state.line(l))?;
         let mut r = self.report;
         r.lines = self.reader.lines();
         if r.moves == 0 {
