@@ -41,6 +41,8 @@ pub struct Description {
     pub warp_options: &'static [Param],
     /// The unwarp step's parameters (its own and the machine's).
     pub unwarp_options: Vec<Param>,
+    /// The parameters of `warpslice check` besides the file and the machine.
+    pub check_options: &'static [Param],
     /// Every shipped machine preset.
     pub machines: Vec<MachineInfo>,
     /// Feature names; the index is the feature number in the preview's toolpath buffer.
@@ -62,6 +64,7 @@ pub fn error_codes() -> Vec<ErrorCode> {
         crate::machine::ERROR_CODES,
         crate::calibrate::ERROR_CODES,
         crate::pipeline::ERROR_CODES,
+        crate::check::ERROR_CODES,
     ] {
         v.extend_from_slice(list);
     }
@@ -122,6 +125,7 @@ pub fn describe() -> Result<Description, MachineError> {
         warps: crate::warp::WARPS,
         warp_options: crate::pipeline::WARP_OPTION_PARAMS,
         unwarp_options,
+        check_options: crate::check::options::PARAMS,
         machines,
         features: Feature::ALL.iter().map(|f| f.name()).collect(),
         errors: error_codes(),

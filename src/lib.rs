@@ -27,7 +27,7 @@
 //! 8  unwarp
 //! 9  machine
 //! 10 calibrate slicer collision
-//! 11 pipeline
+//! 11 pipeline check
 //! 12 describe
 //! 13 wasm
 //! ```
@@ -60,6 +60,7 @@ pub mod tolerance;
 
 pub mod anchor;
 pub mod calibrate;
+pub mod check;
 pub mod collision;
 pub mod describe;
 pub mod emit;

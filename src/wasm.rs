@@ -198,6 +198,95 @@ impl UnwarpStream {
     }
 }
 
+// ── `warpslice check` of any machine G-code, `crate::check` ──────────────────────────────────
+
+/// Numbers per point of [`CheckStream::take_path`]'s `points` (the unwarp toolpath's layout).
+pub const CHECK_POINT_NUMBERS: usize = 10;
+
+/// Streaming check of a machine G-code for the web worker: `push` every chunk (4 MB slices),
+/// draining `takePath` for the preview, then `finish` for the report (the CLI's `--json`).
+#[wasm_bindgen]
+pub struct CheckStream {
+    inner: Option<crate::check::CheckStream>,
+    /// The path of the last line, after `finish`.
+    rest: Vec<crate::check::PathPoint>,
+}
+
+#[wasm_bindgen]
+impl CheckStream {
+    /// A check for `machine` (a preset name or a machine JSON object text) with `options_json`
+    /// (the [`crate::check::CheckOptions`] JSON: `flavour`, `max_findings`, `path`; "" for
+    /// the defaults).
+    #[wasm_bindgen(constructor)]
+    pub fn new(machine: &str, options_json: &str) -> Result<CheckStream, JsValue> {
+        let spec = crate::machine::MachineSpec::from_name_or_json(machine).map_err(js)?;
+        let options: crate::check::CheckOptions = parse_or_default("check options", options_json)?;
+        Ok(CheckStream {
+            inner: Some(crate::check::CheckStream::new(&spec, &options).map_err(js)?),
+            rest: Vec::new(),
+        })
+    }
+    /// A chunk of the G-code.
+    pub fn push(&mut self, chunk: &[u8]) -> Result<(), JsValue> {
+        self.stream()?.push(chunk).map_err(js)
+    }
+    /// The tip path so far (drains it; with `path: true`): `{ points, lines }`, points
+    /// [`CHECK_POINT_NUMBERS`] numbers each (x y z nx ny nz e layer travel(0/1) feature(0)),
+    /// lines the 1-based file line of each point. Call once more after `finish`.
+    #[wasm_bindgen(js_name = takePath)]
+    pub fn take_path(&mut self) -> Result<JsValue, JsValue> {
+        let path = match self.inner.as_mut() {
+            Some(s) => s.take_path(),
+            None => std::mem::take(&mut self.rest),
+        };
+        let mut points = Vec::with_capacity(path.len() * CHECK_POINT_NUMBERS);
+        let mut lines = Vec::with_capacity(path.len());
+        for q in &path {
+            points.extend_from_slice(&[
+                q.p.x,
+                q.p.y,
+                q.p.z,
+                q.n.x,
+                q.n.y,
+                q.n.z,
+                q.de,
+                q.layer as f64,
+                if q.travel { 1.0 } else { 0.0 },
+                0.0,
+            ]);
+            lines.push(q.line as f64);
+        }
+        let o = js_sys::Object::new();
+        set(
+            &o,
+            "points",
+            &js_sys::Float64Array::from(points.as_slice()).into(),
+        )?;
+        set(
+            &o,
+            "lines",
+            &js_sys::Float64Array::from(lines.as_slice()).into(),
+        )?;
+        Ok(o.into())
+    }
+    /// The last line and the report (the stream is spent after it; `takePath` gives the last
+    /// points).
+    pub fn finish(&mut self) -> Result<JsValue, JsValue> {
+        let s = self
+            .inner
+            .take()
+            .ok_or_else(|| bad_options("check: finish was called already"))?;
+        let (r, rest) = s.finish().map_err(js)?;
+        self.rest = rest;
+        to_js(&r)
+    }
+    fn stream(&mut self) -> Result<&mut crate::check::CheckStream, JsValue> {
+        self.inner
+            .as_mut()
+            .ok_or_else(|| bad_options("check: the stream is finished"))
+    }
+}
+
 // ── Calibration of A/B tables (seed 004), `crate::calibrate` ────────────────────────────────
 
 /// A machine argument: a JSON object text, a preset name, or empty for `open5x-ab`.

@@ -150,3 +150,37 @@ fn parameters_left_out_take_the_schema_defaults() {
         assert_eq!(job["warp"]["spec"], want, "{warp}");
     }
 }
+
+#[test]
+fn every_check_parameter_is_a_flag_of_check_with_its_default() {
+    let d = warpslice::describe::describe().unwrap();
+    let (ok, help, _) = cli(&["check", "--help"]);
+    assert!(ok);
+    assert!(!d.check_options.is_empty());
+    for p in d.check_options {
+        let line =
+            line_of(&help, p.flag).unwrap_or_else(|| panic!("{} missing from:\n{help}", p.flag));
+        assert!(
+            line.contains(p.help.split(':').next().unwrap_or(p.help)),
+            "{line}"
+        );
+        if let Some(t) = default_text(p) {
+            let text = help
+                .split(&format!("{} ", p.flag))
+                .nth(1)
+                .and_then(|rest| rest.split("\n      --").next())
+                .unwrap_or_default();
+            assert!(
+                text.contains(&format!("[default: {t}]")),
+                "{}: {text}",
+                p.flag
+            );
+        }
+    }
+    for flag in ["--machine", "--json"] {
+        assert!(
+            line_of(&help, flag).is_some(),
+            "{flag} missing from:\n{help}"
+        );
+    }
+}

@@ -3,7 +3,7 @@
 const CACHE = 'warpslice-v2';
 const SHELL = ['./', './index.html', './style.css', './worker.js', './icon.svg', './manifest.webmanifest',
   './js/main.js', './js/state.js', './js/dom.js', './js/worker-client.js', './js/machines.js', './js/params.js', './js/forms.js',
-  './js/settings.js', './js/steps.js', './js/view.js', './js/preview.js', './js/advice.js', './js/errors.js',
+  './js/settings.js', './js/steps.js', './js/view.js', './js/preview.js', './js/advice.js', './js/errors.js', './js/check.js',
   './vendor/three.module.js', './vendor/three.core.js', './vendor/OrbitControls.js', './vendor/STLLoader.js',
   './pkg/warpslice.js', './pkg/warpslice_bg.wasm'];
 

@@ -1,5 +1,6 @@
-// The heavy work, off the page's thread: warping, and the streaming two-pass unwarp of a G-code
-// File read in slices (never one big string). Messages in: {id, op, ...}; out: {id, type, ...}.
+// The heavy work, off the page's thread: warping, the streaming two-pass unwarp of a G-code
+// File read in slices (never one big string), and `warpslice check` of a machine G-code (after a
+// machine unwarp, and the page's "Check a G-code" mode). Messages in: {id, op, ...}; out: {id, type, ...}.
 import init, * as ws from './pkg/warpslice.js';
 
 const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
@@ -46,6 +47,14 @@ self.onmessage = async (ev) => {
       self.postMessage({ id: msg.id, type: 'done', stl: out.stl, job: out.job, report: out.report, surfaces }, [out.stl.buffer, surfaces.buffer]);
     } else if (msg.op === 'unwarp') {
       await unwarpFile(msg);
+    } else if (msg.op === 'check') {
+      // Check a G-code (any tool's) for a machine: the report, and the preview with file lines.
+      const t0 = performance.now();
+      const out = await checkFile(msg.file, msg.machine, true, (done, total) =>
+        self.postMessage({ id: msg.id, type: 'progress', phase: 'check', done, total, workerBytes: wasmBytes() }));
+      const pv = out.preview;
+      const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer, pv.hit.buffer];
+      self.postMessage({ id: msg.id, type: 'done', report: out.report, preview: pv, ms: performance.now() - t0 }, transfer);
     }
   } catch (e) {
     self.postMessage({ id: msg.id, type: 'error', ...errReply(e) });
@@ -56,7 +65,11 @@ async function readSlice(file, start, end) {
   return new Uint8Array(await file.slice(start, end).arrayBuffer());
 }
 
-/** The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature | travel<<7). */
+/**
+ * The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature |
+ * travel<<7); for a checked G-code also the file line of each point (u32, `line`) and whether a
+ * collision was found on it (u8, `hit`, set by `markHits`).
+ */
 class Preview {
   constructor(stride) {
     this.stride = stride;
@@ -72,16 +85,19 @@ class Preview {
     };
     const pos = grow(Float32Array, 3), axis = grow(Float32Array, 3), layer = grow(Uint32Array, 1), flags = grow(Uint8Array, 1);
     const tilt = grow(Float32Array, 1);
+    const line = grow(Uint32Array, 1);
     if (this.pos) {
+      line.set(this.line.subarray(0, this.count));
       tilt.set(this.tilt.subarray(0, this.count));
       pos.set(this.pos.subarray(0, this.count * 3));
       axis.set(this.axis.subarray(0, this.count * 3));
       layer.set(this.layer.subarray(0, this.count));
       flags.set(this.flags.subarray(0, this.count));
     }
-    Object.assign(this, { pos, axis, layer, flags, tilt, cap });
+    Object.assign(this, { pos, axis, layer, flags, tilt, line, cap });
   }
-  add(tp) {
+  /** `tp`: 10 numbers per point (the core's toolpath layout); `lines`: the file line of each (check). */
+  add(tp, lines = null) {
     for (let i = 0; i + 9 < tp.length; i += 10) {
       const keep = this.seen % this.stride === 0;
       this.seen++;
@@ -96,15 +112,63 @@ class Preview {
       this.layer[c] = layer;
       this.tilt[c] = (Math.acos(Math.max(-1, Math.min(1, tp[i + 5]))) * 180) / Math.PI;
       this.flags[c] = (tp[i + 9] & 0x7f) | (tp[i + 8] ? 0x80 : 0);
+      this.line[c] = lines ? lines[i / 10] : 0;
     }
   }
   result() {
     const n = this.count;
     return {
       count: n, stride: this.stride, seen: this.seen,
-      bytes: this.cap * 33, pos: this.pos.slice(0, n * 3), tilt: this.tilt.slice(0, n), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
+      bytes: this.cap * 37, pos: this.pos.slice(0, n * 3), tilt: this.tilt.slice(0, n), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
+      line: this.line.slice(0, n),
     };
   }
+}
+
+/** Flag (`hit`) every preview point whose file line has a collision finding of `report`. */
+function markHits(pv, report) {
+  const lines = new Set(report.findings.filter((f) => f.kind === 'collision').map((f) => f.line));
+  pv.hit = new Uint8Array(pv.count);
+  for (let i = 0; i < pv.count; i++) if (lines.has(pv.line[i])) pv.hit[i] = 1;
+}
+
+/**
+ * `warpslice check` of a File or Blob for `machine` (a preset name or a machine JSON text),
+ * streamed in CHUNK slices: `{ report, preview }` (the preview only with `withPath`: points with
+ * their file lines, collisions flagged). `onProgress(done, total)` after each slice;
+ * `skipCollisions`: reach and speeds only.
+ */
+async function checkFile(file, machine, withPath, onProgress = () => {}, skipCollisions = false) {
+  const total = file.size;
+  const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath, skip_collisions: skipCollisions }));
+  const preview = withPath ? new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS))) : null;
+  const drain = () => {
+    if (!preview) return;
+    const p = stream.takePath();
+    preview.add(p.points, p.lines);
+  };
+  try {
+    for (let off = 0; off < total; off += CHUNK) {
+      stream.push(await readSlice(file, off, off + CHUNK));
+      drain();
+      onProgress(Math.min(total, off + CHUNK), total);
+    }
+    const report = stream.finish();
+    drain();
+    let pv = null;
+    if (preview) {
+      pv = preview.result();
+      markHits(pv, report);
+    }
+    return { report, preview: pv };
+  } finally {
+    stream.free();
+  }
+}
+
+/** The `machine` of unwarp options as `CheckStream` takes it: a preset name or a JSON text. */
+function machineText(m) {
+  return typeof m === 'string' ? m : JSON.stringify(m);
 }
 
 /**
@@ -136,7 +200,7 @@ async function unwarpFile(msg) {
   const options = { ...msg.options, collect_toolpath: true };
   const total = file.size;
   let preview = null;
-  const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2, workerBytes: wasmBytes() + (preview ? preview.cap * 33 : 0) });
+  const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2, workerBytes: wasmBytes() + (preview ? preview.cap * 37 : 0) });
   const head = await readSlice(file, 0, Math.min(total, 16));
   if (head.length >= 4 && head[0] === 0x47 && head[1] === 0x43 && head[2] === 0x44 && head[3] === 0x45) {
     throw coded('gcode.binary', 'this is a binary G-code (.bgcode): export plain-text G-code instead (PrusaSlicer: Printer settings → General → “Supports binary G-code” off)');
@@ -174,8 +238,26 @@ async function unwarpFile(msg) {
     const report = stream.finish();
     drain();
     const blob = new Blob(parts, { type: 'text/x-gcode' });
+    // The machine file through `warpslice check` (the same reach, collision and speed checks
+    // as the CLI's): the findings with the output's line numbers, for the page.
+    // Its path (file lines, collisions flagged) is a second preview the page switches to when a
+    // finding is clicked (the unwarp's own preview has no output lines).
+    let check = null;
+    let checkError = null;
+    let checkPreview = null;
+    if (options.machine) {
+      try {
+        // The unwarp itself checked collisions (on by default) and refused a file with any, so
+        // the swept check runs again here only to list them when the file was written with
+        // `allow_collisions` (costly on a large file); reach and speeds always.
+        const listCollisions = !!options.allow_collisions && !options.no_collision_check;
+        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !listCollisions));
+      } catch (e) {
+        checkError = errReply(e);
+      }
+    }
     const pv = preview.result();
-    const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer];
+    const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];
     if (msg.machineFrame) {
       // The machine-coordinates view is optional: a preview point it cannot place (the preview
       // keeps f32 axes, so a tilt exactly at the machine's limit may round past it) leaves the
@@ -190,7 +272,11 @@ async function unwarpFile(msg) {
     // The firmware configuration this machine G-code needs (the CLI's --config-out): a second
     // download; none for 3-axis output.
     const config = msg.options.machine ? ws.firmware_config(JSON.stringify(msg.options)) : null;
-    self.postMessage({ id, type: 'done', blob, report, registration, config, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
+    if (checkPreview) {
+      const c = checkPreview;
+      transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer);
+    }
+    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {
     stream.free();
   }

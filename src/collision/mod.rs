@@ -36,7 +36,7 @@ pub mod sweep;
 pub mod walk;
 
 pub use sweep::{CheckStats, Checker, CONTACT_TOLERANCE_MM, SAMPLE_STEP_MM};
-pub use walk::{Walker, DEFAULT_LINE_WIDTH_MM};
+pub use walk::{walk_line, AxisMove, AxisReader, ReadLine, Walker, DEFAULT_LINE_WIDTH_MM};
 
 use crate::emit::CollisionFinding;
 use crate::machine::{MachineError, MachineSpec};

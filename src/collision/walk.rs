@@ -2,6 +2,10 @@
 //! `G0`/`G1` with the machine's axis letters is a move, checked, then (if it extrudes)
 //! deposited as a bead.
 //!
+//! The reading itself is [`AxisReader`] (positions, E, layer, line width per line): the
+//! [`Walker`] and `crate::check` (`warpslice check`, which also needs feeds and E) both read
+//! through it, so they see the same moves.
+//!
 //! - Positions: absolute (`G90`) or relative (`G91`); missing axes keep their value (0 before
 //!   the first). The first move is checked at its end only (where the head came from is not
 //!   in the file). `G92` on an axis keeps the raw position and shifts the written one (raw =
@@ -15,16 +19,51 @@
 
 use super::sweep::Checker;
 use crate::emit::CollisionFinding;
-use crate::gcode::lexer::{split, Words};
-use crate::machine::{MachineError, MachineSpec};
+use crate::gcode::lexer::{split, BadWord, Words};
+use crate::machine::{Machine, MachineError, MachineSpec};
 
 /// Line width when the G-code gives none, mm (PrusaSlicer's 0.4 mm nozzle default).
 pub const DEFAULT_LINE_WIDTH_MM: f64 = 0.45;
 
-/// The G-code walker over a [`Checker`]: feed it bytes, then [`Walker::finish`].
-#[derive(Debug)]
-pub struct Walker {
-    checker: Checker,
+/// A `G0`/`G1` that names at least one of the machine's axes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisMove {
+    /// Raw axes before the move (machine order; 0 before the first move).
+    pub from: Vec<f64>,
+    /// Raw axes after the move.
+    pub to: Vec<f64>,
+    /// The file's first move (where the head came from is unknown).
+    pub first: bool,
+    /// E grows on this move.
+    pub extrudes: bool,
+}
+
+/// One line as [`AxisReader`] read it.
+#[derive(Clone, Debug)]
+pub struct ReadLine<'a> {
+    /// 1-based line number.
+    pub number: u64,
+    /// The line's bytes (no newline).
+    pub bytes: &'a [u8],
+    /// The first `G` number of the line.
+    pub g: Option<f64>,
+    /// The move, when the line is a `G0`/`G1` naming a machine axis.
+    pub motion: Option<AxisMove>,
+    /// E change of a `G0`/`G1` (mm; relative or absolute E resolved), 0 without E.
+    pub de: f64,
+    /// Layer (count of layer-change comments so far).
+    pub layer: u32,
+    /// Line width in force, mm.
+    pub width: f64,
+    /// Layer height in force (`;HEIGHT:`), mm.
+    pub height: f64,
+    /// A word whose number does not parse (the walker skips it; `crate::check` refuses it).
+    pub bad_word: Option<BadWord>,
+}
+
+/// The modal state of a machine G-code read line by line (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct AxisReader {
     letters: Vec<u8>,
     raw: Vec<f64>,
     offset: Vec<f64>,
@@ -34,16 +73,15 @@ pub struct Walker {
     line: u64,
     layer: u32,
     width: f64,
+    height: f64,
     first: bool,
     partial: Vec<u8>,
 }
 
-impl Walker {
-    /// A walker for `spec`.
-    pub fn new(spec: &MachineSpec) -> Result<Walker, MachineError> {
-        let checker = Checker::new(spec)?;
-        let m = checker.machine();
-        let letters = m
+impl AxisReader {
+    /// A reader of `machine`'s axes (their letters: the first letter of each axis name).
+    pub fn new(machine: &dyn Machine) -> AxisReader {
+        let letters = machine
             .axis_names()
             .iter()
             .map(|s| {
@@ -55,8 +93,7 @@ impl Walker {
             })
             .collect::<Vec<u8>>();
         let k = letters.len();
-        Ok(Walker {
-            checker,
+        AxisReader {
             letters,
             raw: vec![0.0; k],
             offset: vec![0.0; k],
@@ -66,31 +103,28 @@ impl Walker {
             line: 0,
             layer: 0,
             width: DEFAULT_LINE_WIDTH_MM,
+            height: super::sweep::DEFAULT_LAYER_HEIGHT_MM,
             first: true,
             partial: Vec::new(),
-        })
+        }
     }
 
-    /// Stop checking after the first finding ([`Checker::stop_at_first`]): enough to refuse.
-    pub fn stop_at_first(&mut self, yes: bool) {
-        self.checker.stop_at_first(yes);
-    }
-
-    /// The checker (findings, counts, material).
-    pub fn checker(&self) -> &Checker {
-        &self.checker
-    }
-
-    /// Feed the next bytes of the G-code.
-    pub fn push(&mut self, bytes: &[u8]) -> Result<(), MachineError> {
+    /// Feed the next bytes; `each` gets every complete line, in order.
+    pub fn push<E>(
+        &mut self,
+        bytes: &[u8],
+        mut each: impl FnMut(&ReadLine<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
         let mut rest = bytes;
         while let Some(i) = rest.iter().position(|&b| b == b'\n') {
             if self.partial.is_empty() {
-                self.line(&rest[..i])?;
+                let l = self.line(&rest[..i]);
+                each(&l)?;
             } else {
-                let mut l = std::mem::take(&mut self.partial);
-                l.extend_from_slice(&rest[..i]);
-                self.line(&l)?;
+                let mut buf = std::mem::take(&mut self.partial);
+                buf.extend_from_slice(&rest[..i]);
+                let l = self.line(&buf);
+                each(&l)?;
             }
             rest = &rest[i + 1..];
         }
@@ -98,17 +132,25 @@ impl Walker {
         Ok(())
     }
 
-    /// The last line (without a newline), and every finding.
-    pub fn finish(mut self) -> Result<(Vec<CollisionFinding>, Checker), MachineError> {
+    /// The last line (without a newline), if any.
+    pub fn finish<E>(
+        &mut self,
+        mut each: impl FnMut(&ReadLine<'_>) -> Result<(), E>,
+    ) -> Result<(), E> {
         if !self.partial.is_empty() {
-            let l = std::mem::take(&mut self.partial);
-            self.line(&l)?;
+            let buf = std::mem::take(&mut self.partial);
+            let l = self.line(&buf);
+            each(&l)?;
         }
-        let f = self.checker.take_findings();
-        Ok((f, self.checker))
+        Ok(())
     }
 
-    fn line(&mut self, bytes: &[u8]) -> Result<(), MachineError> {
+    /// Lines read so far.
+    pub fn lines(&self) -> u64 {
+        self.line
+    }
+
+    fn line<'a>(&mut self, bytes: &'a [u8]) -> ReadLine<'a> {
         self.line += 1;
         let s = split(bytes);
         if let Some(c) = s.comment {
@@ -120,7 +162,7 @@ impl Walker {
                 .and_then(|h| std::str::from_utf8(h).ok())
                 .and_then(|h| h.trim().parse::<f64>().ok())
             {
-                self.checker.set_layer_height(h);
+                self.height = h;
             } else if let Some(w) = c.strip_prefix(b"WIDTH:") {
                 if let Some(w) = std::str::from_utf8(w)
                     .ok()
@@ -135,7 +177,15 @@ impl Walker {
         let mut m: Option<f64> = None;
         let mut vals: Vec<Option<f64>> = vec![None; self.letters.len()];
         let mut e: Option<f64> = None;
-        for w in Words::new(s.code).flatten() {
+        let mut bad_word = None;
+        for w in Words::new(s.code) {
+            let w = match w {
+                Ok(w) => w,
+                Err(b) => {
+                    bad_word = bad_word.or(Some(b));
+                    continue;
+                }
+            };
             match w.letter {
                 b'G' => g = g.or(w.value),
                 b'M' => m = m.or(w.value),
@@ -147,12 +197,23 @@ impl Walker {
                 }
             }
         }
+        let mut out = ReadLine {
+            number: self.line,
+            bytes,
+            g,
+            motion: None,
+            de: 0.0,
+            layer: self.layer,
+            width: self.width,
+            height: self.height,
+            bad_word,
+        };
         if m == Some(82.0) {
             self.relative_e = false;
         } else if m == Some(83.0) {
             self.relative_e = true;
         }
-        let Some(g) = g else { return Ok(()) };
+        let Some(g) = g else { return out };
         if g == 90.0 {
             self.relative = false;
         } else if g == 91.0 {
@@ -167,8 +228,14 @@ impl Walker {
                 }
             }
         } else if g == 0.0 || g == 1.0 {
+            if let Some(e) = e {
+                out.de = if self.relative_e { e } else { e - self.e_last };
+                if !self.relative_e {
+                    self.e_last = e;
+                }
+            }
             if vals.iter().all(Option::is_none) {
-                return Ok(());
+                return out;
             }
             let from = self.raw.clone();
             let mut to = from.clone();
@@ -181,29 +248,71 @@ impl Walker {
                     };
                 }
             }
-            let extrudes = e.is_some_and(|e| {
-                if self.relative_e {
-                    e > 0.0
-                } else {
-                    e > self.e_last
-                }
+            self.raw.clone_from(&to);
+            out.motion = Some(AxisMove {
+                from,
+                to,
+                first: std::mem::take(&mut self.first),
+                extrudes: out.de > 0.0,
             });
-            if let (Some(e), false) = (e, self.relative_e) {
-                self.e_last = e;
-            }
-            if std::mem::take(&mut self.first) {
-                // where the head was before the first move is unknown: check where it goes
-                self.checker
-                    .check_move(&to, &to, self.line, self.layer, true)?;
-            } else {
-                self.checker
-                    .check_move(&from, &to, self.line, self.layer, false)?;
-            }
-            if extrudes {
-                self.checker.deposit(&from, &to, self.width)?;
-            }
-            self.raw = to;
         }
-        Ok(())
+        out
+    }
+}
+
+/// The G-code walker over a [`Checker`]: feed it bytes, then [`Walker::finish`].
+#[derive(Debug)]
+pub struct Walker {
+    checker: Checker,
+    reader: AxisReader,
+}
+
+/// Check one line's move (if any) and deposit its bead (if it extrudes): what the walker does
+/// with each line, and `crate::check` with each line it reads.
+pub fn walk_line(checker: &mut Checker, l: &ReadLine<'_>) -> Result<(), MachineError> {
+    let Some(m) = &l.motion else { return Ok(()) };
+    checker.set_layer_height(l.height);
+    if m.first {
+        // where the head was before the first move is unknown: check where it goes
+        checker.check_move(&m.to, &m.to, l.number, l.layer, true)?;
+    } else {
+        checker.check_move(&m.from, &m.to, l.number, l.layer, false)?;
+    }
+    if m.extrudes {
+        checker.deposit(&m.from, &m.to, l.width)?;
+    }
+    Ok(())
+}
+
+impl Walker {
+    /// A walker for `spec`.
+    pub fn new(spec: &MachineSpec) -> Result<Walker, MachineError> {
+        let checker = Checker::new(spec)?;
+        let reader = AxisReader::new(checker.machine());
+        Ok(Walker { checker, reader })
+    }
+
+    /// Stop checking after the first finding ([`Checker::stop_at_first`]): enough to refuse.
+    pub fn stop_at_first(&mut self, yes: bool) {
+        self.checker.stop_at_first(yes);
+    }
+
+    /// The checker (findings, counts, material).
+    pub fn checker(&self) -> &Checker {
+        &self.checker
+    }
+
+    /// Feed the next bytes of the G-code.
+    pub fn push(&mut self, bytes: &[u8]) -> Result<(), MachineError> {
+        let checker = &mut self.checker;
+        self.reader.push(bytes, |l| walk_line(checker, l))
+    }
+
+    /// The last line (without a newline), and every finding.
+    pub fn finish(mut self) -> Result<(Vec<CollisionFinding>, Checker), MachineError> {
+        let checker = &mut self.checker;
+        self.reader.finish(|l| walk_line(checker, l))?;
+        let f = self.checker.take_findings();
+        Ok((f, self.checker))
     }
 }

@@ -5,7 +5,8 @@
 //! `minᵢ − s ≤ v ≤ maxᵢ + s`, s = [`crate::tolerance::LENGTH_EPSILON`] (mm) on a linear axis and
 //! [`super::LIMIT_SLACK_DEG`] on a rotary one (a value computed exactly at a limit passes).
 //! Over the file, `margin_minᵢ = min(v) − minᵢ` and `margin_maxᵢ = maxᵢ − max(v)`: how far the
-//! file stays from each end (negative never: a violation stops the output).
+//! file stays from each end (negative never in the emitter's output, where a violation stops
+//! the output; negative in `warpslice check` of a file that leaves the travel).
 
 use super::travel::AxisBounds;
 use crate::emit::AxisReport;
@@ -37,21 +38,38 @@ impl Reach {
     /// Check raw `axes` (machine order): `Err(i)` names the first axis outside its travel (the
     /// move is not recorded); otherwise the values join the range written.
     pub fn check(&mut self, axes: &[f64]) -> Result<(), usize> {
-        for (i, (b, &v)) in self.bounds.iter().zip(axes).enumerate() {
-            let s = if b.rotary {
-                super::LIMIT_SLACK_DEG
-            } else {
-                crate::tolerance::LENGTH_EPSILON
-            };
-            if !(v >= b.min - s && v <= b.max + s) {
-                return Err(i);
-            }
+        if let Some(i) = self.outside(axes).next() {
+            return Err(i);
         }
+        self.observe(axes);
+        Ok(())
+    }
+
+    /// The axes of raw `axes` (machine order) outside their travel, in order (see the module
+    /// documentation for the slack).
+    pub fn outside<'a>(&'a self, axes: &'a [f64]) -> impl Iterator<Item = usize> + 'a {
+        self.bounds
+            .iter()
+            .zip(axes)
+            .enumerate()
+            .filter(|(_, (b, &v))| {
+                let s = if b.rotary {
+                    super::LIMIT_SLACK_DEG
+                } else {
+                    crate::tolerance::LENGTH_EPSILON
+                };
+                !(v >= b.min - s && v <= b.max + s)
+            })
+            .map(|(i, _)| i)
+    }
+
+    /// Add raw `axes` to the range written, inside their travel or not (`warpslice check`
+    /// reports a file's range as it is: a margin is then negative).
+    pub fn observe(&mut self, axes: &[f64]) {
         for (i, &v) in axes.iter().enumerate().take(self.bounds.len()) {
             self.lowest[i] = self.lowest[i].min(v);
             self.highest[i] = self.highest[i].max(v);
         }
-        Ok(())
     }
 
     /// Per axis: travel, range written, margins and largest feed (`speed_limited_moves` 0: the

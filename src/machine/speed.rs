@@ -56,6 +56,21 @@ pub fn move_minutes(
     }
 }
 
+/// A move an axis' largest feed slows: the axis (machine order), its speed at the written F
+/// (mm/min or °/min, `|Δᵢ| / T`), its largest feed, and the move's time T at the written F
+/// (minutes; the firmware takes `T · speed / max_feed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limited {
+    /// The axis of largest speed ratio.
+    pub axis: usize,
+    /// Its speed at the written F.
+    pub speed: f64,
+    /// Its largest feed.
+    pub max_feed: f64,
+    /// The move's time at the written F, minutes.
+    pub minutes: f64,
+}
+
 /// The speed accounting of a file.
 #[derive(Clone, Debug, Default)]
 pub struct AxisSpeeds {
@@ -83,7 +98,8 @@ impl AxisSpeeds {
     }
 
     /// A written move from `from` to `to` at feed `f` in mode `mode` (`firmware_length`: the
-    /// flavour's length of the move, used in `tip` mode).
+    /// flavour's length of the move, used in `tip` mode). When an axis limits the move, which
+    /// one and by how much ([`Limited`]).
     pub fn add_move(
         &mut self,
         mode: FeedMode,
@@ -91,10 +107,10 @@ impl AxisSpeeds {
         to: &[f64],
         f: f64,
         firmware_length: f64,
-    ) {
+    ) -> Option<Limited> {
         let t = move_minutes(mode, &self.rotary, from, to, f, firmware_length);
         if t <= 0.0 {
-            return;
+            return None;
         }
         let mut worst = (1.0 + SPEED_SLACK, None);
         for (i, ((a, b), m)) in from.iter().zip(to).zip(&self.max_feed).enumerate() {
@@ -104,12 +120,18 @@ impl AxisSpeeds {
             }
         }
         self.minutes += t;
-        if let (k, Some(i)) = worst {
-            self.limited += 1;
-            self.limited_by[i] += 1;
-            self.slowdown_minutes += (k - 1.0) * t;
-            self.minutes += (k - 1.0) * t;
-        }
+        let (k, i) = worst;
+        let i = i?;
+        self.limited += 1;
+        self.limited_by[i] += 1;
+        self.slowdown_minutes += (k - 1.0) * t;
+        self.minutes += (k - 1.0) * t;
+        Some(Limited {
+            axis: i,
+            speed: (to[i] - from[i]).abs() / t,
+            max_feed: self.max_feed[i],
+            minutes: t,
+        })
     }
 
     /// A move of the extruder alone, `de` mm at feed `f` (`1/F` minutes in inverse time).

@@ -47,6 +47,8 @@ export const ADVICE = {
   'unwarp.probe-in-region': 'The slicer homes Z or probes the bed (G28, G29, G30) in the middle of the print, where the part stands: move that command to the start G-code, or home only X and Y (G28 X Y).',
   'machine.pose-lost': 'A command in the middle of the print (G28 X Y, G27, a tool change) moves the head where the G-code does not say, and this machine cannot come back safely: move it to the start or end G-code, or unwarp for a 3-axis printer.',
   'unwarp.relative-positioning': 'Set the slicer to absolute XYZ positioning (G90); relative extrusion (M83) is fine.',
+  'check.bad-number': 'A word of a G line is not a number (the message gives the line): correct that line of the G-code and check it again.',
+  'check.no-moves': 'No move of this G-code names the machine\'s axes: pick the machine the file was written for in step 2 (or its custom JSON), or check that the file is plain-text G-code.',
   'options.invalid': 'An option is outside its range: the message names it; change it and try again.',
   'page.machine-json': 'The custom machine JSON is not a JSON object: fix it or switch “custom machine” off.',
   'page.no-warp': 'The G-code is unwarped with the job of the warped model: open a model and warp it first (steps 1–2).',
@@ -64,6 +66,7 @@ export const AREA_ADVICE = {
   machine: 'Check the machine and its limits; lower the warp or place the part elsewhere.',
   unwarp: 'Check that this G-code was sliced from the warped STL downloaded in step 3 with these settings (same layer height, first layer height = layer height), and that it is plain text.',
   options: 'Check the options of steps 2 and 4.',
+  check: 'Check that the file is a plain-text G-code of the machine chosen in step 2.',
 };
 
 /**

@@ -5,6 +5,7 @@
 // URL hash), steps.js (model → warp → unwarp → result), view.js (3D view), preview.js
 // (toolpath preview), advice.js + errors.js (errors and what to do, by code), dom.js.
 import { state } from './state.js';
+import { doCheck } from './check.js';
 import { $ } from './dom.js';
 import { call, cancelWorker } from './worker-client.js';
 import { showError } from './errors.js';
@@ -66,6 +67,7 @@ async function main() {
 
   dropZone($('model-drop'), $('model-input'), async (f) => loadModel(new Uint8Array(await f.arrayBuffer()), f.name));
   dropZone($('gcode-drop'), $('gcode-input'), (f) => doUnwarp(f));
+  dropZone($('check-drop'), $('check-input'), (f) => doCheck(f));
   $('example-select').addEventListener('change', async (e) => {
     const name = e.target.value;
     if (!name) return;

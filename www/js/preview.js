@@ -21,6 +21,8 @@ const FEATURE_COLORS = {
   brim: 0x00a0a0, 'wipe-tower': 0x808000, custom: 0x707070,
 };
 const TRAVEL_COLOR = new THREE.Color(0x3a8cff);
+/** A move with a collision finding (`warpslice check`), drawn over every colour mode. */
+const COLLISION_COLOR = new THREE.Color(0xff0000);
 
 /** The name of feature number `f` (the core's list). */
 export function featureName(f) {
@@ -64,11 +66,17 @@ export function buildToolpath() {
   const palette = new Float32Array(128 * 3);
   for (let k = 0; k < 128; k++) featureColor(k, c).toArray(palette, k * 3);
   const travelRgb = TRAVEL_COLOR.toArray([]);
+  const hitRgb = COLLISION_COLOR.toArray([]);
+  let hits = 0;
   const rgb = [0, 0, 0];
   for (let i = 1; i < n; i++) {
     const travel = (d.flags[i] & 0x80) !== 0;
-    if (travel && !showTravel) continue;
-    if (travel) {
+    // a move with a collision is drawn (red) even when travels are hidden
+    if (travel && !showTravel && !d.hit?.[i]) continue;
+    if (d.hit?.[i]) {
+      rgb[0] = hitRgb[0]; rgb[1] = hitRgb[1]; rgb[2] = hitRgb[2];
+      hits++;
+    } else if (travel) {
       rgb[0] = travelRgb[0]; rgb[1] = travelRgb[1]; rgb[2] = travelRgb[2];
     } else if (mode === 'feature') {
       const k = (d.flags[i] & 0x7f) * 3;
@@ -119,6 +127,29 @@ export function buildToolpath() {
   else $('legend').replaceChildren();
   onLayerChange(true);
   $('canvas-wrap').dataset.buildMs = String(Math.round(performance.now() - t0));
+  $('canvas-wrap').dataset.collisionSegments = String(hits);
+}
+
+/** Move the preview to point `i` (its layer, the move in the layer): a finding's click. */
+export function gotoPoint(i) {
+  const b = tp.built;
+  if (!b) return;
+  const d = tp.data;
+  if ((d.flags[i] & 0x80) && !$('show-travel').checked) {
+    $('show-travel').checked = true;
+    buildToolpath();
+  }
+  const bb = tp.built;
+  const li = tp.layers.indexOf(d.layer[i]);
+  if (li < 0) return;
+  $('layer-slider').value = String(li);
+  const first = bb.layerFirst.get(d.layer[i]);
+  let k = first;
+  while (k + 1 < bb.segments && bb.segPoint[k] < i && d.layer[bb.segPoint[k + 1]] === d.layer[i]) k++;
+  $('move-slider').max = String(Math.max(0, bb.layerCount.get(d.layer[i]) - 1));
+  $('move-slider').value = String(k - first);
+  onLayerChange(false);
+  $('canvas-wrap').dataset.line = String(d.line?.[bb.segPoint[k]] ?? '');
 }
 
 export function legendFeatures(d) {

@@ -1,6 +1,7 @@
 // The steps of the page, as the pipeline runs: 1 the model, 2 the machine and the warp,
 // 4 the G-code back (unwarp), 5 the result and its summary. Each step resets what depends on it.
 import { state } from './state.js';
+import { showFindings, showUnwarpWarnings } from './check.js';
 import { $, baseName, box3, info, setDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
@@ -72,6 +73,10 @@ export function resetResult() {
   setDownload('summary-download', null);
   setDownload('config-download', null);
   $('summary').replaceChildren();
+  showFindings(null);
+  showUnwarpWarnings(null);
+  delete $('findings').dataset.mode;
+  delete $('findings').dataset.preview;
   $('progress').value = 0;
   $('progress-text').textContent = '';
   $('sliders').hidden = true;
@@ -237,6 +242,7 @@ export async function doUnwarp(file) {
     const summary = makeSummary(out, file);
     setDownload('summary-download', new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
     info($('summary'), Object.entries(summary.display));
+    showUnwarpWarnings(out.report);
     tp.data = out.preview;
     tp.built = null;
     tp.firstBuild = true;
@@ -244,6 +250,9 @@ export async function doUnwarp(file) {
     const tv = performance.now();
     setViewMode('toolpath');
     $('sliders').hidden = false;
+    // the worker's `warpslice check` of the machine file (its output lines)
+    showFindings(out.check, out.checkError, out.checkPreview);
+    if (out.check) $('findings').dataset.mode = 'unwarp';
     prog.dataset.viewMs = String(Math.round(performance.now() - tv));
     prog.dataset.afterMs = String(Math.round(performance.now() - t0) - Number(prog.dataset.ms));
   } catch (e) {
@@ -288,6 +297,7 @@ export function makeSummary(out, file) {
     bytes_in: file.size,
     bytes_out: out.bytes,
     report: r,
+    check: out.check ?? undefined,
     print_length_mm: d.stride === 1 ? printLen : null,
     worst_interpolation_error_mm: r.machine ? r.machine.worst_position_mm : null,
     display: {

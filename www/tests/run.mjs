@@ -416,8 +416,9 @@ try {
         machineArgs.push('--place', place.join(','));
       }
       let cliError = null;
+      let cliOut = '';
       try {
-        sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '--stl', join(dir, 'W.stl'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
+        cliOut = sh(CLI, ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '--stl', join(dir, 'W.stl'), ...machineArgs, '-o', join(dir, 'C.out.gcode')]);
       } catch (e) {
         cliError = String(e.stderr ?? e);
       }
@@ -439,6 +440,31 @@ try {
       const out = await download('result-download', join(dir, 'B.out.gcode'));
       const cli = readFileSync(join(dir, 'C.out.gcode'));
       assert(out.equals(cli), `${name}: browser G-code (${out.length} B, ${sha(out)}) differs from the CLI's (${cli.length} B, ${sha(cli)})`);
+      // the unwarp report's warnings (issue 12) are the CLI's `warning:` lines
+      const cliWarnings = cliOut.split('\n').filter((l) => l.startsWith('warning: ')).map((l) => l.slice(9));
+      const pageWarnings = await tid('unwarp-warnings').locator('li').allInnerTexts();
+      assert(JSON.stringify(pageWarnings) === JSON.stringify(cliWarnings), `${name}: page warnings ${JSON.stringify(pageWarnings)} vs the CLI's ${JSON.stringify(cliWarnings)}`);
+      // the worker's check of the machine file: the CLI's `warpslice check` of the same file
+      if (name !== 'cartesian') {
+        // the page checks collisions only with "Check collisions" on (off here): reach and speeds
+        const r = spawnSync(CLI, ['check', join(dir, 'C.out.gcode'), '--machine', name, '--json', '--skip-collisions'], { maxBuffer: 1 << 28 });
+        assert(r.status === 0 || r.status === 1, `${name}: check exit ${r.status}: ${r.stderr}`);
+        const rep = JSON.parse(r.stdout.toString());
+        const total = rep.counts.reach + rep.counts.collision + rep.counts.speed;
+        const shown = await tid('findings').getAttribute('data-count');
+        assert(shown === String(total), `${name}: the page shows ${shown} findings, warpslice check ${total}`);
+        const lines = await tid('findings').locator('[data-line]').evaluateAll((es) => es.map((e) => Number(e.dataset.line)));
+        const want = rep.findings.slice(0, lines.length).map((f) => f.line);
+        assert(JSON.stringify(lines) === JSON.stringify(want), `${name}: finding lines ${lines} vs ${want}`);
+        // a click on the first finding shows the checked output's preview at that line
+        const first = tid('findings').locator('button[data-line]').first();
+        if (await first.count()) {
+          const line = await first.getAttribute('data-line');
+          await first.click();
+          assert((await tid('findings').getAttribute('data-preview')) === 'check', `${name}: the checked output's preview is shown`);
+          assert((await tid('viewport').getAttribute('data-line')) === line, `${name}: the preview moved to line ${line}: ${await tid('viewport').getAttribute('data-line')}`);
+        }
+      }
       await screenshot(`preset-${name}-result`);
     }
     await tid('place-on').setChecked(false);
@@ -1086,6 +1112,53 @@ try {
     }
     assert(new Set(shown).size === cases.length, `each code has its own advice: ${shown.join(' | ')}`);
     await tid('offset-on').uncheck();
+  });
+
+  await test('check a G-code: a hand-written cartesian file with a plunge and an X past its travel; findings with their lines, a click moves the preview there, collisions in red, the CLI agrees', async () => {
+    const dir = join(TMP, 'check-mode');
+    mkdirSync(dir, { recursive: true });
+    // a pad of 10 layers of 0.2 mm (lines along Y), then a plunge of the nozzle into it and an
+    // X beyond the cartesian preset's travel (X 0…250, read from the schema)
+    const xMax = schema.machines.find((m) => m.name === 'cartesian').axes.find((a) => a.name === 'X').max;
+    const g = ['M83', ';WIDTH:0.45', 'G1 Z5 F600'];
+    for (let k = 1; k <= 10; k++) {
+      const z = 0.2 * k;
+      g.push(';LAYER_CHANGE');
+      for (let x = 10; x < 20; x += 0.45) {
+        g.push(`G1 Z${(z + 1).toFixed(3)} F600`, `G1 X${x.toFixed(3)} Y10 F1800`, `G1 Z${z.toFixed(3)} F600`, `G1 X${x.toFixed(3)} Y20 E0.5 F1800`);
+      }
+    }
+    g.push('G1 Z10 F600', 'G1 X15 Y15 F1800');
+    const plunge = g.push('G1 Z1.0 F600');
+    g.push('G1 Z10 F600');
+    const beyond = g.push(`G1 X${xMax + 10} Y15 F1800`);
+    const file = join(dir, 'hand.gcode');
+    writeFileSync(file, g.join('\n') + '\n');
+    const r = spawnSync(CLI, ['check', file, '--machine', 'cartesian', '--json'], { maxBuffer: 1 << 26 });
+    assert(r.status === 1, `the CLI exits 1 with findings, not ${r.status}: ${r.stderr}`);
+    const rep = JSON.parse(r.stdout.toString());
+    await tid('machine-select').selectOption('cartesian');
+    await tid('check-input').setInputFiles(file);
+    await page.waitForFunction(() => document.querySelector('[data-testid="findings"]').dataset.mode === 'check' || !document.querySelector('[data-testid="error"]').hidden, null, { timeout: 120000 });
+    assert(!(await tid('error').isVisible()), `the page showed an error: ${await tid('error').innerText()}`);
+    const total = rep.counts.reach + rep.counts.collision + rep.counts.speed;
+    assert((await tid('findings').getAttribute('data-count')) === String(total), `count ${total}`);
+    const items = tid('findings').locator('button[data-line]');
+    const lines = await items.evaluateAll((es) => es.map((e) => [Number(e.dataset.line), e.dataset.kind]));
+    assert(lines.some(([l, k]) => l === plunge && k === 'collision'), `the plunge (line ${plunge}) is a collision finding: ${JSON.stringify(lines)}`);
+    assert(lines.some(([l, k]) => l === beyond && k === 'reach'), `line ${beyond} is a reach finding: ${JSON.stringify(lines)}`);
+    assert(Number(await tid('viewport').getAttribute('data-collision-segments')) > 0, 'collisions drawn in red');
+    await tid('findings').locator(`button[data-line="${plunge}"][data-kind="collision"]`).first().click();
+    assert((await tid('viewport').getAttribute('data-line')) === String(plunge), `the preview moved to line ${plunge}: ${await tid('viewport').getAttribute('data-line')}`);
+    await tid('findings').locator(`button[data-line="${beyond}"]`).first().click();
+    assert((await tid('viewport').getAttribute('data-line')) === String(beyond), `the preview moved to line ${beyond}`);
+    await screenshot('check-mode');
+    // unreadable input: the core's code and its advice
+    const bad = join(dir, 'bad.gcode');
+    writeFileSync(bad, 'G90\nG1 X1 Y1 Z1\nG1 X1.2.3 Y1\n');
+    await tid('check-input').setInputFiles(bad);
+    const e = await shownError();
+    assert(e.code === 'check.bad-number' && e.message.includes('line 3'), `error ${JSON.stringify(e)}`);
   });
 
   await test('no request left 127.0.0.1 and no console errors', async () => {

@@ -104,6 +104,20 @@ mod cli {
             #[command(subcommand)]
             cmd: crate::calibrate::CalibrateCommand,
         },
+        /// Check a 4/5-axis G-code (any tool's) for a machine: reach, collisions, axis speeds,
+        /// time, filament, tilt. Exit 0: clean; 1: findings; 2: the input cannot be read.
+        Check {
+            /// The G-code to check.
+            gcode: PathBuf,
+            /// A preset or a machine JSON file (docs/machines.md).
+            #[arg(long, value_name = "PRESET|FILE.json")]
+            machine: String,
+            #[command(flatten)]
+            check: crate::schema_args::CheckArgs,
+            /// Print the whole report as JSON (findings listed up to --max-findings).
+            #[arg(long)]
+            json: bool,
+        },
         /// Batch kinematics: CSV on stdin, CSV on stdout (`px,py,pz,nx,ny,nz` ↔ machine axes).
         Kinematics {
             #[arg(value_enum)]
@@ -306,9 +320,110 @@ mod cli {
         Ok(())
     }
 
-    fn run() -> Result<(), String> {
+    /// Findings the human output of `check` lists (the JSON lists up to --max-findings).
+    const CHECK_SHOWN: usize = 20;
+
+    /// `warpslice check`: exit 0 clean, 1 findings, 2 unreadable input (the error on stderr).
+    fn check(
+        gcode: &Path,
+        machine: &str,
+        options: &warpslice::check::CheckOptions,
+        json: bool,
+    ) -> ExitCode {
+        let report = (|| -> Result<warpslice::check::CheckReport, String> {
+            let spec = machine_spec(machine)?;
+            let mut s =
+                warpslice::check::CheckStream::new(&spec, options).map_err(|e| e.to_string())?;
+            let mut f =
+                std::fs::File::open(gcode).map_err(|e| format!("{}: {e}", gcode.display()))?;
+            let mut buf = vec![0u8; 1 << 20];
+            loop {
+                let n = f
+                    .read(&mut buf)
+                    .map_err(|e| format!("{}: {e}", gcode.display()))?;
+                if n == 0 {
+                    break;
+                }
+                s.push(&buf[..n])
+                    .map_err(|e| format!("{}: {e}", gcode.display()))?;
+            }
+            s.finish()
+                .map(|(r, _)| r)
+                .map_err(|e| format!("{}: {e}", gcode.display()))
+        })();
+        let r = match report {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        if json {
+            match serde_json::to_string_pretty(&r) {
+                Ok(t) => say!("{t}"),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+        } else {
+            say!("{}: machine {} ({})", gcode.display(), r.machine, r.flavour);
+            for f in r.findings.iter().take(CHECK_SHOWN) {
+                say!("{f}");
+            }
+            let listed = r.findings.len().min(CHECK_SHOWN) as u64;
+            if r.counts.total() > listed {
+                say!(
+                    "… {} more finding{} (--json lists them)",
+                    r.counts.total() - listed,
+                    if r.counts.total() - listed == 1 {
+                        ""
+                    } else {
+                        "s"
+                    }
+                );
+            }
+            if let Some(w) = &r.worst_speed {
+                say!("fastest axis over its feed: {w}");
+            }
+            say!("{}", warpslice::machine::emit::margins_summary(&r.axes));
+            let hist: Vec<String> = r
+                .tilt_histogram
+                .iter()
+                .enumerate()
+                .filter(|(_, &n)| n > 0)
+                .map(|(i, n)| {
+                    format!(
+                        "{}–{}° {n}",
+                        i as f64 * r.tilt_bin_deg,
+                        (i + 1) as f64 * r.tilt_bin_deg
+                    )
+                })
+                .collect();
+            if !hist.is_empty() {
+                say!("tilt of extruding moves: {}", hist.join(", "));
+            }
+            for w in &r.warnings {
+                say!("warning: {w}");
+            }
+            say!("{}", r.summary());
+        }
+        if r.is_clean() {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        }
+    }
+
+    fn run() -> Result<ExitCode, String> {
         let cli = Cli::parse();
         match cli.command {
+            Command::Check {
+                gcode,
+                machine,
+                check: c,
+                json,
+            } => return Ok(check(&gcode, &machine, &c.options, json)),
             Command::Warp {
                 model,
                 warp,
@@ -426,12 +541,12 @@ mod cli {
                 );
             }
         }
-        Ok(())
+        Ok(ExitCode::SUCCESS)
     }
 
     pub fn main() -> ExitCode {
         match run() {
-            Ok(()) => ExitCode::SUCCESS,
+            Ok(code) => code,
             Err(e) => {
                 eprintln!("error: {e}");
                 ExitCode::FAILURE

@@ -306,3 +306,41 @@ impl<const RUN: bool> clap::FromArgMatches for UnwarpArgs<RUN> {
         Ok(())
     }
 }
+
+/// `warpslice check`'s flags besides the file and `--machine` (`warpslice::check::options::PARAMS`).
+#[derive(Debug)]
+pub struct CheckArgs {
+    /// The options the flags ask for.
+    pub options: warpslice::check::CheckOptions,
+}
+
+impl clap::Args for CheckArgs {
+    fn augment_args(cmd: Command) -> Command {
+        let mut cmd = cmd;
+        for p in warpslice::check::options::PARAMS {
+            cmd = add(cmd, p, &[]);
+        }
+        cmd
+    }
+    fn augment_args_for_update(cmd: Command) -> Command {
+        Self::augment_args(cmd)
+    }
+}
+
+impl clap::FromArgMatches for CheckArgs {
+    fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut obj = Map::new();
+        for p in warpslice::check::options::PARAMS {
+            if let Some(v) = value(m, p) {
+                insert(&mut obj, p.key, v);
+            }
+        }
+        let options =
+            serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
+        Ok(CheckArgs { options })
+    }
+    fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
