@@ -506,7 +506,8 @@ fn cli_check_exits_0_clean_1_with_findings_on_their_lines_2_unreadable() {
         "fullcontrol-prusa-b",
         "--json",
     ]);
-    assert_eq!(code, 1, "{out}");
+    // a speed finding is reported but is not a failure: the firmware slows the move down
+    assert_eq!(code, 0, "{out}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["counts"]["speed"], 1);
     assert_eq!(v["findings"][0]["line"], fast);

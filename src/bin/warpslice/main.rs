@@ -323,7 +323,8 @@ mod cli {
     /// Findings the human output of `check` lists (the JSON lists up to --max-findings).
     const CHECK_SHOWN: usize = 20;
 
-    /// `warpslice check`: exit 0 clean, 1 findings, 2 unreadable input (the error on stderr).
+    /// `warpslice check`: exit 0 clean (speed findings only reported), 1 reach or collision
+    /// findings, 2 unreadable input (the error on stderr).
     fn check(
         gcode: &Path,
         machine: &str,
