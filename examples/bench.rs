@@ -205,7 +205,7 @@ mod native {
         );
 
         // 3. the collision check's cost: `unwarp --machine` of the same G-code into memory,
-        // with the check off (--no-collision-check) and as by default (on: refused at the first
+        // with the check off (the default) and on (--check-collisions: refused at the first
         // finding, so a refused file costs only the walk up to it)
         let only: Option<String> = std::env::args().skip_while(|a| a != "--presets").nth(1);
         for (name, place) in [
@@ -231,7 +231,7 @@ mod native {
                     },
                     spec.clone(),
                 );
-                s.output.no_collision_check = !check;
+                s.output.check_collisions = check;
                 let t = Instant::now();
                 let r = warpslice::pipeline::unwarp(&gcode, &w.job, &s);
                 (t.elapsed().as_secs_f64(), r)

@@ -393,13 +393,13 @@ fn a_vertical_nozzle_riding_a_30_degree_slope_is_contact_not_collision() {
     );
 }
 
-/// The CLI's default: a machine output that collides is refused naming the first finding's
-/// output line; `--allow-collisions` writes it and lists every finding as comments at its
-/// end, the same findings as the library's check of the written file; `--no-collision-check`
-/// writes it without a check. The part: the conic 20 mm cube (30° outward) on the cartesian
+/// With `--check-collisions` a machine output that collides is refused naming the first
+/// finding's output line; with `--allow-collisions` too it is written and lists every finding as
+/// comments at its end, the same findings as the library's check of the written file; without
+/// `--check-collisions` (the default for now) it is written without a check. The part: the conic 20 mm cube (30° outward) on the cartesian
 /// preset, whose heater block (14 mm towards +X, 4.5 mm up) meets the cone's rising layers.
 #[test]
-fn the_cli_refuses_a_colliding_machine_output_by_default() {
+fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
     let w = synthetic::conic_cube();
     let dir = std::env::temp_dir().join(format!("warpslice-collision-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -429,7 +429,7 @@ fn the_cli_refuses_a_colliding_machine_output_by_default() {
     };
     let spec = preset("cartesian").unwrap();
     // --allow-collisions: written, every finding listed
-    let (ok, err) = run(&["--allow-collisions"]);
+    let (ok, err) = run(&["--check-collisions", "--allow-collisions"]);
     assert!(ok, "{err}");
     let text = std::fs::read_to_string(&out).unwrap();
     let listed: Vec<&str> = text
@@ -454,8 +454,8 @@ fn the_cli_refuses_a_colliding_machine_output_by_default() {
             "{l} vs {f:?}"
         );
     }
-    // default: refused, naming the first finding
-    let (ok, err) = run(&[]);
+    // --check-collisions: refused, naming the first finding
+    let (ok, err) = run(&["--check-collisions"]);
     assert!(!ok, "a colliding output was written");
     assert!(
         err.contains(&format!(
@@ -464,8 +464,8 @@ fn the_cli_refuses_a_colliding_machine_output_by_default() {
         )) && err.contains("--allow-collisions"),
         "{err}"
     );
-    // --no-collision-check: written, nothing listed
-    let (ok, err) = run(&["--no-collision-check"]);
+    // the default (no --check-collisions): written, nothing listed
+    let (ok, err) = run(&[]);
     assert!(ok, "{err}");
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(!text.contains("; warpslice collision: "));

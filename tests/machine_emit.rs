@@ -168,9 +168,8 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
         },
         spec.clone(),
     );
-    // the collision check (on by default) is tested in collision_check.rs and the real-slicer
-    // matrix; here the kinematics end to end (the default head meets the bed on tilted parts)
-    opts.output.no_collision_check = true;
+    // the collision check (opt-in) is tested in collision_check.rs; here the kinematics end to
+    // end (the default head meets the bed on tilted parts)
     let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
     let path = dir.join(format!("{tag}.gcode"));
     std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
@@ -306,8 +305,7 @@ fn tip_speed_case(
                 machine: Some(spec.clone()),
                 feed,
                 flavour: Flavour::parse(flavour.flavour()),
-                // the tip feed, not the head's clearance (collision_check.rs)
-                no_collision_check: true,
+                // the tip feed, not the head's clearance (collision_check.rs; the check is opt-in)
                 ..MachineOptions::default()
             },
         };

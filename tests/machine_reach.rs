@@ -596,10 +596,9 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
     feeds.insert("Y".into(), 1500.0);
     let job = box_job(1.0, 20.0, [0.0, 1.0]);
     let input = synthetic::gcode(&job, true, 2.0);
-    // the axis speeds, not the head's clearance (collision_check.rs): the default head's
-    // block meets the box's first layer on the tilted bed
+    // the axis speeds, not the head's clearance (collision_check.rs; the check is opt-in):
+    // the default head's block meets the box's first layer on the tilted bed
     let mut s = settings(spec.clone());
-    s.output.no_collision_check = true;
     let out = unwarp(input.as_bytes(), &job, &s).unwrap();
     let rep = out.report.machine.clone().unwrap();
     let text = String::from_utf8(out.gcode).unwrap();

@@ -59,9 +59,8 @@ fn run_lib(
         },
         output: MachineOptions {
             machine: machine.map(|m| warpslice::machine::preset(m).unwrap()),
-            // head moves and line order, not the head's clearance (collision_check.rs): the
-            // default head meets the bed on the conic cube's tilted first layers
-            no_collision_check: true,
+            // head moves and line order, not the head's clearance (collision_check.rs; the
+            // check is opt-in): the default head meets the bed on the conic cube's tilted layers
             ..MachineOptions::default()
         },
     };

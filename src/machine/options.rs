@@ -20,11 +20,14 @@ pub struct MachineOptions {
     pub feed: FeedMode,
     /// `--flavour`: the firmware (overrides the machine's).
     pub flavour: Option<Flavour>,
-    /// `--no-collision-check` (**unsafe**): skip the collision check, which otherwise sweeps the
-    /// machine's head along every output move against the material printed so far and the bed
-    /// (`crate::collision`) and refuses the file on a collision (`machine.collision`). The check
-    /// is on by default for every machine output.
-    pub no_collision_check: bool,
+    /// `--check-collisions`: sweep the machine's head along every output move against the
+    /// material printed so far and the bed (`crate::collision`) and refuse the file on a
+    /// collision (`machine.collision`). **Off by default for now**: on the real-slicer matrix the
+    /// engine still reports nozzle findings of 0.05–0.1 mm on the RTN/RotBot heads that the
+    /// independent test helper (`tests/common/collide.rs`) does not confirm, and machines
+    /// without a `head_frame` (A/B table, triple-Z, polar) check the heater block as the
+    /// cylinder about the tool axis that contains it, which meets the bed near any tilt.
+    pub check_collisions: bool,
     /// `--allow-collisions`: write the file and list every finding (in the report and as
     /// comments at its end) instead of refusing it (`machine.collision`).
     pub allow_collisions: bool,
@@ -77,9 +80,9 @@ impl MachineOptions {
             .transpose()
     }
 
-    /// Whether the collision check runs: a machine output without `no_collision_check`.
+    /// Whether the collision check runs: a machine output with `check_collisions`.
     pub fn checks_collisions(&self) -> bool {
-        self.machine.is_some() && !self.no_collision_check
+        self.machine.is_some() && self.check_collisions
     }
 
     /// The emitter these options ask for: 3-axis, or the machine's.
@@ -139,10 +142,10 @@ pub const PARAMS: &[Param] = &[
         .choices(&["reprapfirmware", "marlin", "klipper"])
         .optional()
         .help("the firmware the output is for (default: the machine's, else reprapfirmware)"),
-    Param::number("no_collision_check", "--no-collision-check", "Skip the collision check (unsafe)")
+    Param::number("check_collisions", "--check-collisions", "Check collisions")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("UNSAFE: do not sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; by default a collision refuses the file"),
+        .help("sweep the machine's head (its JSON \"head\", else an E3D-V6-class hotend) along every move against the printed material and the bed; refuse the file on a collision (off by default until the check is confirmed on every preset: README)"),
     Param::number("interpolation", "--interpolation", "Interpolation bound mm,deg")
         .of(ParamType::Pair)
         .optional()
@@ -154,5 +157,5 @@ pub const PARAMS: &[Param] = &[
     Param::number("allow_collisions", "--allow-collisions", "Allow collisions")
         .of(ParamType::Bool)
         .default(ParamDefault::Bool(false))
-        .help("write the file even when the head collides, and list every collision found (report and comments at the end of the file)"),
+        .help("with --check-collisions: write the file even when the head collides, and list every collision found (report and comments at the end of the file)"),
 ];

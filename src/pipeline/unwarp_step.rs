@@ -112,7 +112,7 @@ pub fn unwarp_with_stl(
     Ok(out)
 }
 
-/// The collision check's walker when it runs (a machine output, unless `no_collision_check`;
+/// The collision check's walker when it runs (a machine output with `check_collisions`;
 /// see [`crate::collision`]). A machine the check cannot judge (the lathe: its layers are not
 /// graphs over the bed) gets no check, and the report says so in its warnings.
 fn walker(
