@@ -307,20 +307,7 @@ fn a_clean_file_reports_nothing_and_counts_its_filament_and_tilt() {
 /// A cartesian pad of 10 layers (top at 2.0 mm), then the nozzle plunged to Z 1 at its
 /// middle: line `plunge`.
 fn plunge_file() -> (String, u64) {
-    let mut g = Lines::default();
-    g.add("M83");
-    g.add("G1 Z5 F600");
-    for k in 1..=10 {
-        let z = 0.2 * k as f64;
-        g.add(";LAYER_CHANGE");
-        for i in 0..23 {
-            let x = 10.0 + 0.45 * i as f64;
-            g.add(&format!("G1 Z{:.3} F600", z + 1.0));
-            g.add(&format!("G1 X{x:.3} Y10 F1800"));
-            g.add(&format!("G1 Z{z:.3} F600"));
-            g.add(&format!("G1 X{x:.3} Y20 E0.5 F1800"));
-        }
-    }
+    let mut g = check_files::pad(10, 23, 10.0, [10.0, 20.0], 0.5);
     g.add("G1 Z10 F600");
     g.add("G1 X15 Y15 F1800");
     let plunge = g.add("G1 Z1.0 F600");

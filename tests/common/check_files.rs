@@ -53,22 +53,30 @@ pub fn bhead_speed_file() -> (String, u64) {
     (g.0, fast)
 }
 
-/// A clean cartesian pad (two layers of lines, F 1800 well under every axis' feed).
-pub fn clean_file() -> String {
+/// A cartesian pad after `M83` and a lift to Z 5: `layers` layers of 0.2 mm, each `lines`
+/// lines 0.45 mm apart from x = `x0` running from y = `y0` to `y1` with `e` mm of filament, each
+/// line reached by a lift of 1 mm, a travel and a descent.
+pub fn pad(layers: u32, lines: u32, x0: f64, [y0, y1]: [f64; 2], e: f64) -> Lines {
     let mut g = Lines::default();
     g.add("M83");
     g.add("G1 Z5 F600");
-    for k in 1..=2 {
+    for k in 1..=layers {
         let z = 0.2 * k as f64;
         g.add(";LAYER_CHANGE");
-        for i in 0..10 {
-            let x = 50.0 + 0.45 * i as f64;
+        for i in 0..lines {
+            let x = x0 + 0.45 * i as f64;
             g.add(&format!("G1 Z{:.3} F600", z + 1.0));
-            g.add(&format!("G1 X{x:.3} Y50 F1800"));
+            g.add(&format!("G1 X{x:.3} Y{y0} F1800"));
             g.add(&format!("G1 Z{z:.3} F600"));
-            g.add(&format!("G1 X{x:.3} Y60 E0.4 F1800"));
+            g.add(&format!("G1 X{x:.3} Y{y1} E{e} F1800"));
         }
     }
+    g
+}
+
+/// A clean cartesian pad (two layers of lines, F 1800 well under every axis' feed).
+pub fn clean_file() -> String {
+    let mut g = pad(2, 10, 50.0, [50.0, 60.0], 0.4);
     g.add("G1 Z20 F600");
     g.0
 }
