@@ -107,6 +107,9 @@ fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static s
     }
 }
 
+/// A preset that met at least this many cases of one matrix test must print one of them.
+const MIN_CASES_TO_PRINT: usize = 3;
+
 /// Slicer × E-mode combinations the corpus cases rotate through.
 const COMBOS: usize = 6;
 
@@ -210,7 +213,10 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
             "  {name:20} printed {:3} refused {:3} (named limit, unreachable pose confirmed): worst tip {:.5} mm, axis {:.4}°, {} points, {} lines",
             t.printed, t.refused, t.worst_tip, t.worst_axis, t.points, t.lines
         );
-        if t.printed == 0 && !table.is_empty() {
+        // a preset that refuses everything is broken; one that met only a case or two of this
+        // test's rotation (eleven presets share the corpus slots) may have met only poses it
+        // cannot reach, each refusal confirmed above, and prints in the generated tests
+        if t.printed == 0 && t.refused >= MIN_CASES_TO_PRINT && !table.is_empty() {
             failures.push(format!(
                 "{name}: printed none of the cases (refused all {})",
                 t.refused
