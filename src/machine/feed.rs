@@ -12,9 +12,9 @@
 //! - [`FeedMode::AllAxes`]: the firmware divides D by F: `F = D / T = f · D / L`.
 //! - [`FeedMode::InverseTime`]: `G93`, F is moves per minute: `F = 1 / T = f / L`.
 //!
-//! A move with no tip length (a pure rotation: L below [`NO_TIP_MOTION_MM`]) keeps `T = D / f`:
-//! F = f in tip and all-axes mode and `f / D` in inverse-time mode. A move with nothing to do
-//! (D = 0 too) keeps F = f.
+//! A move with no tip length (a pure rotation, L ≈ 0) keeps `T = D / f`: F = f in tip and
+//! all-axes mode and `f / D` in inverse-time mode. A move with nothing to do (D = 0 too) keeps
+//! F = f.
 
 pub use crate::emit::FeedMode;
 
@@ -23,12 +23,6 @@ pub use crate::emit::FeedMode;
 /// keeps the slicer's own F words where the firmware's length is the tip's (X Y Z moves, where
 /// only the 3-decimal rounding of the written axes separates the two).
 pub const TIP_FEED_SNAP: f64 = 1e-3;
-
-/// A move whose tip moves less than this is a pure rotation for the feed, mm: half the written
-/// 0.001 mm step, so no file can show the tip motion. Below it L is rounding noise of the
-/// kinematics (an in-place reorientation's tip moves ~1e-8 mm), and `f · D / L` would write
-/// feeds like F5·10¹² (found on the RTN/RotBot reorientations at a cone's apex).
-pub const NO_TIP_MOTION_MM: f64 = 5e-4;
 
 /// The machine-space length the firmware measures between two axis vectors.
 pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {
@@ -54,7 +48,7 @@ pub fn output_feed(
     let eps = crate::tolerance::LENGTH_EPSILON;
     match mode {
         FeedMode::Tip => {
-            let fo = if tip_length > NO_TIP_MOTION_MM && firmware_length > eps {
+            let fo = if tip_length > eps && firmware_length > eps {
                 f * firmware_length / tip_length
             } else {
                 f
@@ -67,14 +61,14 @@ pub fn output_feed(
         }
         FeedMode::Xyz => f,
         FeedMode::AllAxes => {
-            if tip_length > NO_TIP_MOTION_MM {
+            if tip_length > eps {
                 f * d / tip_length
             } else {
                 f
             }
         }
         FeedMode::InverseTime => {
-            if tip_length > NO_TIP_MOTION_MM {
+            if tip_length > eps {
                 f / tip_length
             } else if d > eps {
                 f / d
@@ -88,26 +82,6 @@ pub fn output_feed(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_reorientation_in_place_is_timed_as_a_pure_rotation() {
-        // the tip moves 3e-8 mm (kinematics noise) while an axis turns 90°: not F ≈ 1.8e12
-        let (a, b) = ([0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 90.0]);
-        assert_eq!(
-            output_feed(FeedMode::Tip, &a, &b, 3e-8, 90.0, 1800.0),
-            1800.0
-        );
-        assert_eq!(
-            output_feed(FeedMode::AllAxes, &a, &b, 3e-8, 90.0, 1800.0),
-            1800.0
-        );
-        assert_eq!(
-            output_feed(FeedMode::InverseTime, &a, &b, 3e-8, 90.0, 1800.0),
-            1800.0 / 90.0
-        );
-        // a tip motion the file can show is timed by it
-        assert!(output_feed(FeedMode::Tip, &a, &b, 0.01, 90.0, 1800.0) > 1e6);
-    }
 
     #[test]
     fn a_move_takes_tip_length_over_feed() {
