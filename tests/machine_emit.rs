@@ -161,7 +161,7 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else {
         return Ok("skipped".into());
     };
-    let mut opts = UnwarpSettings::with_machine(
+    let opts = UnwarpSettings::with_machine(
         UnwarpOptions {
             collect_toolpath: true,
             ..UnwarpOptions::default()

@@ -598,7 +598,7 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
     let input = synthetic::gcode(&job, true, 2.0);
     // the axis speeds, not the head's clearance (collision_check.rs; the check is opt-in):
     // the default head's block meets the box's first layer on the tilted bed
-    let mut s = settings(spec.clone());
+    let s = settings(spec.clone());
     let out = unwarp(input.as_bytes(), &job, &s).unwrap();
     let rep = out.report.machine.clone().unwrap();
     let text = String::from_utf8(out.gcode).unwrap();
