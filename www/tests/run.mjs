@@ -761,8 +761,9 @@ try {
     for (const sub of ['warp', 'unwarp']) {
       const flags = cliFlags(sub);
       for (const f of flags) {
-        // the page's own: the job and the warped STL of step 2 (always given), the output
-        if (['--warp', '--machine', '--job', '--stl', '--output', '--help'].includes(f)) continue;
+        // the page's own: the job and the warped STL of step 2 (always given), the output and
+        // the firmware configuration (the result's second download, for a machine output)
+        if (['--warp', '--machine', '--job', '--stl', '--output', '--config-out', '--help'].includes(f)) continue;
         assert(pageFlags[sub].includes(f), `warpslice ${sub} ${f} has a field in the page`);
       }
       // and the other way round: every field of the page is a flag of the CLI
