@@ -22,12 +22,13 @@ use check_files::{bhead_speed_file, clean_file, rtn_reach_file, Lines};
 use std::process::Command;
 
 use common::machine::{fk::Fk, parse};
+use common::preset_warp::warp_for;
 use warpslice::check::{check, CheckError, CheckOptions, CheckStream, FindingKind};
 use warpslice::error::Coded;
 use warpslice::machine::{preset, preset_names, MachineSpec};
 use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+use warpslice::warp::WarpParams;
 
 /// Tip agreement of the check's path with the tests' forward kinematics of the same written
 /// numbers, mm: both evaluate closed forms of the same values (rounding only; a `G92` rotary
@@ -38,33 +39,6 @@ const SAME_TIP_MM: f64 = 1e-6;
 fn preset_json(name: &str) -> serde_json::Value {
     let path = format!("{}/presets/{name}.json", env!("CARGO_MANIFEST_DIR"));
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// The warp each preset is written with (one that suits its kinematics).
-fn warp_for(preset: &str) -> WarpSpec {
-    let conic = |angle, center| WarpSpec::Conic {
-        angle,
-        direction: Direction::Outward,
-        center,
-    };
-    match preset {
-        "cartesian" | "fullcontrol-prusa-b" => WarpSpec::Curved {
-            strength: 0.3,
-            direction: Direction::Outward,
-            offset: 0.0,
-            width: 0.0,
-        },
-        "rtn-slicer4rtn" | "rotbot" => conic(45.0, [-15.0, 0.0]),
-        "ratrig-vcore3-3z" => WarpSpec::Belt {
-            angle: 20.0,
-            toward: [0.0, 1.0],
-        },
-        "lathe-a" => WarpSpec::Cylindrical {
-            radius: 20.0,
-            axis: [0.0, -20.0],
-        },
-        _ => conic(25.0, [-15.0, 0.0]),
-    }
 }
 
 /// Where the part goes (the machines turning about the output origin).

@@ -17,6 +17,7 @@
 mod common;
 
 use common::machine::{check, deg, parse, AXIS_TOL_DEG, SAMPLES, TIP_TOL};
+use common::preset_warp::{conic, warp_for};
 use glam::DVec3;
 use warpslice::machine::tessellate::slerp;
 use warpslice::machine::{preset, MachineSpec};
@@ -26,7 +27,7 @@ use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::slicer::{self, EMode, SliceOptions, SlicerKind};
 use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+use warpslice::warp::{WarpParams, WarpSpec};
 
 fn tmpdir(tag: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
@@ -41,39 +42,6 @@ fn part() -> Vec<u8> {
         *v *= 0.5;
     }
     warpslice::mesh::write_stl(&m, "cube 10")
-}
-
-fn conic(angle: f64, center: [f64; 2]) -> WarpSpec {
-    WarpSpec::Conic {
-        angle,
-        direction: Direction::Outward,
-        center,
-    }
-}
-
-/// The warp each preset is tested with.
-fn warp_for(preset: &str) -> WarpSpec {
-    match preset {
-        "cartesian" | "fullcontrol-prusa-b" => WarpSpec::Curved {
-            strength: 0.3,
-            direction: Direction::Outward,
-            offset: 0.0,
-            width: 0.0,
-        },
-        // the cone's apex is a singular point of the tool-axis field (its azimuth turns by
-        // 180° across it): keep it outside the part
-        "rtn-slicer4rtn" | "rotbot" | "rotbot-misaligned" => conic(45.0, [-15.0, 0.0]),
-        "ratrig-vcore3-3z" => WarpSpec::Belt {
-            angle: 20.0,
-            toward: [0.0, 1.0],
-        },
-        // the mandrel of radius 20 mm under the part (the lathe's axis is moved there too)
-        "lathe-a" => WarpSpec::Cylindrical {
-            radius: 20.0,
-            axis: [0.0, -20.0],
-        },
-        _ => conic(25.0, [-15.0, 0.0]),
-    }
 }
 
 /// The slicer's G-code of the warped part, and the job.

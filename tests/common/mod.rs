@@ -8,6 +8,7 @@ pub mod collide;
 pub mod firmware;
 pub mod inside;
 pub mod machine;
+pub mod preset_warp;
 pub mod skip;
 pub mod written;
 
