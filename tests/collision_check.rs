@@ -471,3 +471,57 @@ fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
     assert!(!text.contains("; warpslice collision: "));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The A/B table (open5x-ab, A about +X) tilts the part; in the part frame the fixed head
+/// leans by A with its heater block's long side (machine X) level and its 16 mm side across.
+/// With the tool axis n = (0, sin A, cos A) and the head's x axis the machine's X, the tool
+/// frame's y axis is n × x = (0, cos A, −sin A): the block's bottom face (4.5 mm above the
+/// tip along n) has its lowest edge at y = +8 mm, at `tip_z − 8 sin A + 4.5 cos A`.
+/// Before the table had a head frame, the block was checked as the 16.1 mm cylinder about n
+/// that contains it, which reaches `tip_z − 16.1 sin A + 4.5 cos A`: into the bed from 15.6°.
+#[test]
+fn ab_table_head_frame_places_the_heater_block_so_a_20_degree_tilt_clears_the_bed_and_40_does_not()
+{
+    let spec = preset("open5x-ab").unwrap();
+    let machine = spec.build().unwrap();
+    let tip_z = 1.0;
+    let run = |a_deg: f64| {
+        let (s, c) = (a_deg.to_radians().sin(), a_deg.to_radians().cos());
+        let n = glam::DVec3::new(0.0, s, c);
+        let axes = |z: f64| {
+            let a = machine
+                .inverse(glam::DVec3::new(0.0, 0.0, z), n, None)
+                .unwrap();
+            format!(
+                "G1 X{:.4} Y{:.4} Z{:.4} A{:.4} B{:.4}",
+                a[0], a[1], a[2], a[3], a[4]
+            )
+        };
+        let mut g = Gcode::default();
+        g.line(&axes(20.0));
+        let down = g.line(&axes(tip_z));
+        (findings(&g.text, &spec), down, tip_z - 8.0 * s + 4.5 * c)
+    };
+    // 20°: the box clears the bed by 1.49 mm, its bounding cylinder would not
+    let (f, _, lowest) = run(20.0);
+    assert!(lowest > 1.0, "{lowest}");
+    assert!(tip_z - 16.1 * 20f64.to_radians().sin() + 4.5 * 20f64.to_radians().cos() < 0.0);
+    assert!(
+        f.is_empty(),
+        "a 20° table tilt 1 mm above the bed reported {f:?}"
+    );
+    // 40°: the block's edge is 0.70 mm into the bed
+    let (f, down, lowest) = run(40.0);
+    let bed: Vec<_> = f.iter().filter(|f| f.obstacle == "bed").collect();
+    assert!(!bed.is_empty(), "a 40° tilt reported nothing");
+    assert!(
+        bed.iter()
+            .all(|f| f.line == down && f.part == "heater-block"),
+        "{bed:?}"
+    );
+    let depth = bed.iter().map(|f| f.depth_mm).fold(0.0, f64::max);
+    assert!(
+        (depth - -lowest).abs() < 0.02,
+        "engine depth {depth} vs the block's lowest edge {lowest}"
+    );
+}

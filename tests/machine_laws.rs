@@ -40,6 +40,15 @@ fn check(m: &dyn Machine) {
         "{}: the fixed-pose law found no segment to check",
         m.name()
     );
+    let h = laws::check_head_frame(m).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "{}: head frame {} frames, worst orthonormality {:.3e}, z {:.3e} rad, x turn {:.3}°/step",
+        m.name(),
+        h.points,
+        h.worst_position_mm,
+        h.worst_angle_rad,
+        h.worst_rotary_step_deg
+    );
 }
 
 fn spec(json: &str) -> Box<dyn Machine> {
@@ -55,6 +64,12 @@ fn every_preset_obeys_the_laws() {
             .and_then(|s| s.build())
             .unwrap_or_else(|e| panic!("{e}"));
         check(m.as_ref());
+        // The collision check places the heater block with the head frame; only the lathe
+        // (refused by the collision check) may lack one.
+        assert!(
+            name == "lathe-a" || laws::check_head_frame(m.as_ref()).unwrap().points > 100,
+            "{name}: no head frame"
+        );
     }
 }
 

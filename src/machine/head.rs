@@ -342,3 +342,35 @@ pub fn turned_frame(phi: f64, t: f64) -> glam::DMat3 {
         glam::DVec3::new(st * cp, st * sp, ct),
     )
 }
+
+/// Below this length of `∂p/∂X` made orthogonal to the tool axis (per mm of X), X runs along
+/// the tool axis and gives no head twist: [`fixed_head_frame`] says `None` (unit-free ratio).
+pub const FIXED_FRAME_DEGENERATE: f64 = 1e-6;
+
+/// The tool frame of a head that does not turn about its tool axis in the machine: the part
+/// turns instead (A/B table, triple-Z tilting bed, polar table), or the head tilts only about
+/// the machine's Y (the polar machine's B). The head's x axis is then the machine's +X made
+/// orthogonal to the tool axis; in the part (output) frame, +X is the way the tip moves
+/// relative to the part as X grows, `∂p/∂X`, exact because the tip is affine in the linear
+/// axes at a fixed pose ([`super::Machine::linear_at_fixed_pose`], machine law 3; X is a
+/// G-code coordinate of the tip relative to the bed whichever of the two moves). With
+/// `n = forward(axes).1`:
+///
+/// `x = normalize(d − (d·n) n)`, `d = p(axes + e_X) − p(axes)`, `y = n × x`, `z = n`.
+///
+/// For the A/B table (seed 004) this is `R⁻¹·e_x` with `R` the table's rotation; for the polar
+/// machine `R_z(−C)·R_y(B)·e_x`. `None` where X runs along the tool axis (a 90° tilt) or the
+/// forward kinematics fails.
+pub fn fixed_head_frame(machine: &dyn super::Machine, axes: &[f64]) -> Option<glam::DMat3> {
+    let (p, n) = machine.forward(axes).ok()?;
+    let mut moved = axes.to_vec();
+    *moved.first_mut()? += 1.0;
+    let (q, _) = machine.forward(&moved).ok()?;
+    let d = q - p;
+    let x = d - d.dot(n) * n;
+    if x.length() < FIXED_FRAME_DEGENERATE * d.length().max(1.0) {
+        return None;
+    }
+    let x = x.normalize();
+    Some(glam::DMat3::from_cols(x, n.cross(x), n))
+}

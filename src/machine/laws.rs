@@ -27,6 +27,14 @@
 //!    [`NEAREST_SLACK_DEG`]. Laws 1–3 compare `forward` with `realised_axis`, so a mistake both
 //!    share (a mirrored azimuth in the one function that builds the axis) passes them; this law
 //!    catches it because the samples cover every azimuth either way.
+//! 5. **Head frame** ([`check_head_frame`]), for machines that give a
+//!    [`Machine::head_frame`] (the collision check places the heater block with it): at every
+//!    grid position and axis of law 1 the frame is orthonormal and right-handed within
+//!    [`FRAME_TOLERANCE`], and its z column is the forward tool axis within
+//!    [`ANGLE_TOLERANCE`]; along an azimuth sweep its x column turns by at most
+//!    [`MAX_ROTARY_STEP_DEG`] per 0.5° step wherever the realised tool axis itself moves less
+//!    than [`AXIS_JUMP_DEG`] (it jumps where a single-revolution axis reaches its limit): no
+//!    flip of the block's side.
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -55,6 +63,13 @@ pub const NEAREST_GRID_DEG: f64 = 3.0;
 /// How much farther than the best sample the realised axis may be from the wanted one (law 4),
 /// degrees: the A/B table holds its pole within 0.5° (`abtable`), plus rounding.
 pub const NEAREST_SLACK_DEG: f64 = 0.6;
+
+/// |RᵀR − I| and |det R − 1| bound for a head frame (law 5), unit-free.
+pub const FRAME_TOLERANCE: f64 = 1e-9;
+
+/// A step of law 5's sweep whose realised tool axis turns by more than this is a jump of the
+/// pose itself (a single-revolution axis at its limit), where the frame may jump too, degrees.
+pub const AXIS_JUMP_DEG: f64 = 1.0;
 
 /// What a law check measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -368,6 +383,79 @@ pub fn check_nearest(m: &dyn Machine) -> Result<LawReport, String> {
                 ));
             }
         }
+    }
+    Ok(rep)
+}
+
+/// Law 5 (see the module documentation). Returns the frames checked (0 for a machine without
+/// a head frame).
+pub fn check_head_frame(m: &dyn Machine) -> Result<LawReport, String> {
+    let ws = m.workspace();
+    let mut rep = LawReport::default();
+    let check = |a: &[f64], rep: &mut LawReport| -> Result<Option<glam::DMat3>, String> {
+        let Some(f) = m.head_frame(a) else {
+            return Ok(None);
+        };
+        let (_, n) = m.forward(a).map_err(|e| e.to_string())?;
+        let gram = f.transpose() * f;
+        let off = (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| (gram.col(i)[j] - f64::from(u8::from(i == j))).abs())
+            .fold(0.0, f64::max)
+            .max((f.determinant() - 1.0).abs());
+        let da = num::angle_between(f.z_axis, n);
+        rep.points += 1;
+        rep.worst_position_mm = rep.worst_position_mm.max(off);
+        rep.worst_angle_rad = rep.worst_angle_rad.max(da);
+        if !(off <= FRAME_TOLERANCE) || !(da <= ANGLE_TOLERANCE) {
+            return Err(format!(
+                "{}: head frame {f:?} at axes {a:?} is not a right-handed orthonormal frame about the tool axis {n} (orthonormality error {off:e}, z column {da:e} rad off)",
+                m.name()
+            ));
+        }
+        Ok(Some(f))
+    };
+    for p in positions(&ws) {
+        for n in axes(&ws) {
+            if let Ok(a) = m.inverse(p, n, None) {
+                check(&a, &mut rep)?;
+            }
+        }
+    }
+    // The azimuth sweep at a 30° tilt (or the largest): the block's side turns smoothly.
+    let c = (ws.min + ws.max) / 2.0;
+    let tilt = ws.max_tilt_deg.min(30.0);
+    let mut previous: Option<(Vec<f64>, glam::DMat3)> = None;
+    for k in 0..=1440 {
+        let az = -360.0 + k as f64 * 0.5;
+        let Ok(a) = m.inverse(
+            c,
+            axis(tilt, az),
+            previous.as_ref().map(|(a, _)| a.as_slice()),
+        ) else {
+            previous = None;
+            continue;
+        };
+        let Some(f) = check(&a, &mut rep)? else {
+            return Ok(rep);
+        };
+        if let Some((_, f0)) = &previous {
+            let turn = num::deg(num::angle_between(f0.x_axis, f.x_axis));
+            let axis_jump = num::deg(num::angle_between(f0.z_axis, f.z_axis));
+            if axis_jump > AXIS_JUMP_DEG {
+                previous = Some((a, f));
+                continue;
+            }
+            rep.worst_rotary_step_deg = rep.worst_rotary_step_deg.max(turn);
+            if tilt > 1.0 && !(turn <= MAX_ROTARY_STEP_DEG) {
+                return Err(format!(
+                    "{}: the head frame's x axis turns {turn:.3}° between azimuths {:.1}° and {az:.1}° at tilt {tilt}° (axes {a:?})",
+                    m.name(),
+                    az - 0.5
+                ));
+            }
+        }
+        previous = Some((a, f));
     }
     Ok(rep)
 }

@@ -24,9 +24,8 @@ pub struct MachineOptions {
     /// material printed so far and the bed (`crate::collision`) and refuse the file on a
     /// collision (`machine.collision`). **Off by default for now**: on the real-slicer matrix the
     /// engine still reports nozzle findings of 0.05–0.1 mm on the RTN/RotBot heads that the
-    /// independent test helper (`tests/common/collide.rs`) does not confirm, and machines
-    /// without a `head_frame` (A/B table, triple-Z, polar) check the heater block as the
-    /// cylinder about the tool axis that contains it, which meets the bed near any tilt.
+    /// independent test helper (`tests/common/collide.rs`) does not confirm, and it costs
+    /// several times the unwarp itself.
     pub check_collisions: bool,
     /// `--allow-collisions`: write the file and list every finding (in the report and as
     /// comments at its end) instead of refusing it (`machine.collision`).

@@ -191,6 +191,11 @@ impl Machine for RTheta {
             0.0
         }
     }
+    /// The head does not turn about its tool axis in the machine: its x axis is the machine's
+    /// +X ([`super::head::fixed_head_frame`]).
+    fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
+        super::head::fixed_head_frame(self, axes)
+    }
     /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
     fn linear_at_fixed_pose(&self) -> bool {
         true

@@ -389,6 +389,11 @@ impl Machine for ThreeZ {
         let np = rot_z(r21(DVec3::Z), thp);
         Ok((p, DVec3::new(-np.x, -np.y, np.z)))
     }
+    /// The head does not turn about its tool axis in the machine: its x axis is the machine's
+    /// +X ([`super::head::fixed_head_frame`]).
+    fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
+        super::head::fixed_head_frame(self, axes)
+    }
     fn workspace(&self) -> Workspace {
         let v = self.params.build_volume_mm;
         Workspace {
