@@ -310,7 +310,7 @@ impl MachineEmitter {
             out.extend_from_slice(b" E");
             push_e(out, v);
         }
-        let fo = output_feed(
+        let feed = output_feed(
             self.feed,
             &FeedMove {
                 from,
@@ -321,6 +321,10 @@ impl MachineEmitter {
                 fastest: fastest(&self.max_feed, &from_read, &to_read),
             },
         );
+        if let Some((axis, minutes)) = feed.slowed {
+            self.speeds.add_slowed(axis, minutes);
+        }
+        let fo = feed.f;
         self.write_feed(out, fo);
         // the feed in force: the one written, else the modal one
         let f_fw = if fo.is_finite() && fo > 0.0 {
@@ -328,8 +332,9 @@ impl MachineEmitter {
         } else {
             self.last_f.unwrap_or(0.0)
         };
+        // timed as the firmware reads it: the written values
         self.speeds
-            .add_move(self.feed, from, axes, f_fw, firmware_length);
+            .add_move(self.feed, &from_read, &to_read, f_fw, firmware_length);
         self.written_axes = Some(to_read);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');

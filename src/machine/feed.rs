@@ -6,11 +6,19 @@
 //! mixed, as RepRapFirmware `S0` axes count them) and `D_fw` the length by the output flavour's
 //! own rule ([`super::length_rule`]):
 //! - [`FeedMode::Tip`] (the default): `F = f · D_fw / L`, so `T = D_fw / F = L / f` on that
-//!   firmware, whatever axes move.
+//!   firmware, whatever axes move — unless an axis would then exceed its largest feed (the
+//!   machine file's `max_feed`; seed 001 §4.8: the triple-Z bed's three Z motors at
+//!   1900 mm/min): with `T_axes = maxᵢ |Δᵢ| / max_feedᵢ` ([`fastest`]) the move takes
+//!   `T = max(L / f, T_axes)` and `F = D_fw / T` (rounded down to the written 0.001 mm/min),
+//!   so the limiting axis runs at its limit and no axis beyond it; such a move is reported as
+//!   slowed ([`Feed::slowed`]).
 //! - [`FeedMode::Xyz`]: the firmware counts only the linear axes and F is the tip feed:
 //!   `F = f` (unchanged).
 //! - [`FeedMode::AllAxes`]: the firmware divides D by F: `F = D / T = f · D / L`.
 //! - [`FeedMode::InverseTime`]: `G93`, F is moves per minute: `F = 1 / T = f / L`.
+//!
+//! Only `tip` lowers F for the axes' limits; in the other modes F keeps its definition and the
+//! firmware slows a move an axis cannot follow (the report estimates it, [`super::speed`]).
 //!
 //! ## A move without tip motion (a reorientation in place)
 //! When the tip moves less than [`NO_TIP_MOTION_MM`] (a pure rotation; at a cone's apex the
@@ -83,6 +91,23 @@ pub struct FeedMove<'a> {
     pub fastest: Fastest,
 }
 
+/// The F to write for a move, and whether an axis' largest feed lowered it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feed {
+    /// The F to write (mm/min, or moves per minute in inverse time).
+    pub f: f64,
+    /// `tip` mode: the axis (machine order) whose `max_feed` lowered F below the tip feed's,
+    /// and the minutes this adds to the move (`T_axes − L / f`).
+    pub slowed: Option<(usize, f64)>,
+}
+
+/// `v` rounded down to the written F's 0.001 mm/min ([`crate::gcode::write::FEED_DECIMALS`]):
+/// a feed lowered to an axis' limit stays at or below it once written.
+fn floor_written(v: f64) -> f64 {
+    let k = 10f64.powi(crate::gcode::write::FEED_DECIMALS as i32);
+    (v * k).floor() / k
+}
+
 /// The machine-space length the firmware measures between two axis vectors.
 pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {
     from.iter()
@@ -93,7 +118,7 @@ pub fn axis_length(from: &[f64], to: &[f64]) -> f64 {
 }
 
 /// The output F of move `m` in feed mode `mode` (see the module documentation).
-pub fn output_feed(mode: FeedMode, m: &FeedMove) -> f64 {
+pub fn output_feed(mode: FeedMode, m: &FeedMove) -> Feed {
     let FeedMove {
         from,
         to,
@@ -106,16 +131,23 @@ pub fn output_feed(mode: FeedMode, m: &FeedMove) -> f64 {
     let eps = crate::tolerance::LENGTH_EPSILON;
     // a reorientation in place, timed by its axes at their largest feeds
     let in_place = tip_length < NO_TIP_MOTION_MM && fastest.minutes > 0.0;
-    match mode {
+    let plain = |f| Feed { f, slowed: None };
+    plain(match mode {
         FeedMode::Tip => {
             if in_place && firmware_length > eps {
-                return firmware_length / fastest.minutes;
+                return plain(floor_written(firmware_length / fastest.minutes));
             }
-            let fo = if tip_length >= NO_TIP_MOTION_MM && firmware_length > eps {
-                f * firmware_length / tip_length
-            } else {
-                f
-            };
+            if !(tip_length >= NO_TIP_MOTION_MM && firmware_length > eps) {
+                return plain(f);
+            }
+            let t_tip = tip_length / f;
+            if let (Some(axis), true) = (fastest.axis, fastest.minutes > t_tip) {
+                return Feed {
+                    f: floor_written(firmware_length / fastest.minutes),
+                    slowed: Some((axis, fastest.minutes - t_tip)),
+                };
+            }
+            let fo = f * firmware_length / tip_length;
             if (fo - f).abs() <= TIP_FEED_SNAP * f {
                 f
             } else {
@@ -143,7 +175,7 @@ pub fn output_feed(mode: FeedMode, m: &FeedMove) -> f64 {
                 f
             }
         }
-    }
+    })
 }
 
 #[cfg(test)]
@@ -175,20 +207,51 @@ mod tests {
             ..mv(&a, &b, 3e-8, 2.0, 1800.0)
         };
         // tip: the firmware's length is X's 2 mm → F = 2 / 0.025 = 80
-        assert_eq!(output_feed(FeedMode::Tip, &m), 80.0);
+        assert_eq!(output_feed(FeedMode::Tip, &m).f, 80.0);
         // all axes: √(4 + 8100) / 0.025
         let d = (4.0f64 + 8100.0).sqrt();
-        assert_eq!(output_feed(FeedMode::AllAxes, &m), d / 0.025);
-        assert_eq!(output_feed(FeedMode::InverseTime, &m), 40.0);
-        assert_eq!(output_feed(FeedMode::Xyz, &m), 1800.0);
+        assert_eq!(output_feed(FeedMode::AllAxes, &m).f, d / 0.025);
+        assert_eq!(output_feed(FeedMode::InverseTime, &m).f, 40.0);
+        assert_eq!(output_feed(FeedMode::Xyz, &m).f, 1800.0);
         // without any axis limit: F = f (f / D in inverse time), never f · D / L ≈ 5·10¹⁰
         let free = mv(&a, &b, 3e-8, 2.0, 1800.0);
-        assert_eq!(output_feed(FeedMode::Tip, &free), 1800.0);
-        assert_eq!(output_feed(FeedMode::AllAxes, &free), 1800.0);
-        assert_eq!(output_feed(FeedMode::InverseTime, &free), 1800.0 / d);
+        assert_eq!(output_feed(FeedMode::Tip, &free).f, 1800.0);
+        assert_eq!(output_feed(FeedMode::AllAxes, &free).f, 1800.0);
+        assert_eq!(output_feed(FeedMode::InverseTime, &free).f, 1800.0 / d);
         // a tip motion the file can show (0.01 mm) is timed by it: F = f · D / L
         let shown = mv(&a, &b, 0.01, 2.0, 1800.0);
-        assert_eq!(output_feed(FeedMode::Tip, &shown), 1800.0 * 2.0 / 0.01);
+        assert_eq!(output_feed(FeedMode::Tip, &shown).f, 1800.0 * 2.0 / 0.01);
+    }
+
+    /// The triple-Z bed (seed 001 §4.8: Z motors at 1900 mm/min): a 10 mm tip move at
+    /// 6000 mm/min (10/6000 = 1/600 min) that drives X 10 mm and Z 5 mm: Z would run at
+    /// 5 · 600 = 3000 > 1900 mm/min, so T = 5/1900 min and F = D_fw / T = √125 · 380 (rounded
+    /// down to 0.001), Z at its limit.
+    #[test]
+    fn tip_feed_is_lowered_so_the_fastest_axis_runs_at_its_limit() {
+        let (a, b) = ([0.0, 0.0, 0.0], [10.0, 0.0, 5.0]);
+        let max = [12000.0, 12000.0, 1900.0];
+        let d = 125f64.sqrt();
+        let m = FeedMove {
+            fastest: fastest(&max, &a, &b),
+            ..mv(&a, &b, 10.0, d, 6000.0)
+        };
+        let out = output_feed(FeedMode::Tip, &m);
+        let want = (d * 380.0 * 1000.0).floor() / 1000.0;
+        assert_eq!(out.f, want);
+        let (axis, added) = out.slowed.unwrap();
+        assert_eq!(axis, 2);
+        assert!((added - (5.0 / 1900.0 - 10.0 / 6000.0)).abs() < 1e-15);
+        // Z's speed at the written F: 5 mm in D_fw / F minutes, at most 1900
+        let z = 5.0 / (d / out.f);
+        assert!(z <= 1900.0 && z > 1900.0 * (1.0 - 1e-6), "{z}");
+        // at 1500 mm/min Z runs at 5 · 150 = 750: F = f · D_fw / L, not slowed
+        let slow = FeedMove { f: 1500.0, ..m };
+        let out = output_feed(FeedMode::Tip, &slow);
+        assert_eq!((out.f, out.slowed), (1500.0 * d / 10.0, None));
+        // the other modes keep their F (the firmware slows the move)
+        assert_eq!(output_feed(FeedMode::Xyz, &m).slowed, None);
+        assert_eq!(output_feed(FeedMode::InverseTime, &m).f, 600.0);
     }
 
     #[test]
@@ -196,32 +259,32 @@ mod tests {
         // 3 mm of tip at 600 mm/min = 0.005 min; the axes move (3, 0, 0, 4°) → D = 5.
         let (a, b) = ([0.0, 0.0, 0.0, 0.0], [3.0, 0.0, 0.0, 4.0]);
         assert_eq!(
-            output_feed(FeedMode::Xyz, &mv(&a, &b, 3.0, 3.0, 600.0)),
+            output_feed(FeedMode::Xyz, &mv(&a, &b, 3.0, 3.0, 600.0)).f,
             600.0
         );
-        let f = output_feed(FeedMode::AllAxes, &mv(&a, &b, 3.0, 3.0, 600.0));
+        let f = output_feed(FeedMode::AllAxes, &mv(&a, &b, 3.0, 3.0, 600.0)).f;
         assert!((5.0 / f - 0.005).abs() < 1e-15);
-        let g = output_feed(FeedMode::InverseTime, &mv(&a, &b, 3.0, 3.0, 600.0));
+        let g = output_feed(FeedMode::InverseTime, &mv(&a, &b, 3.0, 3.0, 600.0)).f;
         assert!((1.0 / g - 0.005).abs() < 1e-15);
         // Tip: the firmware counts 2 mm for this move (its own rule) → F = 400, T = 0.005.
-        let t = output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 2.0, 600.0));
+        let t = output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 2.0, 600.0)).f;
         assert!((2.0 / t - 0.005).abs() < 1e-15);
         // Pure rotation: 4° at 600 → inverse time 150 per minute; tip keeps F = f.
         let c = [0.0, 0.0, 0.0, 4.0];
         assert_eq!(
-            output_feed(FeedMode::InverseTime, &mv(&a, &c, 0.0, 4.0, 600.0)),
+            output_feed(FeedMode::InverseTime, &mv(&a, &c, 0.0, 4.0, 600.0)).f,
             150.0
         );
         assert_eq!(
-            output_feed(FeedMode::Tip, &mv(&a, &c, 0.0, 4.0, 600.0)),
+            output_feed(FeedMode::Tip, &mv(&a, &c, 0.0, 4.0, 600.0)).f,
             600.0
         );
         // a firmware length within 0.1 % of the tip's keeps the slicer's F
         assert_eq!(
-            output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 3.0009, 600.0)),
+            output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 3.0009, 600.0)).f,
             600.0
         );
-        assert!(output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 3.0031, 600.0)) > 600.5);
+        assert!(output_feed(FeedMode::Tip, &mv(&a, &b, 3.0, 3.0031, 600.0)).f > 600.5);
         assert_eq!(FeedMode::parse("tip"), Some(FeedMode::Tip));
         assert_eq!(FeedMode::parse("all-axes"), Some(FeedMode::AllAxes));
         assert_eq!(FeedMode::parse("fast"), None);
