@@ -39,8 +39,10 @@
 //! caller reports through [`Emitter::lines_written`] plus those this call wrote) and the input
 //! line of the toolpath point ([`ToolPoint::line`]). It then adds the move to the speed
 //! accounting ([`super::speed`]: the firmware's duration at the F in force, slowed where an
-//! axis would exceed its `max_feed`). The report and the file's last comment line give the
-//! margins, the slowed moves and the estimated time.
+//! axis would exceed its `max_feed`; in `tip` mode [`super::feed`] lowers F itself and the
+//! moves it slowed are counted). The report and the file's last comment line give the
+//! margins, the slowed moves and the estimated time. A `G1` whose written axis words and E
+//! equal the previous line's (a move the firmware reads as none) is not written.
 //!
 //! ## Errors
 //! Unreachable orientations, axis limits and travel are returned from [`Emitter::point`]; the
