@@ -333,7 +333,7 @@ pub fn calibrate_origin(
 
 /// `calibrate_probe(inputJson)` → `{ result: object, text: string }`; input e.g.
 /// `{"kind": "a-pos", "z0": -5, "y90": 4.2, "y_minus90": -3.8, "c_y": 0.453}` (kinds: a-pos-error,
-/// a-pos, a-dir, b-pos, b-dir, z-bias, a-scaling, wobble).
+/// a-pos, a-dir, b-pos, b-dir, z-bias, a-scaling, a-steps-per-degree, a-orientation, wobble).
 #[wasm_bindgen]
 pub fn calibrate_probe(input_json: &str) -> Result<JsValue, JsValue> {
     let input: crate::calibrate::probes::ProbeInput = parse("probe input", input_json)?;

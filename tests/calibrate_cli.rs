@@ -236,3 +236,28 @@ fn eq_5_4_note_is_in_help_and_output() {
     assert!(ok, "{err}");
     assert!(out.contains("measures a taper"), "{out}");
 }
+
+/// §6.2.2 through the CLI: the caliper readings give α_A,z with the formula's source and the
+/// `calibrate origin` flag it goes to; a bad line length is refused by name.
+#[test]
+fn a_orientation_probe_prints_alpha_a_z_with_its_source() {
+    let readings = [
+        "calibrate",
+        "probe",
+        "a-orientation",
+        "--d-start",
+        "10",
+        "--d-end",
+        "10.18",
+    ];
+    let (ok, out, err) = run(&readings);
+    assert!(ok, "{err}");
+    assert!(out.contains("α_A,z = -0.257829°"), "{out}");
+    assert!(out.contains("seed 004 §6.2.2"), "{out}");
+    assert!(
+        out.contains("calibrate origin --a-z-correction -0.257829"),
+        "{out}"
+    );
+    let (ok, _, err) = run(&[&readings[..], &["--line-length", "-40"]].concat());
+    assert!(!ok && err.contains("line length -40"), "{err}");
+}

@@ -149,3 +149,73 @@ fn probe_inputs_from_json_with_defaults() {
     .unwrap_err();
     assert!(matches!(bad, CalibError::BadInput { .. }));
 }
+
+/// §6.2.2 worked by hand from the seed's own numbers: the line "approximated to have a length
+/// of 40 mm" and an orientation error of −0.258°. Ends 10.000 and 10.180 mm from the −X side:
+/// slope (10.000 − 10.180)/40 = −0.0045, atan(0.0045) = 0.0045 − 0.0045³/3 + … =
+/// 0.004499969625 rad = 0.2578293° → α_A,z = −0.2578293° (the seed's −0.258°).
+#[test]
+fn a_orientation_test_gives_the_seeds_minus_0_258_degrees_from_a_0_18_mm_slope() {
+    let out = evaluate(&ProbeInput::AOrientation {
+        d_start: 10.0,
+        d_end: 10.18,
+        line_length: 40.0,
+    })
+    .unwrap();
+    let ProbeOutput::AOrientation {
+        slope,
+        alpha_a_z_deg,
+    } = out
+    else {
+        panic!("{out:?}")
+    };
+    assert!((slope + 0.0045).abs() < 1e-12, "{slope}");
+    assert!((alpha_a_z_deg + 0.2578293).abs() < 1e-7, "{alpha_a_z_deg}");
+    assert!(out.to_text().contains("§6.2.2"), "{}", out.to_text());
+    assert!(out.to_text().contains("--a-z-correction -0.257829"));
+    // the line length defaults to the seed's 40 mm in JSON (the wasm input)
+    let json: ProbeInput =
+        serde_json::from_str(r#"{"kind":"a-orientation","d_start":10,"d_end":10.18}"#).unwrap();
+    assert_eq!(evaluate(&json).unwrap(), out);
+    // a line of no length is refused by name
+    let e = evaluate(&ProbeInput::AOrientation {
+        d_start: 1.0,
+        d_end: 1.0,
+        line_length: 0.0,
+    })
+    .unwrap_err();
+    assert!(matches!(e, CalibError::BadInput { .. }), "{e}");
+    assert!(e.to_string().contains("line length 0"), "{e}");
+}
+
+/// The sign of §6.2.2's α_A,z from the kinematics, not from the formula: an A axis turned
+/// ε = −0.258° about Z (its true direction R_z(ε)·x̂, right hand), the nozzle held on top of a
+/// cylinder of radius 25 mm about it at x₀ = 7 while A turns from −53.13° to +53.13° (a chord
+/// of 2·25·0.8 = 40 mm): the part points under the nozzle, found by turning the nozzle point
+/// back about the true axis (glam's quaternions), are the line's ends; their X from the side
+/// at x = 0, fed to the probe formula with L = 40, give back ε (to its first-order error, ε²).
+#[test]
+fn a_orientation_test_recovers_a_simulated_z_rotation_of_the_a_axis() {
+    use glam::DQuat;
+    for eps_deg in [-0.258f64, 0.4] {
+        let eps = eps_deg.to_radians();
+        let t = DVec3::new(eps.cos(), eps.sin(), 0.0);
+        let m = DVec3::new(7.0, 0.0, 25.0);
+        let theta = 0.8f64.asin();
+        let under = |a: f64| DQuat::from_axis_angle(t, -a) * m;
+        let (start, end) = (under(-theta), under(theta));
+        let (d_start, d_end) = (start.x, end.x);
+        let ProbeOutput::AOrientation { alpha_a_z_deg, .. } = evaluate(&ProbeInput::AOrientation {
+            d_start,
+            d_end,
+            line_length: 40.0,
+        })
+        .unwrap() else {
+            panic!()
+        };
+        assert!(
+            (alpha_a_z_deg - eps_deg).abs() < 1e-3 * eps_deg.abs(),
+            "ε {eps_deg}°: α_A,z {alpha_a_z_deg}° from ends {d_start}, {d_end}"
+        );
+    }
+}

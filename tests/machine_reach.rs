@@ -598,7 +598,11 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
     let input = synthetic::gcode(&job, true, 2.0);
     // the axis speeds, not the head's clearance (collision_check.rs; the check is opt-in):
     // the default head's block meets the box's first layer on the tilted bed
-    let s = settings(spec.clone());
+    // `--feed xyz` (F = the slicer's, all five axes linear): the firmware slows the moves; the
+    // default `tip` lowers F itself so no axis exceeds its limit (machine_emit.rs
+    // tip_feed_moves_the_tip_at_the_slicers_speed_on_every_firmware)
+    let mut s = settings(spec.clone());
+    s.output.feed = FeedMode::Xyz;
     let out = unwarp(input.as_bytes(), &job, &s).unwrap();
     let rep = out.report.machine.clone().unwrap();
     let text = String::from_utf8(out.gcode).unwrap();
@@ -615,6 +619,26 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
         .axes
         .iter()
         .all(|a| a.speed_limited_moves > 0 || a.axis == "U" || a.axis == "V"));
+    // the default `tip` feed lowers F itself (issue 11 item 6): the firmware, read the same
+    // way, slows no move beyond the rounding of the written values, and the report counts the
+    // moves the feed rule slowed — at least those the firmware slowed by ≥ 1.5× above
+    s.output.feed = FeedMode::Tip;
+    let out = unwarp(input.as_bytes(), &job, &s).unwrap();
+    let tip = out.report.machine.clone().unwrap();
+    let fw = speeds_of(
+        &String::from_utf8(out.gcode).unwrap(),
+        &['X', 'Y', 'Z', 'U', 'V'],
+        &[false; 5],
+        &feeds_of(&spec),
+        FeedMode::Xyz,
+    );
+    assert!(fw.strong == 0 && fw.slowed <= fw.near, "tip: {fw:?}");
+    assert!(
+        tip.speed_limited_moves >= want.strong,
+        "tip: {} moves slowed by the feed rule, the firmware slowed {} by ≥ 1.5× at the slicer's F",
+        tip.speed_limited_moves,
+        want.strong
+    );
 }
 
 /// The B head on a curved job (B turns along every wall), written with `--feed xyz` (the

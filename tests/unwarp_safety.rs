@@ -52,19 +52,31 @@ fn run_lib(
     job: &Job,
     machine: Option<&str>,
 ) -> Result<UnwarpOutput, warpslice::pipeline::Error> {
-    let s = UnwarpSettings {
+    let s = settings(
+        machine.map(|m| warpslice::machine::preset(m).unwrap()),
+        None,
+    );
+    unwarp(g.as_bytes(), job, &s)
+}
+
+/// The settings of these tests: the slicers' part at (100, 100), on `machine` in `flavour`.
+fn settings(
+    machine: Option<warpslice::machine::MachineSpec>,
+    flavour: Option<warpslice::machine::Flavour>,
+) -> UnwarpSettings {
+    UnwarpSettings {
         unwarp: UnwarpOptions {
             offset: Some([100.0, 100.0]),
             ..UnwarpOptions::default()
         },
         output: MachineOptions {
-            machine: machine.map(|m| warpslice::machine::preset(m).unwrap()),
+            machine,
+            flavour,
             // head moves and line order, not the head's clearance (collision_check.rs; the
             // check is opt-in): the default head meets the bed on the conic cube's tilted layers
             ..MachineOptions::default()
         },
-    };
-    unwarp(g.as_bytes(), job, &s)
+    }
 }
 
 /// The error of a run that must be refused (without printing a whole accepted output).
@@ -838,6 +850,116 @@ fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
 
 // ── item 6: RotBot at a cone apex ───────────────────────────────────────────────────────────
 
+/// The synthetic slicer's G-code of the conic cube `job` with a zig-zag whose corners are the
+/// cone's apex (100, 100) in the infill of the layers whose cross-section holds it (r ≤ 7.1 mm:
+/// z from 4.1 + 0.2 mm to the top's 20.2 mm at the apex): the tool axis flips 180° there.
+fn apex_zigzag(job: &Job) -> String {
+    let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
+    let g = synthetic::gcode(job, true, 1.96);
+    let (lo, hi) = (
+        g.find(";Z:5.000\n").unwrap(),
+        g.find(";Z:19.000\n").unwrap(),
+    );
+    format!(
+        "{}{}{}",
+        &g[..lo],
+        g[lo..hi].replace(
+            ";TYPE:Internal infill\n",
+            &format!(";TYPE:Internal infill\n{zigzag}"),
+        ),
+        &g[hi..]
+    )
+}
+
+/// How far above the largest `max_feed` of a machine's axes a written F may be. With every axis
+/// at or below its largest feed, the firmware's length over the move's time is at most the
+/// norm of the largest feeds of the axes it counts (NIST: the linear ones, else the rotary
+/// ones; Klipper: X Y Z, else the largest one): √n times the largest, n ≤ 5 axes here, so
+/// √5 ≈ 2.24; F ≈ 5·10¹² (the old apex reorientations) is far beyond it.
+const FEED_CEILING_FACTOR: f64 = 2.25;
+
+/// The words of a G1 line other than F, as written (the move the firmware reads).
+fn move_words(code: &str) -> Vec<&str> {
+    code.split_whitespace()
+        .filter(|w| !w.starts_with('F'))
+        .collect()
+}
+
+/// Issue 12 item 6 / issue 11 on every preset and flavour (the default `--feed tip`): at the
+/// cone's apex, where RTN and RotBot reorient in place, no G1 line moves the axes and E to
+/// where the line before it left them (F aside: the firmware reads no move there), and no F
+/// is above [`FEED_CEILING_FACTOR`] × the machine's largest `max_feed` (the reorientations
+/// were written with F ≈ 5·10¹² from a tip motion of ~1e-8 mm, and the B head's turns near
+/// the apex with F ≈ 3·10⁵ from f · D / L before the feed rule knew the axes' limits). A preset or flavour that
+/// refuses the job does so by name; RTN and RotBot print it and reorient.
+#[test]
+fn every_machine_at_a_cone_apex_writes_no_repeated_move_and_no_runaway_feed() {
+    use warpslice::machine::Flavour;
+    let w = conic_cube();
+    let g = apex_zigzag(&w.job);
+    let mut printed = Vec::new();
+    for name in warpslice::machine::preset_names() {
+        let spec = warpslice::machine::preset(name).unwrap();
+        let feeds = serde_json::to_value(&spec).unwrap()["max_feed"].clone();
+        let ceiling = feeds
+            .as_object()
+            .expect("every preset gives max_feed")
+            .values()
+            .map(|v| v.as_f64().unwrap())
+            .fold(0.0, f64::max)
+            * FEED_CEILING_FACTOR;
+        for flavour in ["reprapfirmware", "marlin", "klipper"] {
+            let s = settings(Some(spec.clone()), Flavour::parse(flavour));
+            let out = match unwarp(g.as_bytes(), &w.job, &s) {
+                Ok(o) => String::from_utf8(o.gcode).unwrap(),
+                Err(e) => {
+                    assert!(
+                        e.code().starts_with("machine.") || e.code().starts_with("unwarp."),
+                        "{name} {flavour}: refused without a machine code: {e}"
+                    );
+                    println!("{name:20} {flavour:15} refused: {}", e.code());
+                    continue;
+                }
+            };
+            let (mut prev, mut reorients, mut top) = (Vec::new(), 0, 0.0f64);
+            for (i, l) in out.lines().enumerate() {
+                let code = l.split(';').next().unwrap().trim();
+                if !code.starts_with("G1 ") {
+                    if !code.is_empty() {
+                        prev.clear();
+                    }
+                    continue;
+                }
+                let words = move_words(code);
+                assert!(
+                    words != prev,
+                    "{name} {flavour} line {}: '{code}' moves nothing after the line before it",
+                    i + 1
+                );
+                if let Some(f) = code.split_whitespace().find_map(|w| w.strip_prefix('F')) {
+                    let f: f64 = f.parse().unwrap();
+                    top = top.max(f);
+                    assert!(
+                        f <= ceiling,
+                        "{name} {flavour} line {}: F{f} above {ceiling} ({FEED_CEILING_FACTOR} × the largest max_feed): '{l}'",
+                        i + 1
+                    );
+                }
+                reorients += l.contains("reorient") as usize;
+                prev = words;
+            }
+            println!("{name:20} {flavour:15} {reorients:5} reorientation lines, largest F {top}");
+            printed.push((name, reorients));
+        }
+    }
+    for m in ["rotbot", "rtn-slicer4rtn"] {
+        assert!(
+            printed.iter().any(|(n, r)| *n == m && *r > 20),
+            "{m} did not print the apex with reorientations: {printed:?}"
+        );
+    }
+}
+
 /// Issue 12 item 6: on RotBot (unlimited rotation) each in-place reorientation at a cone's apex
 /// (the tool axis flips 180° there) repeated an identical no-op line about 20 times. The conic
 /// cube with a zig-zag whose corners are the apex: no G1 line repeats the one before it, the
@@ -846,23 +968,7 @@ fn travels_to_and_from_a_tower_beside_the_part_clear_it() {
 #[test]
 fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
     let w = conic_cube();
-    let zigzag = "G0 X95 Y95 F6000\nG1 X100 Y100 E0.2 F3000\nG1 X105 Y95 E0.2\nG1 X100 Y100 E0.2\nG1 X95 Y100 E0.2\nG1 X100 Y100 E0.2\nG1 X100 Y105 E0.2\nG0 X92 Y92\n";
-    // on the layers whose cross-section holds the zig-zag (r ≤ 7.1 mm: z from 4.1 + 0.2 mm
-    // to the top's 20.2 mm at the apex)
-    let g = synthetic::gcode(&w.job, true, 1.96);
-    let (lo, hi) = (
-        g.find(";Z:5.000\n").unwrap(),
-        g.find(";Z:19.000\n").unwrap(),
-    );
-    let g = format!(
-        "{}{}{}",
-        &g[..lo],
-        g[lo..hi].replace(
-            ";TYPE:Internal infill\n",
-            &format!(";TYPE:Internal infill\n{zigzag}"),
-        ),
-        &g[hi..]
-    );
+    let g = apex_zigzag(&w.job);
     let out = String::from_utf8(run_lib(&g, &w.job, Some("rotbot")).unwrap().gcode).unwrap();
     let (mut prev, mut u): (&str, Option<f64>) = ("", None);
     let mut reorients = 0;

@@ -252,8 +252,14 @@ impl OriginReport {
     /// The RepRapFirmware line that moves the G55 frame (the B-axis frame, seed 004 §4.3.2's
     /// `update_g55`) to the computed origin: the measurements are relative to the G55 frame in
     /// force, so the new offset is the old one plus B''_pos (machine = program + offset):
-    /// `G10 L2 P2 X{move.axes[0].workplaceOffsets[1] + x} …` (P2 = G55; the object-model
-    /// expressions need RepRapFirmware 3.3 or later; run it once per measurement cycle).
+    /// `G10 L2 P2 X{move.axes[0].workplaceOffsets[1] + x} …`: `G10 L2 P2` sets coordinate
+    /// system 2 (G55; P1 is G54) and RepRapFirmware adds the offset (machine = user + offset;
+    /// `M206` is `G10 L2 P1` negated); `workplaceOffsets[1]` is G55's entry (index 0 is G54, as
+    /// Duet Web Control reads `workplaceOffsets[move.workplaceNumber]`). Sources in
+    /// docs/machines.md "Firmware facts and their sources". The expressions need a
+    /// RepRapFirmware 3 with object-model expressions in G-code parameters: 3.3 or later is
+    /// what the line says, the exact first version was not confirmed. Run it once per
+    /// measurement cycle.
     pub fn g55_line(&self) -> String {
         let o = self.result.origin;
         let axis = |i: usize, v: f64| {
@@ -263,7 +269,7 @@ impl OriginReport {
             )
         };
         format!(
-            "G10 L2 P2 {} {} {}   ; set G55 to the new origin (RepRapFirmware 3.3+: the offsets in force plus B''_pos; run once per measurement cycle)",
+            "G10 L2 P2 {} {} {}   ; set G55 to the new origin (RepRapFirmware 3.3+ with expressions: the G55 offsets in force plus B''_pos; run once per measurement cycle)",
             axis(0, o.x),
             axis(1, o.y),
             axis(2, o.z)

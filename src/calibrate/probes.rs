@@ -29,6 +29,14 @@
 //!   from the step-by-step measurements (the Z component of A^B_pos, Eq. 5.7):
 //!   `z_d = z_shift − A^B_pos.z`; the correction of Eq. 5.1 is then
 //!   [`crate::machine::abtable::AbTable::z_wobble`] (±z_d at A = ±90°).
+//! - §6.2.2 (A axis orientation test, appendix A "Z Rotation Offset"): a straight line drawn
+//!   across a cylinder slice with the A axis as the main movement, "approximating the length of
+//!   the line as 40 mm" (L), and the caliper distances of its two ends to the side of the
+//!   object, d_start and d_end; "calculating the slope on the surfaces gives an orientation
+//!   error" α_{A,z}, the Z-plane rotation the origin applies to A_dir (Eq. 5.7,
+//!   `A'_dir = R_z(α_{A,z}) A_dir`): `α_{A,z} = atan((d_start − d_end) / L)`. The sign is
+//!   not printed in the seed; it follows from the kinematics (see [`a_z_rotation`]) with
+//!   d measured from the object's −X side and the line's start at the smaller A.
 
 use glam::DVec3;
 
@@ -44,6 +52,9 @@ pub const AXLE_FLATS: f64 = 4.0;
 pub const B_PROBE_Z: f64 = -10.0;
 /// Distance between the two heights of the A scaling probe (§5.1.7), mm.
 pub const A_SCALING_DISTANCE: f64 = 10.0;
+/// The length of the A orientation test's line (§6.2.2: "approximated to have a length of
+/// 40 mm"), mm.
+pub const A_ORIENTATION_LINE: f64 = 40.0;
 /// Eq. 5.4 as printed, said where it is used (CLI help and output): m_yx is the difference of
 /// the two Y probes' *half differences*, which measures how the part's width changes along X (a
 /// taper), not the slope of its centre line (that is the difference of the half *sums*). It is
@@ -143,6 +154,17 @@ pub enum ProbeInput {
         /// The steps per degree the firmware had when they were measured (`M92 A…`).
         steps_per_deg: f64,
     },
+    /// §6.2.2: α_{A,z} from the caliper readings of the A orientation test print.
+    AOrientation {
+        /// d_start: caliper distance from the line's start (drawn at the smaller A) to the
+        /// object's −X side, mm.
+        d_start: f64,
+        /// d_end: caliper distance from the line's end (the larger A) to the same side, mm.
+        d_end: f64,
+        /// L: the line's length, mm (default [`A_ORIENTATION_LINE`], the seed's 40 mm).
+        #[serde(default = "a_orientation_line")]
+        line_length: f64,
+    },
     /// §5.1.8.
     Wobble {
         /// z_shift from the Z-bias probing (§5.1.6), mm.
@@ -163,6 +185,9 @@ fn axle_flats() -> f64 {
 }
 fn a_scaling_distance() -> f64 {
     A_SCALING_DISTANCE
+}
+fn a_orientation_line() -> f64 {
+    A_ORIENTATION_LINE
 }
 
 /// What a probe computation gives.
@@ -228,6 +253,13 @@ pub enum ProbeOutput {
         /// The symmetric part of the error (α₊ + α₋)/2, degrees: a zero-point shift, not a
         /// scaling (§5.1.7: redetermine the zero point, §5.1.2).
         zero_shift_deg: f64,
+    },
+    /// §6.2.2: α_{A,z}, degrees.
+    AOrientation {
+        /// The slope (d_start − d_end) / L of the line against the object's side.
+        slope: f64,
+        /// α_{A,z} = atan(slope), degrees (`calibrate origin --a-z-correction`).
+        alpha_a_z_deg: f64,
     },
     /// §5.1.8: z_d and the Eq. 5.1 correction at A = −90°, −45°, 0°, 45°, 90°.
     Wobble {
@@ -349,6 +381,31 @@ pub fn a_steps_per_degree(alpha_plus_deg: f64, alpha_minus_deg: f64) -> (f64, f6
     )
 }
 
+/// §6.2.2: `α_{A,z} = atan((d_start − d_end) / L)`, degrees, and the slope.
+///
+/// Why this sign (the seed gives the magnitude, "the slope"): the A axis turns the part about
+/// its true direction `t = R_z(ε) x̂` while the printer believes x̂. The nozzle stays where the
+/// line is drawn, `m = (x₀, 0, r)` on top of a cylinder of radius r about the axis; the part
+/// point under it at A is `q = R_t(−A) m`, and to first order in ε (Rodrigues' formula,
+/// `t·m = x₀`, `t × m = (ε r, −r, −ε x₀)`) `q_x = x₀ − ε r sin A`. From A = −θ to +θ the line
+/// runs `2 r sin θ ≈ L` and its X changes by `−ε L`: with d measured from the −X side,
+/// `d_end − d_start = −ε L`. Eq. 5.7 corrects `A'_dir = R_z(α_{A,z}) A_dir` to the true
+/// direction, so `α_{A,z} = ε = atan((d_start − d_end) / L)` (atan: the slope as an angle;
+/// at 0.26° it differs from the slope by 10⁻⁶ relative). Measured from the +X side, or drawn
+/// from the larger A, the sign flips: swap d_start and d_end.
+pub fn a_z_rotation(d_start: f64, d_end: f64, line_length: f64) -> Result<(f64, f64), CalibError> {
+    if !(line_length.is_finite() && line_length > 0.0) {
+        return Err(CalibError::BadInput {
+            what: "A orientation line length".to_string(),
+            message: format!(
+                "the line length {line_length} must be a positive number (mm; the seed's is {A_ORIENTATION_LINE})"
+            ),
+        });
+    }
+    let slope = (d_start - d_end) / line_length;
+    Ok((slope, num::deg(num::atan(slope))))
+}
+
 /// §5.1.8: `z_d = z_shift − ab_z`.
 pub fn wobble_z_d(z_shift: f64, ab_z: f64) -> f64 {
     z_shift - ab_z
@@ -460,6 +517,18 @@ pub fn evaluate(input: &ProbeInput) -> Result<ProbeOutput, CalibError> {
                 zero_shift_deg,
             }
         }
+        ProbeInput::AOrientation {
+            d_start,
+            d_end,
+            line_length,
+        } => {
+            finite("A orientation test", &[*d_start, *d_end, *line_length])?;
+            let (slope, alpha_a_z_deg) = a_z_rotation(*d_start, *d_end, *line_length)?;
+            ProbeOutput::AOrientation {
+                slope,
+                alpha_a_z_deg,
+            }
+        }
         ProbeInput::Wobble { z_shift, ab_z } => {
             finite("wobble", &[*z_shift, *ab_z])?;
             let z_d = wobble_z_d(*z_shift, *ab_z);
@@ -535,6 +604,15 @@ impl ProbeOutput {
                 "k = {k:.6} (the A axis turns k° per commanded degree, §5.1.7)
 steps per degree = {steps_per_deg:.4} (set it in the firmware: M92 A{steps_per_deg:.4}, and in the homing scripts)
 zero-point shift = {zero_shift_deg:.4}° (the symmetric part (α₊ + α₋)/2: redetermine the zero point after setting the scaling, §5.1.2)
+"
+            ),
+            ProbeOutput::AOrientation {
+                slope,
+                alpha_a_z_deg,
+            } => format!(
+                "slope = {slope:.7} (d_start − d_end) / L
+α_A,z = {alpha_a_z_deg:.6}° = atan(slope) (seed 004 §6.2.2, A axis orientation test; the sign: d from the object's −X side, the line's start at the smaller A; from the +X side swap d_start and d_end)
+(pass it to 'calibrate origin --a-z-correction {alpha_a_z_deg:.6}': Eq. 5.7 turns A_dir by it about Z)
 "
             ),
             ProbeOutput::Wobble { z_d, correction } => {

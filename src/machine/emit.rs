@@ -39,8 +39,10 @@
 //! caller reports through [`Emitter::lines_written`] plus those this call wrote) and the input
 //! line of the toolpath point ([`ToolPoint::line`]). It then adds the move to the speed
 //! accounting ([`super::speed`]: the firmware's duration at the F in force, slowed where an
-//! axis would exceed its `max_feed`). The report and the file's last comment line give the
-//! margins, the slowed moves and the estimated time.
+//! axis would exceed its `max_feed`; in `tip` mode [`super::feed`] lowers F itself and the
+//! moves it slowed are counted). The report and the file's last comment line give the
+//! margins, the slowed moves and the estimated time. A `G1` whose written axis words and E
+//! equal the previous line's (a move the firmware reads as none) is not written.
 //!
 //! ## Errors
 //! Unreachable orientations, axis limits and travel are returned from [`Emitter::point`]; the
@@ -50,7 +52,7 @@ use glam::DVec3;
 
 use super::angles::wrap180;
 use super::config::{build as build_config, input_for, ConfigInput};
-use super::feed::{output_feed, FeedMode};
+use super::feed::{fastest, output_feed, FeedMode, FeedMove};
 use super::flavour::Flavour;
 use super::reach::Reach;
 use super::speed::AxisSpeeds;
@@ -85,6 +87,8 @@ struct Pose {
 pub struct MachineEmitter {
     machine: Box<dyn Machine>,
     limits: Vec<AxisLimit>,
+    /// Each axis' largest feed (the machine file's `max_feed`; `+inf`: none), machine order.
+    max_feed: Vec<f64>,
     /// The axes as the firmware is configured (its length rule's rotary flags:
     /// `firmware_linear_axes` count as linear).
     rule_limits: Vec<AxisLimit>,
@@ -98,6 +102,12 @@ pub struct MachineEmitter {
     unlimited: Vec<bool>,
     ew: EWriter,
     last_f: Option<f64>,
+    /// The axis values the last `G1` of this region wrote, as the firmware reads them (rounded
+    /// to [`MM_DECIMALS`]); `None` at a region's start. A move that would write them again,
+    /// with no change of E either, is one the firmware reads as no move: not written.
+    written_axes: Option<Vec<f64>>,
+    /// Moves not written because the firmware would read them as no move.
+    dropped: u64,
     prev: Option<Pose>,
     last_layer: Option<u32>,
     tess: TessellationReport,
@@ -138,8 +148,9 @@ impl MachineEmitter {
         let machine = spec.build()?;
         let limits = machine.limits().to_vec();
         let axis_bounds = spec.axis_bounds(&limits)?;
+        let max_feed: Vec<f64> = axis_bounds.iter().map(|b| b.max_feed).collect();
         let speeds = AxisSpeeds::new(
-            axis_bounds.iter().map(|b| b.max_feed).collect(),
+            max_feed.clone(),
             axis_bounds.iter().map(|b| b.rotary).collect(),
         );
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
@@ -167,6 +178,7 @@ impl MachineEmitter {
             preset: machine.name().to_string(),
             machine,
             limits,
+            max_feed,
             rule_limits,
             config,
             flavour,
@@ -175,6 +187,8 @@ impl MachineEmitter {
             unlimited,
             ew: EWriter::default(),
             last_f: None,
+            written_axes: None,
+            dropped: 0,
             prev: None,
             last_layer: None,
             carry_e: 0.0,
@@ -199,7 +213,7 @@ impl MachineEmitter {
         let mut r = self.report.clone();
         let t = &self.tess;
         r.moves_in = t.moves_in as u64;
-        r.moves_out = t.moves_out as u64 + r.rotate_arounds * 2;
+        r.moves_out = (t.moves_out as u64 + r.rotate_arounds * 2).saturating_sub(self.dropped);
         r.worst_position_mm = t.worst_position_mm;
         r.worst_angle_deg = t.worst_angle_deg;
         r.worst_dropped_deg = t.worst_dropped_deg;
@@ -269,26 +283,50 @@ impl MachineEmitter {
                 p,
             });
         }
-        out.extend_from_slice(b"G1");
         // the move as the firmware reads it: the written (rounded) values
         let read =
             |v: &[f64]| -> Vec<f64> { v.iter().map(|a| written_value(*a, MM_DECIMALS)).collect() };
+        let to_read = read(axes);
+        let e_before = self.ew.current();
+        let e_word = e.map(|(de, relative)| self.ew.advance(de, relative));
+        if self.written_axes.as_ref() == Some(&to_read) && self.ew.current() == e_before {
+            // every axis word as the last line wrote it and E unchanged: the firmware reads no
+            // move (the tip moved less than the written step; a filament change below the E
+            // step stays in the E writer's exact total)
+            self.dropped += 1;
+            return Ok(());
+        }
         let de = e.map_or(0.0, |(de, _)| de);
+        let from_read = read(from);
         let firmware_length =
             self.flavour
                 .length_rule()
-                .length(&self.rule_limits, &read(from), &read(axes), de);
+                .length(&self.rule_limits, &from_read, &to_read, de);
+        out.extend_from_slice(b"G1");
         for (l, &v) in self.limits.iter().zip(axes) {
             out.push(b' ');
             out.extend_from_slice(l.name.as_bytes());
             push_mm(out, v);
         }
-        if let Some((de, relative)) = e {
-            let v = self.ew.advance(de, relative);
+        if let Some(v) = e_word {
             out.extend_from_slice(b" E");
             push_e(out, v);
         }
-        let fo = output_feed(self.feed, from, axes, tip_length, firmware_length, f);
+        let feed = output_feed(
+            self.feed,
+            &FeedMove {
+                from,
+                to: axes,
+                tip_length,
+                firmware_length,
+                f,
+                fastest: fastest(&self.max_feed, &from_read, &to_read),
+            },
+        );
+        if let Some((axis, minutes)) = feed.slowed {
+            self.speeds.add_slowed(axis, minutes);
+        }
+        let fo = feed.f;
         self.write_feed(out, fo);
         // the feed in force: the one written, else the modal one
         let f_fw = if fo.is_finite() && fo > 0.0 {
@@ -296,8 +334,10 @@ impl MachineEmitter {
         } else {
             self.last_f.unwrap_or(0.0)
         };
+        // timed as the firmware reads it: the written values
         self.speeds
-            .add_move(self.feed, from, axes, f_fw, firmware_length);
+            .add_move(self.feed, &from_read, &to_read, f_fw, firmware_length);
+        self.written_axes = Some(to_read);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -322,6 +362,9 @@ impl MachineEmitter {
                     b" ; warpslice: rotary axis back to [-180, 180] at a layer change\n",
                 );
                 prev.axes[i] = w;
+                if let Some(wa) = self.written_axes.as_mut() {
+                    wa[i] = written_value(w, MM_DECIMALS);
+                }
                 self.report.rotary_resets += 1;
             }
         }
@@ -518,6 +561,8 @@ impl Emitter for MachineEmitter {
         if self.feed == FeedMode::InverseTime {
             out.extend_from_slice(b"G93 ; warpslice: inverse-time feed (F = 1/minutes)\n");
         }
+        // lines between regions are not this emitter's: the next G1 is always written
+        self.written_axes = None;
         self.prev = self
             .machine
             .inverse(p, n, None)

@@ -128,11 +128,16 @@ impl Flavour {
                 }
                 if let Some(bad) = names
                     .iter()
-                    .find(|n| ["E", "F"].contains(&n.to_ascii_uppercase().as_str()))
+                    .find(|n| ["E", "F", "N"].contains(&n.to_ascii_uppercase().as_str()))
                 {
+                    // Klipper's manual_stepper.py refuses GCODE_AXIS letters in "XYZEFN"
                     return Err(refuse(format!(
-                        "in Klipper's G1 the letter '{bad}' is the {}, not an axis (rename it with axis_names)",
-                        if bad.eq_ignore_ascii_case("E") { "extruder" } else { "feed rate" }
+                        "in Klipper's G1 the letter '{bad}' is the {}, not an axis: GCODE_AXIS refuses E, F and N (rename it with axis_names)",
+                        match bad.to_ascii_uppercase().as_str() {
+                            "E" => "extruder",
+                            "F" => "feed rate",
+                            _ => "line number",
+                        }
                     )));
                 }
                 Ok(())
@@ -346,7 +351,12 @@ mod tests {
         assert!(Flavour::RepRapFirmware
             .check("m", &xyz, FeedMode::InverseTime)
             .is_ok());
-        for (letter, why) in [("E", "extruder"), ("F", "feed rate"), ("AA", "one letter")] {
+        for (letter, why) in [
+            ("E", "extruder"),
+            ("F", "feed rate"),
+            ("N", "line number"),
+            ("AA", "one letter"),
+        ] {
             let mut l = xyz.to_vec();
             l.push(AxisLimit::rotary(letter, -90.0, 90.0));
             let e = Flavour::Klipper.check("m", &l, FeedMode::Tip).unwrap_err();

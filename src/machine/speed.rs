@@ -17,6 +17,10 @@
 //! speed this way, seed 001 §4.8 for the triple-Z bed's 1900 mm/min Z axes): the move takes
 //! `k·T`, and it is counted as limited (by the axis of largest ratio). Acceleration is not
 //! modelled: the estimate is of the feed-rate-limited time.
+//!
+//! In `tip` mode the feed rule itself lowers F so the fastest axis runs at its limit
+//! ([`super::feed`]): the emitter counts those moves here ([`AxisSpeeds::add_slowed`]), and the
+//! firmware has nothing left to slow.
 
 use super::feed::FeedMode;
 
@@ -132,6 +136,14 @@ impl AxisSpeeds {
             max_feed: self.max_feed[i],
             minutes: t,
         })
+    }
+
+    /// A move whose F the feed rule lowered for axis `axis`'s largest feed, adding `minutes` to
+    /// it (`tip` mode; the move's time itself is added by [`AxisSpeeds::add_move`] at that F).
+    pub fn add_slowed(&mut self, axis: usize, minutes: f64) {
+        self.limited += 1;
+        self.limited_by[axis] += 1;
+        self.slowdown_minutes += minutes;
     }
 
     /// A move of the extruder alone, `de` mm at feed `f` (`1/F` minutes in inverse time).

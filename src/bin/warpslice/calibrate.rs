@@ -25,7 +25,8 @@ pub enum CalibrateCommand {
         /// Probe biases x,y,z (mm), added as in Eq. 5.7.
         #[arg(long, value_parser = vec3, allow_hyphen_values = true)]
         bias: Option<DVec3>,
-        /// α_{A,z}: A-axis rotation about Z from the A orientation test, degrees.
+        /// α_{A,z}: A-axis rotation about Z from the A orientation test (§6.2.2; `calibrate probe
+        /// a-orientation` computes it from the caliper readings), degrees.
         #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
         a_z_correction: f64,
         /// The machine to calibrate (preset name or JSON file; kind ab-table).
@@ -206,6 +207,20 @@ pub enum ProbeCommand {
         #[arg(long)]
         steps_per_deg: f64,
     },
+    /// §6.2.2: α_A,z (the A axis' rotation about Z, for `calibrate origin --a-z-correction`)
+    /// from the caliper readings of the A orientation test print: α_A,z = atan((d_start −
+    /// d_end) / L), d from the object's −X side, the line's start at the smaller A.
+    AOrientation {
+        /// d_start: caliper distance from the line's start to the object's −X side, mm.
+        #[arg(long, allow_hyphen_values = true)]
+        d_start: f64,
+        /// d_end: caliper distance from the line's end to the same side, mm.
+        #[arg(long, allow_hyphen_values = true)]
+        d_end: f64,
+        /// L: the line's length, mm (the seed approximates it as 40 mm).
+        #[arg(long, default_value_t = probes::A_ORIENTATION_LINE, allow_hyphen_values = true)]
+        line_length: f64,
+    },
     /// §5.1.8: wobble z_d from z_shift and the Z of A^B_pos.
     Wobble {
         #[arg(long, allow_hyphen_values = true)]
@@ -335,6 +350,15 @@ fn probe_input(p: ProbeCommand) -> Result<ProbeInput, String> {
             alpha_plus_deg: alpha_plus,
             alpha_minus_deg: alpha_minus,
             steps_per_deg,
+        },
+        ProbeCommand::AOrientation {
+            d_start,
+            d_end,
+            line_length,
+        } => ProbeInput::AOrientation {
+            d_start,
+            d_end,
+            line_length,
         },
         ProbeCommand::Wobble { z_shift, ab_z } => ProbeInput::Wobble { z_shift, ab_z },
     })

@@ -1,20 +1,30 @@
 //! Klipper: the `printer.cfg` fragment and the header's summary.
 //!
 //! Extra axes are `[manual_stepper]` sections registered as G-code axes with
-//! `MANUAL_STEPPER STEPPER=… GCODE_AXIS=<letter>` (mainline since
-//! [`KLIPPER_GCODE_AXIS_SINCE`]), here in a `[delayed_gcode]` that runs at start-up. An extra
-//! axis' junction speed defaults to [`KLIPPER_EXTRA_AXIS_CORNER_DEFAULT`] mm/s (deg/s):
+//! `MANUAL_STEPPER STEPPER=… GCODE_AXIS=<letter>` (one upper-case letter, not X Y Z E F N),
+//! here in a `[delayed_gcode]` that runs at start-up. `LIMIT_VELOCITY` / `LIMIT_ACCEL` bound
+//! the axis' own speed and acceleration (Klipper scales them by move_d / |Δaxis|); an extra
+//! axis' junction speed defaults to [`KLIPPER_EXTRA_AXIS_CORNER_DEFAULT`] (units/s):
 //! `INSTANTANEOUS_CORNER_VELOCITY` should be near the axis' speed on the path, or every
-//! junction of this file's short pieces slows the print. Klipper times a move by its X Y Z
-//! length (else the largest E or extra-axis change), has no `G93`, and its `G92` sets X Y Z E
-//! only (an unlimited rotary axis is written unwrapped, so it gets no position limits).
+//! junction of this file's short pieces slows the print. `position_min` / `position_max` of
+//! the section bound every move of the axis. Klipper times a move by its X Y Z length (else
+//! the largest E or extra-axis change), has no `G93`, and its `G92` sets X Y Z E only (an
+//! unlimited rotary axis is written unwrapped, so it gets no position limits).
+//!
+//! Sources (checked, docs/machines.md "Firmware facts and their sources"):
+//! `KevinOConnor/klipper-dev` `klippy/extras/manual_stepper.py` (`command_with_gcode_axis`,
+//! `check_move`, `calc_junction`) and `klippy/extras/gcode_move.py` (`cmd_G92`), Klipper
+//! `klippy/toolhead.py` (`Move`). The date [`KLIPPER_GCODE_AXIS_SINCE`] is as remembered: no
+//! stored source confirms it.
 
 use super::{num, title, ConfigAxis, ConfigInput, FirmwareConfig};
 use crate::machine::Flavour;
 
-/// Since when mainline Klipper takes extra G-code axes (`MANUAL_STEPPER … GCODE_AXIS=`).
+/// Since when mainline Klipper takes extra G-code axes (`MANUAL_STEPPER … GCODE_AXIS=`), as
+/// remembered (not confirmed by a stored source; the files that have it are 2025-copyrighted).
 pub const KLIPPER_GCODE_AXIS_SINCE: &str = "2025-05";
-/// Klipper's default `INSTANTANEOUS_CORNER_VELOCITY` of an extra axis, mm/s (deg/s).
+/// Klipper's default `INSTANTANEOUS_CORNER_VELOCITY` of an extra axis, mm/s (deg/s)
+/// (`manual_stepper.py`: `gcmd.get_float('INSTANTANEOUS_CORNER_VELOCITY', 1., minval=0.)`).
 pub const KLIPPER_EXTRA_AXIS_CORNER_DEFAULT: f64 = 1.0;
 
 /// The `[manual_stepper]` section name warpslice suggests for extra axis `a`.
