@@ -38,7 +38,7 @@
 
 use glam::DVec3;
 
-use super::angles::{rotate, unwrap_near, wrap180};
+use super::angles::{rotate, unwrap_near, wrap180, Turn};
 use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, UNLIMITED,
 };
@@ -254,10 +254,13 @@ impl AbTable {
         p.a_pos + rotate(y - p.a_pos, p.a_dir, a)
     }
 
-    fn untransform(&self, q: DVec3, a: f64, b: f64) -> DVec3 {
+    /// The part point at machine point `q` for (A, B) (radians), and the tool axis
+    /// `R_B(−B) R_A(−A) e_z`: each rotation's sine and cosine once.
+    fn untransform(&self, q: DVec3, a: f64, b: f64) -> (DVec3, DVec3) {
         let p = &self.params;
-        let y = p.a_pos + rotate(q - p.a_pos, p.a_dir, -a);
-        p.b_pos + rotate(y - p.b_pos, p.b_dir, -b)
+        let (ta, tb) = (Turn::new(p.a_dir, -a), Turn::new(p.b_dir, -b));
+        let y = p.a_pos + ta.apply(q - p.a_pos);
+        (p.b_pos + tb.apply(y - p.b_pos), tb.apply(ta.apply(DVec3::Z)))
     }
 }
 
@@ -320,13 +323,8 @@ impl Machine for AbTable {
         let (a, b) = (axes[3], axes[4]);
         let q = DVec3::new(axes[0], axes[1], axes[2] - self.z_wobble(a));
         let (ar, br) = (num::rad(a), num::rad(b));
-        let p = self.untransform(q, ar, br) - self.params.part_offset;
-        let n = rotate(
-            rotate(DVec3::Z, self.params.a_dir, -ar),
-            self.params.b_dir,
-            -br,
-        );
-        Ok((p, n))
+        let (p, n) = self.untransform(q, ar, br);
+        Ok((p - self.params.part_offset, n))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
         let n = n / n.length();
