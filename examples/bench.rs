@@ -37,9 +37,9 @@ mod native {
     use std::time::Instant;
 
     use glam::DVec3;
+    use warpslice::machine::tessellate::counters;
     use warpslice::mesh::{self, SubdivideOptions};
     use warpslice::pipeline::{warp_model, WarpOptions};
-    use warpslice::machine::tessellate::counters;
     use warpslice::unwarp::UnwarpOptions;
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
@@ -275,7 +275,12 @@ mod native {
                     t_default = t;
                 }
                 let lines = count_lines(&out.gcode);
-                let moves = out.report.machine.as_ref().map_or(0, |m| m.moves_out).max(1);
+                let moves = out
+                    .report
+                    .machine
+                    .as_ref()
+                    .map_or(0, |m| m.moves_out)
+                    .max(1);
                 let per_round = |a: u64, b: u64| (b - a) as f64 / rounds as f64;
                 let evals = per_round(before.evaluations, after.evaluations);
                 println!(

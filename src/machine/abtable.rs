@@ -260,7 +260,10 @@ impl AbTable {
         let p = &self.params;
         let (ta, tb) = (Turn::new(p.a_dir, -a), Turn::new(p.b_dir, -b));
         let y = p.a_pos + ta.apply(q - p.a_pos);
-        (p.b_pos + tb.apply(y - p.b_pos), tb.apply(ta.apply(DVec3::Z)))
+        (
+            p.b_pos + tb.apply(y - p.b_pos),
+            tb.apply(ta.apply(DVec3::Z)),
+        )
     }
 }
 
@@ -376,7 +379,7 @@ impl Machine for AbTable {
         let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
         let pr = &self.params;
         let ideal = pr.a_dir == DVec3::X && pr.b_dir == DVec3::Z && pr.a_limit_deg <= 90.0;
-        if a0.len() != 5 || a1.len() != 5 || !bound::small(a0) || !bound::small(a1) || !ideal {
+        if !ideal || !bound::usable(from, to, 5) {
             return None;
         }
         if !bound::arc_in_cap(n0, n1, DVec3::Z, pr.a_limit_deg) {
@@ -391,7 +394,10 @@ impl Machine for AbTable {
         let (q0, q1) = (q(a0), q(a1));
         let d = (q0 - pr.a_pos).length().max((q1 - pr.a_pos).length());
         let dq = (q1 - q0).length();
-        let (ka, kb) = (num::rad((a1[3] - a0[3]).abs()), num::rad((a1[4] - a0[4]).abs()));
+        let (ka, kb) = (
+            num::rad((a1[3] - a0[3]).abs()),
+            num::rad((a1[4] - a0[4]).abs()),
+        );
         let acc = kb * kb * ((pr.a_pos - pr.b_pos).length() + d)
             + 2.0 * kb * (ka * d + dq)
             + ka * ka * d

@@ -188,12 +188,10 @@ impl Machine for BHead {
     ) -> Option<(f64, f64)> {
         use super::bound;
         let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
-        if a0.len() != 4 || a1.len() != 4 || !bound::small(a0) || !bound::small(a1) {
+        if !bound::usable(from, to, 4) {
             return None;
         }
-        let w = bound::angle(n0, n1);
-        let xz = |n: DVec3| glam::DVec2::new(n.z, n.x);
-        let g = bound::azimuth_deviation(xz(n0), xz(n1), w)?;
+        let g = bound::slerp_azimuth_deviation(n0, n1, |n| glam::DVec2::new(n.z, n.x))?;
         let (b0, b1) = (a0[3], a1[3]);
         let matches = (b0 - num::deg(num::atan2(n0.x, n0.z))).abs() <= bound::AZIMUTH_MATCH_DEG
             && (b1 - num::deg(num::atan2(n1.x, n1.z))).abs() <= bound::AZIMUTH_MATCH_DEG

@@ -46,6 +46,7 @@
 
 use glam::{DVec2, DVec3};
 
+use super::PieceEnd;
 use crate::num;
 
 /// Slack added to a closed-form tip bound, mm: the intended pose is `forward(inverse(·))`,
@@ -68,9 +69,11 @@ pub const BRANCH_MARGIN_DEG: f64 = 1e-3;
 /// rounding of interpolating the axes (a few ulps of 10⁴ are ~10⁻¹² mm); beyond, sample.
 pub const COORDINATE_LIMIT: f64 = 1e4;
 
-/// Every value finite and within [`COORDINATE_LIMIT`].
-pub fn small(axes: &[f64]) -> bool {
-    axes.iter().all(|v| v.abs() <= COORDINATE_LIMIT)
+/// Both ends of a piece have `count` axis values, all within [`COORDINATE_LIMIT`] (finite).
+pub fn usable(from: PieceEnd, to: PieceEnd, count: usize) -> bool {
+    [from.0, to.0]
+        .iter()
+        .all(|a| a.len() == count && a.iter().all(|v| v.abs() <= COORDINATE_LIMIT))
 }
 
 /// How far (degrees) an end's rotary value may differ from the azimuth of its asked axis for
@@ -122,6 +125,12 @@ pub fn azimuth_deviation(m0: DVec2, m1: DVec2, w: f64) -> Option<f64> {
     Some(chord_deviation(w * w / rho + 2.0 * w * w / (rho * rho)))
 }
 
+/// Lemma 4 for the slerp from `n0` to `n1` projected by `project` onto a plane (its xy or xz
+/// components): [`azimuth_deviation`] with w = ∠(n₀, n₁).
+pub fn slerp_azimuth_deviation(n0: DVec3, n1: DVec3, project: fn(DVec3) -> DVec2) -> Option<f64> {
+    azimuth_deviation(project(n0), project(n1), angle(n0, n1))
+}
+
 /// The angle between two unit vectors, radians (0 without trigonometry when equal).
 pub fn angle(a: DVec3, b: DVec3) -> f64 {
     if a == b {
@@ -159,7 +168,10 @@ mod tests {
         for k in [0.01f64, 0.1, 0.5, 1.0] {
             let sagitta = 1.0 - (k / 2.0).cos();
             assert!(sagitta <= chord_deviation(k * k) + 1e-15);
-            assert!(sagitta > 0.9 * chord_deviation(k * k), "Lemma 1 is tight here");
+            assert!(
+                sagitta > 0.9 * chord_deviation(k * k),
+                "Lemma 1 is tight here"
+            );
         }
     }
 }

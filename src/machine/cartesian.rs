@@ -75,8 +75,7 @@ impl Machine for Cartesian {
             .params
             .max_tilt_deg
             .is_none_or(|max| bound::arc_in_cap(from.2, to.2, DVec3::Z, max));
-        (tilt_ok && bound::small(from.0) && bound::small(to.0))
-            .then_some((bound::ROUND_TRIP_SLACK_MM, 0.0))
+        (tilt_ok && bound::usable(from, to, 3)).then_some((bound::ROUND_TRIP_SLACK_MM, 0.0))
     }
     fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;

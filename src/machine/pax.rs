@@ -170,10 +170,7 @@ impl Machine for Pax {
     ) -> Option<(f64, f64)> {
         use super::bound;
         let (a0, a1) = (from.0, to.0);
-        if a0.len() != 5
-            || a1.len() != 5
-            || !bound::small(a0)
-            || !bound::small(a1)
+        if !bound::usable(from, to, 5)
             || !bound::arc_in_cap(from.2, to.2, DVec3::Z, self.params.max_tilt_deg)
         {
             return None;

@@ -344,11 +344,10 @@ impl Machine for Rtn {
     ) -> Option<(f64, f64)> {
         use super::bound;
         let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
-        if a0.len() != 4 || a1.len() != 4 || !bound::small(a0) || !bound::small(a1) {
+        if !bound::usable(from, to, 4) {
             return None;
         }
-        let w = bound::angle(n0, n1);
-        let g = bound::azimuth_deviation(n0.truncate(), n1.truncate(), w)?;
+        let g = bound::slerp_azimuth_deviation(n0, n1, DVec3::truncate)?;
         let (psi0, psi1) = (
             num::deg(num::atan2(n0.y, n0.x)),
             num::deg(num::atan2(n1.y, n1.x)),
@@ -367,7 +366,10 @@ impl Machine for Rtn {
                 return None;
             }
         }
-        let e = self.params.e_parallel_mm.hypot(self.params.e_perpendicular_mm);
+        let e = self
+            .params
+            .e_parallel_mm
+            .hypot(self.params.e_perpendicular_mm);
         let dphi = num::rad(a1[3] - a0[3]);
         let sin_t = num::sin(num::rad(self.params.tilt_deg)).abs();
         Some((

@@ -541,14 +541,12 @@ impl<'m> Ctx<'m> {
         let turn = num::deg(num::angle_between(pc.n0, pc.n1));
         let capped = self.bounds.max_step_mm.is_some_and(|c| len > c)
             || self.bounds.max_step_deg.is_some_and(|c| turn > c);
-        let ((dp, da), mid) = if wrap
-            || self.exact_at_fixed_pose(&pc, &a1)
-            || self.closed_form(&pc, &a1, rep)
-        {
-            ((0.0, 0.0), None)
-        } else {
-            self.error(&pc, &a1)?
-        };
+        let ((dp, da), mid) =
+            if wrap || self.exact_at_fixed_pose(&pc, &a1) || self.closed_form(&pc, &a1, rep) {
+                ((0.0, 0.0), None)
+            } else {
+                self.error(&pc, &a1)?
+            };
         let over = dp > SAMPLING_MARGIN * self.bounds.max_position_mm
             || da > SAMPLING_MARGIN * self.bounds.max_angle_deg;
         // a piece crossing a single-revolution axis's seam is halved until the crossing is
