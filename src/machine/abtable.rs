@@ -387,7 +387,9 @@ impl Machine for AbTable {
         }
         let w = bound::angle(n0, n1);
         let least = (bound::angle(n0, DVec3::Z) + bound::angle(n1, DVec3::Z) - w) / 2.0;
-        if !(least > self.hold_radius() + num::rad(bound::BRANCH_MARGIN_DEG)) {
+        // NaN refuses too
+        let out_of_hold = least > self.hold_radius() + num::rad(bound::BRANCH_MARGIN_DEG);
+        if !out_of_hold {
             return None;
         }
         let q = |a: &[f64]| DVec3::new(a[0], a[1], a[2] - self.z_wobble(a[3]));
