@@ -8,9 +8,14 @@
 //!    in the output — streamed in 1 MiB chunks through both passes into a file (memory bounded
 //!    by streaming): input MB/s and output lines/s.
 //!    Peak memory: VmHWM of this process (Linux), printed after each step.
-//! 3. the collision check: `unwarp --machine` of the same G-code into memory per preset,
-//!    without and with the check as by default (`--presets a,b` runs only those): the time
-//!    ratio, and whether the default head passed or was refused (at its first finding).
+//! 3. `unwarp --machine` of the same G-code into memory per preset (`--presets a,b` runs only
+//!    those; `--rounds N` takes the best of N, default 1), in both interpolation modes (the
+//!    default 0.02 mm / 0.1°, and with the paper's 1 mm / 1° caps): the time, its ratio to the
+//!    3-axis unwarp of the same G-code measured in this run (issue 13's target: ×2), output
+//!    lines/s, and kinematics evaluations per output move (the library's counters,
+//!    `machine::tessellate::counters`, with the pieces sampled and bounded in closed form).
+//!    Then the collision check as by default (`--no-collisions` skips it): the time ratio, and
+//!    whether the default head passed or was refused (at its first finding).
 //!
 //! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
 //! `bash scripts/bench-wasm.sh` (run this bench first).
@@ -32,6 +37,7 @@ mod native {
     use std::time::Instant;
 
     use glam::DVec3;
+    use warpslice::machine::tessellate::counters;
     use warpslice::mesh::{self, SubdivideOptions};
     use warpslice::pipeline::{warp_model, WarpOptions};
     use warpslice::unwarp::UnwarpOptions;
@@ -204,10 +210,24 @@ mod native {
             peak_mib()
         );
 
-        // 3. the collision check's cost: `unwarp --machine` of the same G-code into memory,
-        // with the check off (the default) and on (--check-collisions: refused at the first
-        // finding, so a refused file costs only the walk up to it)
-        let only: Option<String> = std::env::args().skip_while(|a| a != "--presets").nth(1);
+        // 3. `unwarp --machine` against the 3-axis unwarp of the same G-code, measured in this
+        // run (issue 13: within 2×), in both interpolation modes, with the tessellation's
+        // counters; then the collision check's cost (`--no-collisions` skips it)
+        let only: Option<String> = arg_value("--presets");
+        let rounds: usize = arg_value("--rounds")
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(1)
+            .max(1);
+        let collisions = !std::env::args().any(|a| a == "--no-collisions");
+        let (t3, out3) = best_of(3, || {
+            warpslice::pipeline::unwarp(&gcode, &w.job, &UnwarpOptions::default().into())
+                .expect("3-axis unwarp")
+        });
+        let lines3 = count_lines(&out3.gcode);
+        println!(
+            "3-axis unwarp (the reference: into memory, best of 3): {t3:.3} s, {lines3} lines, {:.2} M lines/s",
+            lines3 as f64 / t3 / 1e6
+        );
         for (name, place) in [
             ("cartesian", None),
             ("fullcontrol-prusa-b", None),
@@ -223,7 +243,7 @@ mod native {
                 continue;
             }
             let spec = warpslice::machine::preset(name).expect("preset");
-            let run = |check: bool| {
+            let settings = |caps: Option<[f64; 2]>, check: bool| {
                 let mut s = warpslice::pipeline::UnwarpSettings::with_machine(
                     UnwarpOptions {
                         place,
@@ -231,25 +251,72 @@ mod native {
                     },
                     spec.clone(),
                 );
+                s.output.interpolation_caps = caps;
                 s.output.check_collisions = check;
+                s
+            };
+            let mut t_default = f64::NAN;
+            for (mode, caps) in [
+                ("0.02 mm / 0.1°", None),
+                ("0.02 mm / 0.1°, caps 1 mm / 1°", Some([1.0, 1.0])),
+            ] {
+                let s = settings(caps, false);
+                let before = counters();
+                let (t, r) = best_of(rounds, || warpslice::pipeline::unwarp(&gcode, &w.job, &s));
+                let after = counters();
+                let out = match r {
+                    Ok(o) => o,
+                    Err(e) => {
+                        println!("unwarp --machine {name} [{mode}]: refused: {e}");
+                        continue;
+                    }
+                };
+                if caps.is_none() {
+                    t_default = t;
+                }
+                let lines = count_lines(&out.gcode);
+                let moves = out
+                    .report
+                    .machine
+                    .as_ref()
+                    .map_or(0, |m| m.moves_out)
+                    .max(1);
+                let per_round = |a: u64, b: u64| (b - a) as f64 / rounds as f64;
+                let evals = per_round(before.evaluations, after.evaluations);
+                println!(
+                    "unwarp --machine {name} [{mode}]: {t:.2} s = ×{:.1} the 3-axis unwarp (target ×2); {lines} lines, {:.2} M lines/s; {:.1} kinematics evaluations per output move ({:.0} pieces sampled, {:.0} bounded in closed form)",
+                    t / t3,
+                    lines as f64 / t / 1e6,
+                    evals / moves as f64,
+                    per_round(before.sampled, after.sampled),
+                    per_round(before.bounded, after.bounded),
+                );
+            }
+            if collisions {
                 let t = Instant::now();
-                let r = warpslice::pipeline::unwarp(&gcode, &w.job, &s);
-                (t.elapsed().as_secs_f64(), r)
-            };
-            let (t_off, off) = run(false);
-            let (t_on, on) = run(true);
-            let mb = off.as_ref().map_or(0.0, |o| o.gcode.len() as f64 / 1e6);
-            let verdict = match on {
-                Ok(_) => "passed: no collision".to_string(),
-                Err(e) => format!(
-                    "refused: {}",
-                    e.to_string().chars().take(110).collect::<String>()
-                ),
-            };
-            println!(
-                "unwarp --machine {name}: {mb:.1} MB out in {t_off:.2} s; with the collision check (default) {t_on:.2} s (×{:.2}); {verdict}",
-                t_on / t_off
-            );
+                let on = warpslice::pipeline::unwarp(&gcode, &w.job, &settings(None, true));
+                let t_on = t.elapsed().as_secs_f64();
+                let verdict = match on {
+                    Ok(_) => "passed: no collision".to_string(),
+                    Err(e) => format!(
+                        "refused: {}",
+                        e.to_string().chars().take(110).collect::<String>()
+                    ),
+                };
+                println!(
+                    "unwarp --machine {name} with the collision check: {t_on:.2} s (×{:.2} of the check off); {verdict}",
+                    t_on / t_default
+                );
+            }
         }
+    }
+
+    /// The value after `flag` on the command line.
+    fn arg_value(flag: &str) -> Option<String> {
+        std::env::args().skip_while(|a| a != flag).nth(1)
+    }
+
+    fn count_lines(text: &[u8]) -> usize {
+        text.iter().filter(|&&b| b == b'\n').count()
     }
 }

@@ -49,6 +49,38 @@ fn check(m: &dyn Machine) {
         h.worst_angle_rad,
         h.worst_rotary_step_deg
     );
+    let b = laws::check_interpolation_bound(m).unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "{}: closed-form bound on {} pieces, largest sampled error / bound {:.3} (tip), {:.3} (axis)",
+        m.name(),
+        b.points,
+        b.worst_position_mm,
+        b.worst_angle_rad
+    );
+}
+
+/// The machine kinds with a closed-form interpolation bound give one on most short pieces of
+/// the law (else the law checks nothing and the interpolation check samples everything).
+#[test]
+fn closed_form_bounds_are_given_where_proven() {
+    for name in [
+        "cartesian",
+        "pax-5axis",
+        "rtn-slicer4rtn",
+        "rotbot",
+        "fullcontrol-prusa-b",
+        "open5x-ab",
+    ] {
+        let m = preset(name)
+            .and_then(|s| s.build())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let b = laws::check_interpolation_bound(m.as_ref()).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            b.points > 500,
+            "{name}: only {} pieces had a closed-form bound",
+            b.points
+        );
+    }
 }
 
 fn spec(json: &str) -> Box<dyn Machine> {

@@ -38,7 +38,7 @@
 
 use glam::DVec3;
 
-use super::angles::{rotate, unwrap_near, wrap180};
+use super::angles::{rotate, unwrap_near, wrap180, Turn};
 use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, UNLIMITED,
 };
@@ -254,10 +254,16 @@ impl AbTable {
         p.a_pos + rotate(y - p.a_pos, p.a_dir, a)
     }
 
-    fn untransform(&self, q: DVec3, a: f64, b: f64) -> DVec3 {
+    /// The part point at machine point `q` for (A, B) (radians), and the tool axis
+    /// `R_B(−B) R_A(−A) e_z`: each rotation's sine and cosine once.
+    fn untransform(&self, q: DVec3, a: f64, b: f64) -> (DVec3, DVec3) {
         let p = &self.params;
-        let y = p.a_pos + rotate(q - p.a_pos, p.a_dir, -a);
-        p.b_pos + rotate(y - p.b_pos, p.b_dir, -b)
+        let (ta, tb) = (Turn::new(p.a_dir, -a), Turn::new(p.b_dir, -b));
+        let y = p.a_pos + ta.apply(q - p.a_pos);
+        (
+            p.b_pos + tb.apply(y - p.b_pos),
+            tb.apply(ta.apply(DVec3::Z)),
+        )
     }
 }
 
@@ -320,13 +326,8 @@ impl Machine for AbTable {
         let (a, b) = (axes[3], axes[4]);
         let q = DVec3::new(axes[0], axes[1], axes[2] - self.z_wobble(a));
         let (ar, br) = (num::rad(a), num::rad(b));
-        let p = self.untransform(q, ar, br) - self.params.part_offset;
-        let n = rotate(
-            rotate(DVec3::Z, self.params.a_dir, -ar),
-            self.params.b_dir,
-            -br,
-        );
-        Ok((p, n))
+        let (p, n) = self.untransform(q, ar, br);
+        Ok((p - self.params.part_offset, n))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
         let n = n / n.length();
@@ -358,6 +359,60 @@ impl Machine for AbTable {
     /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
     fn linear_at_fixed_pose(&self) -> bool {
         true
+    }
+    /// The firmware's tip is `F(s) = b_pos + R_B(−B)(a_pos − b_pos + R_A(−A) v)`,
+    /// `v = q − a_pos`, q = (X, Y, Z − wobble(A)) (linear in s: the wobble is linear for
+    /// |A| ≤ 90°), A and B linear (totals K_A, K_B radians). By [`super::bound`] Lemma 2,
+    /// with D = max |vᵢ| (a segment's farthest point is an end) and Δ = |q₁ − q₀|:
+    ///
+    /// ```text
+    /// |F''| ≤ K_B² (|a_pos − b_pos| + D) + 2 K_B (K_A D + Δ) + K_A² D + 2 K_A Δ
+    /// ```
+    ///
+    /// and the tip is within `|F''|/8` of the straight line (Lemma 1). The tool axis
+    /// `R_B(−B) R_A(−A) e_z` is within `2 asin((K_A + K_B)²/8)` of the slerp (Lemmas 2–3) when
+    /// the intended axis is realised all along: ideal axes (A about X, B about Z),
+    /// `a_limit_deg` ≤ 90° (the reachable axes are a cap) and the piece out of the pole's hold
+    /// zone (its least angle from +Z, at least `(θ₀ + θ₁ − w)/2`, beyond the hold radius).
+    /// Else the tip bound alone is no use: sample.
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        use super::bound;
+        let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
+        let pr = &self.params;
+        let ideal = pr.a_dir == DVec3::X && pr.b_dir == DVec3::Z && pr.a_limit_deg <= 90.0;
+        if !ideal || !bound::usable(from, to, 5) {
+            return None;
+        }
+        if !bound::arc_in_cap(n0, n1, DVec3::Z, pr.a_limit_deg) {
+            return None;
+        }
+        let w = bound::angle(n0, n1);
+        let least = (bound::angle(n0, DVec3::Z) + bound::angle(n1, DVec3::Z) - w) / 2.0;
+        // NaN refuses too
+        let out_of_hold = least > self.hold_radius() + num::rad(bound::BRANCH_MARGIN_DEG);
+        if !out_of_hold {
+            return None;
+        }
+        let q = |a: &[f64]| DVec3::new(a[0], a[1], a[2] - self.z_wobble(a[3]));
+        let (q0, q1) = (q(a0), q(a1));
+        let d = (q0 - pr.a_pos).length().max((q1 - pr.a_pos).length());
+        let dq = (q1 - q0).length();
+        let (ka, kb) = (
+            num::rad((a1[3] - a0[3]).abs()),
+            num::rad((a1[4] - a0[4]).abs()),
+        );
+        let acc = kb * kb * ((pr.a_pos - pr.b_pos).length() + d)
+            + 2.0 * kb * (ka * d + dq)
+            + ka * ka * d
+            + 2.0 * ka * dq;
+        Some((
+            bound::chord_deviation(acc) + bound::ROUND_TRIP_SLACK_MM,
+            bound::turned_axis_deviation_deg(ka + kb) + bound::ROUND_TRIP_SLACK_DEG,
+        ))
     }
     fn workspace(&self) -> Workspace {
         // Calibrated axes reach a little less (or more) than A's limit in some directions.

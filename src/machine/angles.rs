@@ -44,14 +44,44 @@ pub fn nearer_half_turn(angle: f64, previous: f64) -> (f64, f64) {
 /// Rodrigues: rotate `v` about the unit `axis` by `angle` radians (right-hand rule).
 /// `v cos θ + (a × v) sin θ + a (a·v)(1 − cos θ)`.
 pub fn rotate(v: DVec3, axis: DVec3, angle: f64) -> DVec3 {
-    let (s, c) = (num::sin(angle), num::cos(angle));
-    v * c + axis.cross(v) * s + axis * (axis.dot(v) * (1.0 - c))
+    Turn::new(axis, angle).apply(v)
 }
 
 /// Rotate about +Z by `angle` radians: (x cos − y sin, x sin + y cos, z).
 pub fn rot_z(v: DVec3, angle: f64) -> DVec3 {
-    let (s, c) = (num::sin(angle), num::cos(angle));
-    DVec3::new(v.x * c - v.y * s, v.x * s + v.y * c, v.z)
+    Turn::new(DVec3::Z, angle).about_z(v)
+}
+
+/// A rotation about a unit axis with its sine and cosine computed once, for kinematics that
+/// turn several vectors by the same angle ([`rotate`] and [`rot_z`] give the same bits).
+#[derive(Clone, Copy, Debug)]
+pub struct Turn {
+    axis: DVec3,
+    sin: f64,
+    cos: f64,
+}
+
+impl Turn {
+    /// The rotation about the unit `axis` by `angle` radians (right-hand rule).
+    pub fn new(axis: DVec3, angle: f64) -> Turn {
+        Turn {
+            axis,
+            sin: num::sin(angle),
+            cos: num::cos(angle),
+        }
+    }
+
+    /// Rodrigues: `v cos θ + (a × v) sin θ + a (a·v)(1 − cos θ)`.
+    pub fn apply(&self, v: DVec3) -> DVec3 {
+        let (a, s, c) = (self.axis, self.sin, self.cos);
+        v * c + a.cross(v) * s + a * (a.dot(v) * (1.0 - c))
+    }
+
+    /// The same angle about +Z, whatever the axis: (x cos − y sin, x sin + y cos, z).
+    pub fn about_z(&self, v: DVec3) -> DVec3 {
+        let (s, c) = (self.sin, self.cos);
+        DVec3::new(v.x * c - v.y * s, v.x * s + v.y * c, v.z)
+    }
 }
 
 /// Rotate about +X by `angle` radians: (x, y cos − z sin, y sin + z cos).

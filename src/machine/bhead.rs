@@ -174,6 +174,46 @@ impl Machine for BHead {
     fn linear_at_fixed_pose(&self) -> bool {
         true
     }
+    /// Tip = (X − r sin B, Y, Z − r cos B + r), axis (sin B, 0, cos B), r = `pivot_to_tip_mm`.
+    /// With B interpolated linearly (ΔB radians) the pivot offset leaves its chord by
+    /// `r ΔB²/8` ([`super::bound`] Lemmas 1–2); the intended B is the XZ azimuth ψ(s) of the
+    /// slerp, within G of the linear B (Lemma 4), and both axes lie on the XZ great circle, so
+    /// they are G apart. Only when both ends realise their asked B and the whole piece stays
+    /// inside the B limit and the clip (whose limit grows with z, so its least is at the lower
+    /// end): else sample.
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        use super::bound;
+        let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
+        if !bound::usable(from, to, 4) {
+            return None;
+        }
+        let g = bound::slerp_azimuth_deviation(n0, n1, |n| glam::DVec2::new(n.z, n.x))?;
+        let (b0, b1) = (a0[3], a1[3]);
+        let matches = (b0 - num::deg(num::atan2(n0.x, n0.z))).abs() <= bound::AZIMUTH_MATCH_DEG
+            && (b1 - num::deg(num::atan2(n1.x, n1.z))).abs() <= bound::AZIMUTH_MATCH_DEG
+            && (b1 - b0).abs() <= 90.0;
+        if !matches {
+            return None;
+        }
+        let g_deg = num::deg(g) + 2.0 * bound::AZIMUTH_MATCH_DEG;
+        let mut limit = self.params.b_limit_deg;
+        if self.params.clip {
+            limit = limit.min(self.clip_limit_deg(from.1.z.min(to.1.z)));
+        }
+        if b0.abs().max(b1.abs()) + g_deg + bound::BRANCH_MARGIN_DEG > limit {
+            return None;
+        }
+        let db = num::rad(b1 - b0);
+        Some((
+            self.params.pivot_to_tip_mm.abs() * bound::chord_deviation(db * db)
+                + bound::ROUND_TRIP_SLACK_MM,
+            g_deg + bound::ROUND_TRIP_SLACK_DEG,
+        ))
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(if self.params.clip {
             180.0

@@ -61,6 +61,22 @@ impl Machine for Cartesian {
             notes: vec!["3 axes: the nozzle stays vertical; steep layers need a nozzle whose cone clears them".into()],
         }
     }
+    /// The firmware's path is the intended one (tip = axes, axis +Z): only the rounding of
+    /// the two interpolations differs ([`super::bound::ROUND_TRIP_SLACK_MM`]), and the tool
+    /// axis not at all. With a `max_tilt_deg` of at most 90° every slerped axis is accepted too
+    /// (geodesic convexity, [`super::bound::arc_in_cap`]); above it, sample.
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        use super::bound;
+        let tilt_ok = self
+            .params
+            .max_tilt_deg
+            .is_none_or(|max| bound::arc_in_cap(from.2, to.2, DVec3::Z, max));
+        (tilt_ok && bound::usable(from, to, 3)).then_some((bound::ROUND_TRIP_SLACK_MM, 0.0))
+    }
     fn inverse(&self, p: DVec3, n: DVec3, _previous: Option<&[f64]>) -> InverseResult {
         let n = self.axis_set.check_input(p, n)?;
         if let Some(max) = self.params.max_tilt_deg {

@@ -35,6 +35,10 @@
 //!    [`MAX_ROTARY_STEP_DEG`] per 0.5° step wherever the realised tool axis itself moves less
 //!    than [`AXIS_JUMP_DEG`] (it jumps where a single-revolution axis reaches its limit): no
 //!    flip of the block's side.
+//! 6. **Closed-form bounds** ([`check_interpolation_bound`]): wherever a machine gives a
+//!    [`Machine::interpolation_bound`] for a piece (from every grid position and sample axis,
+//!    short moves turning the tool by 0.3°–8°), the firmware's path sampled densely
+//!    ([`BOUND_SAMPLES`] points) stays within it, and `inverse` succeeds at every sample.
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -458,4 +462,108 @@ pub fn check_head_frame(m: &dyn Machine) -> Result<LawReport, String> {
         previous = Some((a, f));
     }
     Ok(rep)
+}
+/// Samples per piece of law 6 (not a power of two: none coincides with the interpolation
+/// check's s = k/16 but s = ¼, ½, ¾).
+pub const BOUND_SAMPLES: usize = 100;
+
+/// Tip steps (mm) and tool-axis turns (degrees) of the pieces of law 6.
+const BOUND_STEPS: [(f64, f64, f64, f64); 4] = [
+    (0.4, -0.3, 0.05, 0.3),
+    (1.5, 0.8, -0.2, 1.5),
+    (-0.7, 2.0, 0.4, 4.0),
+    (3.0, -1.0, 1.0, 8.0),
+];
+
+/// Law 6 (see the module documentation). `points` counts the pieces bounded; the worst
+/// position and angle are the largest sampled error as a fraction of the bound (≤ 1).
+pub fn check_interpolation_bound(m: &dyn Machine) -> Result<LawReport, String> {
+    let ws = m.workspace();
+    let limits = m.limits();
+    let mut rep = LawReport::default();
+    for p0 in positions(&ws) {
+        for (j, n0) in axes(&ws).into_iter().enumerate() {
+            let Ok(a0) = m.inverse(p0, n0, None) else {
+                continue;
+            };
+            for (k, &(dx, dy, dz, turn)) in BOUND_STEPS.iter().enumerate() {
+                // turn n0 about an axis perpendicular to it, in a direction that varies
+                let side = [DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.3)][(j + k) % 3];
+                let about = n0.cross(side);
+                let about = if about.length() > 1e-6 {
+                    about.normalize()
+                } else {
+                    n0.any_orthonormal_vector()
+                };
+                let n1 = super::angles::rotate(n0, about, num::rad(turn));
+                let p1 = p0 + DVec3::new(dx, dy, dz);
+                let Ok(a1) = m.inverse(p1, n1, Some(&a0)) else {
+                    continue;
+                };
+                // a single-revolution axis crossing its seam is turned around, not interpolated
+                let wraps = limits.iter().zip(a0.iter().zip(&a1)).any(|(l, (x, y))| {
+                    l.rotary
+                        && l.max - l.min <= 360.0 + super::ONE_TURN_SLACK_DEG
+                        && (y - x).abs() > 180.0
+                });
+                if wraps {
+                    continue;
+                }
+                let Some((bp, ba)) = m.interpolation_bound((&a0, p0, n0), (&a1, p1, n1)) else {
+                    continue;
+                };
+                let (wp, wa) = sampled_error(m, (&a0, p0, n0), (&a1, p1, n1))?;
+                rep.points += 1;
+                rep.worst_position_mm = rep.worst_position_mm.max(wp / bp.max(f64::MIN_POSITIVE));
+                rep.worst_angle_rad = rep.worst_angle_rad.max(if ba > 0.0 {
+                    wa / ba
+                } else if wa > 0.0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                });
+                if !(wp <= bp) || !(wa <= ba) {
+                    return Err(format!(
+                        "{}: the closed-form bound {bp:e} mm / {ba:e}° of the piece from {p0} (n {n0}, axes {a0:?}) to {p1} (n {n1}, axes {a1:?}) is below the sampled error {wp:e} mm / {wa:e}°",
+                        m.name()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(rep)
+}
+
+/// The interpolation error of a piece sampled at [`BOUND_SAMPLES`] points: the firmware's
+/// pose `forward(lerp(a₀, a₁, s))` against the intended `forward(inverse(lerp(p₀, p₁, s),
+/// n(s), a₀))`, n(s) the great-circle interpolation of n₀ and n₁ (written here from its
+/// definition, not with the tessellation's code). Tip mm, axis degrees.
+fn sampled_error(
+    m: &dyn Machine,
+    (a0, p0, n0): (&[f64], DVec3, DVec3),
+    (a1, p1, n1): (&[f64], DVec3, DVec3),
+) -> Result<(f64, f64), String> {
+    let w = num::angle_between(n0, n1);
+    let (mut wp, mut wa) = (0.0f64, 0.0f64);
+    for i in 1..BOUND_SAMPLES {
+        let s = i as f64 / BOUND_SAMPLES as f64;
+        let n = if w < 1e-9 {
+            n0
+        } else {
+            (n0 * num::sin((1.0 - s) * w) + n1 * num::sin(s * w)) / num::sin(w)
+        };
+        let p = p0 + (p1 - p0) * s;
+        let exact_axes = m.inverse(p, n, Some(a0)).map_err(|e| {
+            format!(
+                "{}: a closed-form bound was given, but inverse fails inside the piece: {e}",
+                m.name()
+            )
+        })?;
+        let exact = m.forward(&exact_axes).map_err(|e| e.to_string())?;
+        let lerped: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| x + (y - x) * s).collect();
+        let fw = m.forward(&lerped).map_err(|e| e.to_string())?;
+        wp = wp.max((fw.0 - exact.0).length());
+        wa = wa.max(num::deg(num::angle_between(fw.1, exact.1)));
+    }
+    Ok((wp, wa))
 }

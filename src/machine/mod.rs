@@ -30,6 +30,8 @@
 //! - [`batch`]: CSV in, CSV out (`warpslice kinematics inverse|forward`).
 //! - [`tessellate`]: split moves until the firmware's linear axis interpolation stays within
 //!   0.02 mm / 0.1° of the intended path (seed 001 §4.5); reports the worst error.
+//!   [`bound`]: the lemmas of the machines' closed-form error bounds
+//!   ([`Machine::interpolation_bound`]), which spare the check's samples.
 //! - [`feed`]: output F for `tip`, `xyz`, `all-axes` and `inverse-time` (G93) feed modes;
 //!   [`length_rule`]: how each firmware measures a move's length (what `tip` divides by).
 //! - [`travel`]: the machine file's linear travel and per-axis largest feed; [`reach`]: every
@@ -46,6 +48,7 @@ pub mod angles;
 pub mod axes;
 pub mod batch;
 pub mod bhead;
+pub mod bound;
 pub mod cartesian;
 pub mod config;
 pub mod emit;
@@ -124,6 +127,10 @@ impl Workspace {
     }
 }
 
+/// One end of a piece of a move: axes (machine order), tip (output frame, mm) and the intended
+/// unit tool axis ([`Machine::interpolation_bound`]).
+pub type PieceEnd<'a> = (&'a [f64], DVec3, DVec3);
+
 /// What a machine says of itself to the CLI and the web page ([`crate::describe`]): what it
 /// can tilt, which warps it can print, whether the part or the head moves.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -188,6 +195,15 @@ pub trait Machine: Send + Sync + fmt::Debug {
     /// not affine in the bed's pose).
     fn linear_at_fixed_pose(&self) -> bool {
         false
+    }
+    /// A proven upper bound `(tip mm, tool axis degrees)` of the firmware's interpolation error
+    /// over the piece from the pose `from = (axes a₀, tip p₀, intended axis n₀)` to
+    /// `to = (a₁, p₁, n₁)`, where `forward(aᵢ)` realises `(pᵢ, nᵢ)` and n₀, n₁ are unit (see
+    /// [`bound`] for what is bounded and the lemmas). It also promises that `inverse` succeeds
+    /// all along the piece. `None` (the default): no closed form here, the interpolation check
+    /// samples the piece. The law [`laws::check_interpolation_bound`] checks it.
+    fn interpolation_bound(&self, _from: PieceEnd, _to: PieceEnd) -> Option<(f64, f64)> {
+        None
     }
     /// What the machine says of itself (see [`Capabilities`]).
     fn capabilities(&self) -> Capabilities;

@@ -157,6 +157,31 @@ impl Machine for Pax {
     fn linear_at_fixed_pose(&self) -> bool {
         true
     }
+    /// Tip = X Y Z + l·(e_z − u(A, B)) with u the unit axis of azimuth A − offset and tilt B,
+    /// l = `pivot_to_tip_mm`. With A and B interpolated linearly (totals ΔA, ΔB, radians;
+    /// K = |ΔA| + |ΔB|) the firmware's tip leaves the intended straight line by
+    /// `l·|u(s) − chord| ≤ l K²/8` (seed 001 §4.5; [`super::bound`] Lemmas 1–2) and its axis
+    /// the slerp by `2 asin(K²/8)` (Lemmas 2–3); the realised axis is the asked one. Only when
+    /// the slerp stays within `max_tilt_deg` ≤ 90° (geodesic convexity): else sample.
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        use super::bound;
+        let (a0, a1) = (from.0, to.0);
+        if !bound::usable(from, to, 5)
+            || !bound::arc_in_cap(from.2, to.2, DVec3::Z, self.params.max_tilt_deg)
+        {
+            return None;
+        }
+        let k = num::rad((a1[3] - a0[3]).abs() + (a1[4] - a0[4]).abs());
+        let l = self.params.pivot_to_tip_mm.abs();
+        Some((
+            l * bound::chord_deviation(k * k) + bound::ROUND_TRIP_SLACK_MM,
+            bound::turned_axis_deviation_deg(k) + bound::ROUND_TRIP_SLACK_DEG,
+        ))
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(self.params.max_tilt_deg)
     }

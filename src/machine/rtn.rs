@@ -329,6 +329,54 @@ impl Machine for Rtn {
     fn linear_at_fixed_pose(&self) -> bool {
         true
     }
+    /// Tip = X Y Z + R_z(φ)(e_par, e_perp, 0), axis on the cone of half-angle `tilt_deg` at
+    /// azimuth φ. With the rotation interpolated linearly (Δφ radians) the offset leaves its
+    /// chord by the sagitta bound `|e| Δφ²/8` ([`super::bound`] Lemmas 1–2); the intended
+    /// axis is the cone's at the azimuth ψ(s) of the slerp, which leaves the linear azimuth by
+    /// at most G (Lemma 4), so the axes are at most `sin(tilt)·G` apart (the small circle's arc
+    /// is longer than the great circle's). Only when both ends realise their asked azimuth
+    /// and, for a single revolution, the whole piece stays inside the rotation range (no
+    /// shadow, no seam): else sample.
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        use super::bound;
+        let (a0, a1, n0, n1) = (from.0, to.0, from.2, to.2);
+        if !bound::usable(from, to, 4) {
+            return None;
+        }
+        let g = bound::slerp_azimuth_deviation(n0, n1, DVec3::truncate)?;
+        let (psi0, psi1) = (
+            num::deg(num::atan2(n0.y, n0.x)),
+            num::deg(num::atan2(n1.y, n1.x)),
+        );
+        let matches = wrap180(a0[3] - self.rotation_of(psi0)).abs() <= bound::AZIMUTH_MATCH_DEG
+            && wrap180(a1[3] - self.rotation_of(psi1)).abs() <= bound::AZIMUTH_MATCH_DEG
+            && ((a1[3] - a0[3]) - wrap180(psi1 - psi0)).abs() <= 2.0 * bound::AZIMUTH_MATCH_DEG;
+        if !matches {
+            return None;
+        }
+        let g_deg = num::deg(g) + 2.0 * bound::AZIMUTH_MATCH_DEG;
+        if self.params.revolution == Revolution::Single {
+            let [lo, hi] = self.params.rotation_range_deg;
+            let m = g_deg + bound::BRANCH_MARGIN_DEG;
+            if !(a0[3].min(a1[3]) - m >= lo && a0[3].max(a1[3]) + m <= hi) {
+                return None;
+            }
+        }
+        let e = self
+            .params
+            .e_parallel_mm
+            .hypot(self.params.e_perpendicular_mm);
+        let dphi = num::rad(a1[3] - a0[3]);
+        let sin_t = num::sin(num::rad(self.params.tilt_deg)).abs();
+        Some((
+            e * bound::chord_deviation(dphi * dphi) + bound::ROUND_TRIP_SLACK_MM,
+            sin_t * g_deg + bound::ROUND_TRIP_SLACK_DEG,
+        ))
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(180.0)
     }

@@ -25,10 +25,26 @@
 //! A piece with one tool axis whose ends have the same rotary axes, on a machine that is
 //! [`Machine::linear_at_fixed_pose`], is exact (error 0, no samples): the firmware moves only
 //! linear axes there and the tip follows them affinely (a law test checks the promise).
+//!
+//! ## Closed-form bounds (issue 13)
+//! Before sampling, the machine's [`Machine::interpolation_bound`] is asked for a proven bound
+//! `(β_p, β_a)` of the piece's error ([`super::bound`]). The piece is accepted without samples
+//! when `β_p ≤ 0.95·max_position_mm`, `β_a ≤ 0.95·max_angle_deg` **and** neither is above the
+//! worst error reported so far (or below [`REPORT_FLOOR_MM`] / [`REPORT_FLOOR_DEG`]). The
+//! samples, at most the true error, are then within the bound too, so the splitting decides as
+//! with samples, and the worst error reported (and written) is the same: the output does not
+//! change by a byte. Elsewhere the 16 samples remain.
+//!
+//! ## Counters
+//! [`counters`]: kinematics evaluations (`inverse` and `forward`) and pieces sampled or
+//! bounded by the tessellation since the process started (the bench reads them).
+
+use core::cell::Cell;
+use core::sync::atomic::{AtomicU64, Ordering};
 
 use glam::DVec3;
 
-use super::{Machine, MachineError};
+use super::{InverseResult, Machine, MachineError};
 use crate::num;
 use crate::toolpath::{Feature, ToolPoint};
 
@@ -143,6 +159,39 @@ pub struct TessellationReport {
     pub worst_dropped_deg: f64,
 }
 
+/// The report's resolution for the worst tip error: it is written with 5 decimals (mm), so a
+/// worst below this prints as `0.00000` whether or not a bounded piece's few-ulp error is in it.
+pub const REPORT_FLOOR_MM: f64 = 1e-7;
+/// The same for the tool axis, written with 4 decimals (degrees).
+pub const REPORT_FLOOR_DEG: f64 = 1e-6;
+
+/// Process-wide tallies of the tessellation (for the bench; relaxed atomics, added once per
+/// input move).
+static EVALUATIONS: AtomicU64 = AtomicU64::new(0);
+static SAMPLED: AtomicU64 = AtomicU64::new(0);
+static BOUNDED: AtomicU64 = AtomicU64::new(0);
+
+/// What the tessellation did since the process started ([`counters`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Kinematics evaluations: calls of `inverse` and `forward`.
+    pub evaluations: u64,
+    /// Pieces whose error was sampled.
+    pub sampled: u64,
+    /// Pieces accepted by a closed-form bound, without samples.
+    pub bounded: u64,
+}
+
+/// The tessellation's tallies since the process started (differences of two readings count
+/// the work between them; other threads' work is included).
+pub fn counters() -> Counters {
+    Counters {
+        evaluations: EVALUATIONS.load(Ordering::Relaxed),
+        sampled: SAMPLED.load(Ordering::Relaxed),
+        bounded: BOUNDED.load(Ordering::Relaxed),
+    }
+}
+
 /// Below this angle from parallel or antiparallel (radians) slerp falls back to a normalised lerp.
 pub const SLERP_EPSILON: f64 = 1e-9;
 
@@ -190,8 +239,41 @@ impl Slerp {
     }
 }
 
-fn lerp_axes(a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
-    a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect()
+/// Most axes a machine has; more are interpolated in a `Vec`.
+const MAX_AXES: usize = 8;
+
+/// Axis values on the stack (the interpolation check makes one per sample).
+struct Axes {
+    buf: [f64; MAX_AXES],
+    heap: Vec<f64>,
+    len: usize,
+}
+
+impl Axes {
+    fn as_slice(&self) -> &[f64] {
+        if self.len <= MAX_AXES {
+            &self.buf[..self.len]
+        } else {
+            &self.heap
+        }
+    }
+}
+
+/// `a + (b − a)·s` per axis.
+fn lerp_axes(a: &[f64], b: &[f64], s: f64) -> Axes {
+    let mut out = Axes {
+        buf: [0.0; MAX_AXES],
+        heap: Vec::new(),
+        len: a.len().min(b.len()),
+    };
+    if out.len <= MAX_AXES {
+        for (o, (x, y)) in out.buf.iter_mut().zip(a.iter().zip(b)) {
+            *o = x + (y - x) * s;
+        }
+    } else {
+        out.heap = a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect();
+    }
+    out
 }
 
 /// The angle between two unit vectors in degrees, without trigonometry when they are equal.
@@ -217,26 +299,96 @@ struct Ctx<'m> {
     wrap_axes: Vec<bool>,
     /// The rotary axes, when the machine is [`Machine::linear_at_fixed_pose`].
     fixed_pose_rotary: Option<Vec<bool>>,
+    /// Kinematics evaluations, pieces sampled and pieces bounded by this context.
+    evaluations: Cell<u64>,
+    sampled: Cell<u64>,
+    bounded: Cell<u64>,
 }
 
-impl Ctx<'_> {
-    /// Worst (position, angle°) of the firmware's path over a piece, and whether it wraps.
-    fn error(&self, pc: &Piece, a1: &[f64]) -> Result<(f64, f64), MachineError> {
+impl Drop for Ctx<'_> {
+    fn drop(&mut self) {
+        EVALUATIONS.fetch_add(self.evaluations.get(), Ordering::Relaxed);
+        SAMPLED.fetch_add(self.sampled.get(), Ordering::Relaxed);
+        BOUNDED.fetch_add(self.bounded.get(), Ordering::Relaxed);
+    }
+}
+
+/// A piece's error as the sampling measured it, and the inverse at s = ½ when it was one of
+/// the samples (the split point: the splitting reuses it).
+type Measured = ((f64, f64), Option<Vec<f64>>);
+
+impl<'m> Ctx<'m> {
+    fn new(machine: &'m dyn Machine, bounds: &Bounds) -> Ctx<'m> {
+        Ctx {
+            machine,
+            bounds: *bounds,
+            wrap_axes: wrap_axes(machine),
+            fixed_pose_rotary: machine
+                .linear_at_fixed_pose()
+                .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
+            evaluations: Cell::new(0),
+            sampled: Cell::new(0),
+            bounded: Cell::new(0),
+        }
+    }
+
+    /// `machine.inverse`, counted.
+    fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+        self.evaluations.set(self.evaluations.get() + 1);
+        self.machine.inverse(p, n, previous)
+    }
+
+    /// `machine.forward`, counted.
+    fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+        self.evaluations.set(self.evaluations.get() + 1);
+        self.machine.forward(axes)
+    }
+
+    /// Worst (position, angle°) of the firmware's path over a piece, sampled.
+    fn error(&self, pc: &Piece, a1: &[f64]) -> Result<Measured, MachineError> {
+        self.sampled.set(self.sampled.get() + 1);
         let k = self.bounds.samples.max(2);
         let (mut dp, mut da) = (0.0f64, 0.0f64);
+        let mut mid = None;
         let sl = Slerp::new(pc.n0, pc.n1);
         for i in 1..k {
             let s = i as f64 / k as f64;
             let p = pc.p0.lerp(pc.p1, s);
             let n = sl.at(s);
-            let exact = self
-                .machine
-                .forward(&self.machine.inverse(p, n, Some(pc.a0))?)?;
-            let fw = self.machine.forward(&lerp_axes(pc.a0, a1, s))?;
+            let axes = self.inverse(p, n, Some(pc.a0))?;
+            let exact = self.forward(&axes)?;
+            let fw = self.forward(lerp_axes(pc.a0, a1, s).as_slice())?;
             dp = dp.max((fw.0 - exact.0).length());
             da = da.max(angle_deg(fw.1, exact.1));
+            if 2 * i == k {
+                mid = Some(axes);
+            }
         }
-        Ok((dp, da))
+        Ok(((dp, da), mid))
+    }
+
+    /// Whether the machine's closed-form bound lets the piece through without samples and
+    /// without changing what the samples would have decided or reported (module
+    /// documentation); its error then adds nothing to the report.
+    fn closed_form(&self, pc: &Piece, a1: &[f64], rep: &TessellationReport) -> bool {
+        let unit = |n: DVec3| (n.length() - 1.0).abs() <= super::UNIT_EPSILON;
+        if !(unit(pc.n0) && unit(pc.n1)) {
+            return false;
+        }
+        let Some((bp, ba)) = self
+            .machine
+            .interpolation_bound((pc.a0, pc.p0, pc.n0), (a1, pc.p1, pc.n1))
+        else {
+            return false;
+        };
+        let ok = bp <= SAMPLING_MARGIN * self.bounds.max_position_mm
+            && ba <= SAMPLING_MARGIN * self.bounds.max_angle_deg
+            && bp <= rep.worst_position_mm.max(REPORT_FLOOR_MM)
+            && ba <= rep.worst_angle_deg.max(REPORT_FLOOR_DEG);
+        if ok {
+            self.bounded.set(self.bounded.get() + 1);
+        }
+        ok
     }
 
     /// Linear axes that put the tip at `p` with the rotary axes of `axes` (Newton, finite
@@ -246,7 +398,7 @@ impl Ctx<'_> {
             .filter(|&i| !self.machine.limits()[i].rotary)
             .collect();
         for _ in 0..REPOSE_NEWTON_ITERATIONS {
-            let tip = self.machine.forward(&axes)?.0;
+            let tip = self.forward(&axes)?.0;
             let r = p - tip;
             if r.length() < REPOSE_NEWTON_TOLERANCE {
                 return Ok(Some(axes));
@@ -255,7 +407,7 @@ impl Ctx<'_> {
             for &i in &lin {
                 let mut b = axes.clone();
                 b[i] += REPOSE_FD_STEP;
-                cols.push((self.machine.forward(&b)?.0 - tip) / REPOSE_FD_STEP);
+                cols.push((self.forward(&b)?.0 - tip) / REPOSE_FD_STEP);
             }
             // normal equations JᵀJ δ = Jᵀ r (at most 3 unknowns here)
             let k = cols.len();
@@ -316,12 +468,12 @@ impl Ctx<'_> {
             let (mut wp, mut wa) = (0.0f64, 0.0f64);
             let mut from = pc.a0.to_vec();
             for (axes, _, _) in &poses {
-                let (q0, r0) = self.machine.forward(&from)?;
-                let (q1, r1) = self.machine.forward(axes)?;
+                let (q0, r0) = self.forward(&from)?;
+                let (q1, r1) = self.forward(axes)?;
                 let kk = self.bounds.samples.max(2);
                 for i in 1..kk {
                     let s = i as f64 / kk as f64;
-                    let fw = self.machine.forward(&lerp_axes(&from, axes, s))?;
+                    let fw = self.forward(lerp_axes(&from, axes, s).as_slice())?;
                     wp = wp.max((fw.0 - q0.lerp(q1, s)).length());
                     wa = wa.max(num::deg(num::angle_between(fw.1, slerp(r0, r1, s))));
                 }
@@ -389,11 +541,12 @@ impl Ctx<'_> {
         let turn = num::deg(num::angle_between(pc.n0, pc.n1));
         let capped = self.bounds.max_step_mm.is_some_and(|c| len > c)
             || self.bounds.max_step_deg.is_some_and(|c| turn > c);
-        let (dp, da) = if wrap || self.exact_at_fixed_pose(&pc, &a1) {
-            (0.0, 0.0)
-        } else {
-            self.error(&pc, &a1)?
-        };
+        let ((dp, da), mid) =
+            if wrap || self.exact_at_fixed_pose(&pc, &a1) || self.closed_form(&pc, &a1, rep) {
+                ((0.0, 0.0), None)
+            } else {
+                self.error(&pc, &a1)?
+            };
         let over = dp > SAMPLING_MARGIN * self.bounds.max_position_mm
             || da > SAMPLING_MARGIN * self.bounds.max_angle_deg;
         // a piece crossing a single-revolution axis's seam is halved until the crossing is
@@ -402,7 +555,11 @@ impl Ctx<'_> {
         if (over || capped || wrap) && depth < self.bounds.max_depth {
             let pm = pc.p0.lerp(pc.p1, 0.5);
             let nm = slerp(pc.n0, pc.n1, 0.5);
-            let am = self.machine.inverse(pm, nm, Some(pc.a0))?;
+            // the sample at s = ½ is this very inverse (same tip, same slerp, same seed)
+            let am = match mid {
+                Some(am) => am,
+                None => self.inverse(pm, nm, Some(pc.a0))?,
+            };
             self.split(
                 Piece {
                     p0: pc.p0,
@@ -421,7 +578,7 @@ impl Ctx<'_> {
             // have re-chosen the branch) and its end is seeded from there, so a branch (signed
             // tilt, unwrapped rotation) chosen along the way is kept instead of jumping back
             let am = out.last().map_or(am, |e| e.axes.clone());
-            let a1 = self.machine.inverse(p1, n1, Some(&am))?;
+            let a1 = self.inverse(p1, n1, Some(&am))?;
             return self.split(
                 Piece {
                     p0: pm,
@@ -510,25 +667,18 @@ pub fn tessellate_move(
     bounds: &Bounds,
     rep: &mut TessellationReport,
 ) -> Result<Vec<MachineMove>, MachineError> {
-    let ctx = Ctx {
-        machine,
-        bounds: *bounds,
-        wrap_axes: wrap_axes(machine),
-        fixed_pose_rotary: machine
-            .linear_at_fixed_pose()
-            .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
-    };
+    let ctx = Ctx::new(machine, bounds);
     let (a0_in, p0, n0) = from;
     let mut ends = Vec::new();
     let mut reoriented = 0;
-    let r0 = machine.forward(a0_in)?.1;
+    let r0 = ctx.forward(a0_in)?.1;
     let pe = p0.lerp(to.p, START_PROBE);
-    let ae = machine.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
-    let re = machine.forward(&ae)?.1;
+    let ae = ctx.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
+    let re = ctx.forward(&ae)?.1;
     let a_start;
     let a0: &[f64] =
         if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
-            let a_r = machine.inverse(p0, re, Some(a0_in))?;
+            let a_r = ctx.inverse(p0, re, Some(a0_in))?;
             let pc = Piece {
                 p0,
                 n0: r0,
@@ -543,7 +693,7 @@ pub fn tessellate_move(
         } else {
             a0_in
         };
-    let a1 = machine.inverse(to.p, to.n, Some(a0))?;
+    let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
     let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
     rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
     rep.moves_in += 1;

@@ -40,7 +40,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::angles::{rot_z, rotate, tilt};
+use super::angles::{rot_z, tilt, Turn};
 use super::{require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
@@ -318,7 +318,8 @@ impl Machine for ThreeZ {
         })?;
         // Eq. 12/14.
         let b0w = m.apply_t((d0 * tt).extend(0.0));
-        let rot = |v: DVec3| m.apply_t(rot_z(v, theta));
+        let turn = Turn::new(DVec3::Z, theta);
+        let rot = |v: DVec3| m.apply_t(turn.about_z(v));
         let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + DVec3::new(b0w.x, b0w.y, 0.0);
         let z0 = pp.z;
         // Eq. 15.
@@ -366,15 +367,19 @@ impl Machine for ThreeZ {
         let (l1, l2) = (self.l[1], self.l[2]);
         let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
         let th1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
-        let r1l1 = rotate(l1, a1, th1);
+        // each angle's sine and cosine once (the same bits as `rotate` each time)
+        let t1 = Turn::new(a1, th1);
+        let r1l1 = t1.apply(l1);
         let a2 = r1l1.normalize();
-        let th2 = solve_rot(rotate(l2, a1, th1), a2, z0 - z2).ok_or_else(|| fail("R2"))?;
-        let r21 = |v: DVec3| rotate(rotate(v, a1, th1), a2, th2);
-        let r21t = |v: DVec3| rotate(rotate(v, a2, -th2), a1, -th1);
+        let r1l2 = t1.apply(l2);
+        let th2 = solve_rot(r1l2, a2, z0 - z2).ok_or_else(|| fail("R2"))?;
+        let t2 = Turn::new(a2, th2);
+        let (t2_back, t1_back) = (Turn::new(a2, -th2), Turn::new(a1, -th1));
+        let r21t = |v: DVec3| t1_back.apply(t2_back.apply(v));
         // Eqs. 20–22.
         let (tp, thp) = ThreeZ::solve_triangle(
-            r21(l1).truncate(),
-            r21(l2).truncate(),
+            t2.apply(r1l1).truncate(),
+            t2.apply(r1l2).truncate(),
             self.d[0],
             self.nrm[1],
             self.nrm[2],
@@ -386,7 +391,7 @@ impl Machine for ThreeZ {
         let b0 = self.d[0] * tp;
         let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
         let p = r21t(rot_z(v, -thp)) + self.b_hat[0];
-        let np = rot_z(r21(DVec3::Z), thp);
+        let np = rot_z(t2.apply(t1.apply(DVec3::Z)), thp);
         Ok((p, DVec3::new(-np.x, -np.y, np.z)))
     }
     /// The head does not turn about its tool axis in the machine: its x axis is the machine's
