@@ -40,6 +40,7 @@ mod driver;
 mod error;
 pub mod flow;
 mod options;
+mod outside;
 mod report;
 pub mod segment;
 pub mod shape;
@@ -47,7 +48,7 @@ pub mod travel;
 
 pub use crate::emit::DEFAULT_TRAVEL_FEED;
 pub use driver::Unwarper;
-pub use error::{UnwarpError, ERROR_CODES};
+pub use error::{OutsideReason, UnwarpError, ERROR_CODES};
 pub use flow::Flow;
 pub use options::{UnwarpOptions, PARAMS};
 pub use report::UnwarpReport;
