@@ -12,8 +12,16 @@
 //! - [`Emitter::begin_region`] (the head is at the slicer's position, tool vertical): the
 //!   previous axes are `inverse(p, +Z)`; `G93` for inverse-time feed.
 //! - [`Emitter::end_region`] (after the driver's lift): a tessellated travel back to the
-//!   vertical tool axis at the same tip point, `G94` after inverse-time feed — so the 3-axis end
-//!   G-code that follows works.
+//!   vertical tool axis at the same tip point (the rest pose), `G94` after inverse-time feed.
+//!
+//! ## Outside the region
+//! Unless the machine's axes are the output's X Y Z and the output is not moved
+//! ([`Emitter::converts_outside`]), the unwarp hands the start and end G-code's moves over as
+//! points with tool axis +Z ([`crate::unwarp::outside`]): they are written like any point, with
+//! `tip` feed where `inverse-time` is asked for (`G94` is in force there), and the pose carries
+//! over into the region (`begin_region` keeps it). After homing, a move giving only some of
+//! X Y Z is written with the axes that depend on those alone at the rest pose
+//! ([`rest_dependence`]), or not at all ([`Emitter::outside_partial`]).
 //!
 //! ## Machine specifics
 //! - **Single-revolution rotary axis** (Slicer4RTN, `revolution: single`): when consecutive
