@@ -22,13 +22,12 @@ use check_files::{bhead_speed_file, clean_file, rtn_reach_file, Lines};
 use std::process::Command;
 
 use common::machine::{fk::Fk, parse};
-use common::preset_warp::warp_for;
+use common::preset_warp::{spec_for, warped_cube6};
 use warpslice::check::{check, CheckError, CheckOptions, CheckStream, FindingKind};
 use warpslice::error::Coded;
-use warpslice::machine::{preset, preset_names, MachineSpec};
-use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
+use warpslice::machine::{preset, preset_names};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::WarpParams;
 
 /// Tip agreement of the check's path with the tests' forward kinematics of the same written
 /// numbers, mm: both evaluate closed forms of the same values (rounding only; a `G92` rotary
@@ -50,31 +49,10 @@ fn place_for(preset: &str) -> Option<[f64; 2]> {
     }
 }
 
-/// The machine of a preset (the lathe's mandrel under the part, as the lathe warp wants).
-fn spec_for(name: &str) -> MachineSpec {
-    let mut spec = preset(name).unwrap();
-    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
-        p.axis_z_mm = -20.0;
-    }
-    spec
-}
-
 /// warpslice's machine G-code of a 6 mm cube for `name` (synthetic slicer, tests/common;
 /// small so the nine presets' unwarps and checks stay quick).
 fn written_by_warpslice(name: &str) -> Vec<u8> {
-    let mut m = warpslice::shapes::example("cube").unwrap();
-    for v in &mut m.vertices {
-        *v *= 0.3;
-    }
-    let stl = warpslice::mesh::write_stl(&m, "cube 6");
-    let w = warp_model(
-        &stl,
-        &WarpOptions::new(WarpParams {
-            spec: warp_for(name),
-            base: None,
-        }),
-    )
-    .unwrap();
+    let w = warped_cube6(name);
     let input = synthetic::gcode(&w.job, true, 3.0);
     let settings = UnwarpSettings::with_machine(
         UnwarpOptions {

@@ -20,13 +20,11 @@ mod synthetic;
 use glam::DVec3;
 
 use common::machine::{fk::Fk, parse, AxisLine};
-use common::preset_warp::warp_for;
+use common::preset_warp::{spec_for, warped_cube6};
 use warpslice::error::Coded;
 use warpslice::job::Job;
-use warpslice::machine::{preset, MachineSpec};
-use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::WarpParams;
 
 /// Agreement of a converted point with where it must land, mm: the registration's residual on
 /// the synthetic slicer's exact box (well below 1 µm) plus the 3 written decimals.
@@ -37,30 +35,9 @@ const VERTICAL: f64 = 1e-4;
 
 /// The warped 6 mm cube of `name`'s warp, its job and the synthetic slicer's G-code (relative E).
 fn sliced(name: &str) -> (Job, String) {
-    let mut m = warpslice::shapes::example("cube").unwrap();
-    for v in &mut m.vertices {
-        *v *= 0.3;
-    }
-    let stl = warpslice::mesh::write_stl(&m, "cube 6");
-    let w = warp_model(
-        &stl,
-        &WarpOptions::new(WarpParams {
-            spec: warp_for(name),
-            base: None,
-        }),
-    )
-    .unwrap();
+    let w = warped_cube6(name);
     let g = synthetic::gcode(&w.job, true, 3.0);
     (w.job, g)
-}
-
-/// The machine of a preset (the lathe's mandrel under the part, as its warp wants).
-fn spec_for(name: &str) -> MachineSpec {
-    let mut spec = preset(name).unwrap();
-    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
-        p.axis_z_mm = -20.0;
-    }
-    spec
 }
 
 fn run(

@@ -239,6 +239,23 @@ impl MachineEmitter {
         self.scan = (out.len(), out.len(), 0);
     }
 
+    /// Axis `i` at `value` is outside its travel, on the next line written to `out`, with the
+    /// tip at `p`.
+    fn travel_error(&mut self, out: &[u8], i: usize, value: f64, p: DVec3) -> MachineError {
+        let b = &self.reach.bounds()[i];
+        let (axis, min, max) = (b.name.clone(), b.min, b.max);
+        MachineError::Travel {
+            machine: self.preset.clone(),
+            axis,
+            value,
+            min,
+            max,
+            output_line: self.next_output_line(out),
+            input_line: self.input_line,
+            p,
+        }
+    }
+
     /// The 1-based output line the next line written to `out` will be.
     fn next_output_line(&mut self, out: &[u8]) -> u64 {
         let (start, upto, n) = self.scan;
@@ -286,17 +303,7 @@ impl MachineEmitter {
         tag: &str,
     ) -> Result<(), MachineError> {
         if let Err(i) = self.reach.check(axes) {
-            let b = &self.reach.bounds()[i];
-            return Err(MachineError::Travel {
-                machine: self.preset.clone(),
-                axis: b.name.clone(),
-                value: axes[i],
-                min: b.min,
-                max: b.max,
-                output_line: self.next_output_line(out),
-                input_line: self.input_line,
-                p,
-            });
+            return Err(self.travel_error(out, i, axes[i], p));
         }
         out.extend_from_slice(b"G1");
         // the move as the firmware reads it: the written (rounded) values
@@ -693,16 +700,7 @@ impl Emitter for MachineEmitter {
         for &i in &write {
             let b = &self.reach.bounds()[i];
             if !(axes[i] >= b.min && axes[i] <= b.max) {
-                return Err(EmitError::new(MachineError::Travel {
-                    machine: self.preset.clone(),
-                    axis: b.name.clone(),
-                    value: axes[i],
-                    min: b.min,
-                    max: b.max,
-                    output_line: self.next_output_line(out),
-                    input_line: self.input_line,
-                    p,
-                }));
+                return Err(EmitError::new(self.travel_error(out, i, axes[i], p)));
             }
         }
         out.extend_from_slice(b"G1");
