@@ -150,7 +150,10 @@ fn check_reads_warpslice_output_of_every_preset_on_the_tests_forward_kinematics(
             .iter()
             .filter(|f| f.kind == FindingKind::Reach)
             .collect();
-        assert!(reach.is_empty(), "{name}: reach findings in warpslice's own file: {reach:?}");
+        assert!(
+            reach.is_empty(),
+            "{name}: reach findings in warpslice's own file: {reach:?}"
+        );
         assert!(report.extruded_mm > 0.0, "{name}");
         println!("{name:20} {compared} lines; {}", report.summary());
     }

@@ -84,7 +84,8 @@ fn walk(name: &str, text: &str) -> (Vec<AxisLine>, Fk) {
 /// `(letter, min, max)` of each linear axis with a travel in presets/NAME.json.
 fn travel_of(name: &str) -> Vec<(String, f64, f64)> {
     let path = format!("{}/presets/{name}.json", env!("CARGO_MANIFEST_DIR"));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     v["travel"]
         .as_object()
         .unwrap()
@@ -147,7 +148,10 @@ fn core_r_theta_and_lathe_start_gcode_moves_are_converted_to_their_axes() {
         let start = "G1 X95 Y95 Z8 F3000";
         let (g, _) = synthetic::insert_after(&g, "G21\n", 1, &format!("{start}\n"));
         let out = run(name, &job, &g, Some(place)).unwrap();
-        assert!(!out.lines().any(|l| l == start), "{name}: '{start}' written verbatim");
+        assert!(
+            !out.lines().any(|l| l == start),
+            "{name}: '{start}' written verbatim"
+        );
         let (lines, fk) = walk(name, &out);
         let (p, n) = fk.forward(&lines[0].axes).unwrap();
         let want = landed(&job, place, DVec3::new(95.0, 95.0, 8.0));
@@ -157,14 +161,22 @@ fn core_r_theta_and_lathe_start_gcode_moves_are_converted_to_their_axes() {
             lines[0].number
         );
         if name == "core-r-theta" {
-            assert!((n - DVec3::Z).length() < VERTICAL, "{name}: tool axis {n:?}");
+            assert!(
+                (n - DVec3::Z).length() < VERTICAL,
+                "{name}: tool axis {n:?}"
+            );
         }
     }
 }
 
 #[test]
 fn the_end_gcode_after_the_region_starts_from_the_rest_pose() {
-    for name in ["open5x-ab", "pax-5axis", "fullcontrol-prusa-b", "core-r-theta"] {
+    for name in [
+        "open5x-ab",
+        "pax-5axis",
+        "fullcontrol-prusa-b",
+        "core-r-theta",
+    ] {
         let (job, g) = sliced(name);
         let place = match name {
             "core-r-theta" => Some([60.0, 0.0]),
@@ -197,7 +209,12 @@ fn the_end_gcode_after_the_region_starts_from_the_rest_pose() {
             .rev()
             .find(|l| l.starts_with("G1 X"))
             .map(|l| {
-                let v: Vec<f64> = l.split(' ').skip(1).take(2).map(|w| w[1..].parse().unwrap()).collect();
+                let v: Vec<f64> = l
+                    .split(' ')
+                    .skip(1)
+                    .take(2)
+                    .map(|w| w[1..].parse().unwrap())
+                    .collect();
                 (v[0], v[1])
             })
             .unwrap();
@@ -223,7 +240,9 @@ fn a_relative_move_outside_the_region_on_a_non_cartesian_machine_is_refused_by_n
     assert_eq!(e.code(), "unwarp.outside-relative", "{e}");
     let msg = e.to_string();
     assert!(
-        msg.contains(&format!("line {}", at + 1)) && msg.contains("G1 Z5 F600") && msg.contains("absolute moves"),
+        msg.contains(&format!("line {}", at + 1))
+            && msg.contains("G1 Z5 F600")
+            && msg.contains("absolute moves"),
         "{msg}"
     );
     // to 3-axis G-code the same file is written, its start G-code verbatim
@@ -233,7 +252,9 @@ fn a_relative_move_outside_the_region_on_a_non_cartesian_machine_is_refused_by_n
         &UnwarpSettings::three_axis(UnwarpOptions::default()),
     )
     .unwrap();
-    assert!(String::from_utf8(three.gcode).unwrap().contains("G91\nG1 Z5 F600\nG90\n"));
+    assert!(String::from_utf8(three.gcode)
+        .unwrap()
+        .contains("G91\nG1 Z5 F600\nG90\n"));
 }
 
 #[test]
@@ -241,7 +262,10 @@ fn arcs_and_axis_resets_outside_the_region_are_refused_by_name() {
     let name = "open5x-ab";
     let (job, g) = sliced(name);
     for (what, code) in [
-        ("G1 X90 Y90 Z5 F600\nG2 X100 Y90 I5 J0 F600\n", "unwarp.outside-arc"),
+        (
+            "G1 X90 Y90 Z5 F600\nG2 X100 Y90 I5 J0 F600\n",
+            "unwarp.outside-arc",
+        ),
         ("G92 X0 Y0\n", "unwarp.outside-axis-reset"),
     ] {
         let (g, _) = synthetic::insert_after(&g, "G21\n", 1, what);
@@ -302,7 +326,12 @@ fn the_cartesian_preset_keeps_start_gcode_verbatim_unless_placed() {
         .lines()
         .find(|l| l.starts_with("G1 X") && l.contains(" Y") && l.contains(" Z"))
         .unwrap();
-    let v: Vec<f64> = first.split(' ').skip(1).take(3).map(|w| w[1..].parse().unwrap()).collect();
+    let v: Vec<f64> = first
+        .split(' ')
+        .skip(1)
+        .take(3)
+        .map(|w| w[1..].parse().unwrap())
+        .collect();
     assert!(
         (DVec3::new(v[0], v[1], v[2]) - want).length() < LANDS_MM,
         "{first}: want {want:?}"

@@ -164,7 +164,12 @@ impl Core {
     }
 
     /// A piece whose X, Y and Z are all known: placed, planned and converted.
-    fn outside_move(&mut self, line: &Line<'_>, m: &Move, relative: bool) -> Result<(), UnwarpError> {
+    fn outside_move(
+        &mut self,
+        line: &Line<'_>,
+        m: &Move,
+        relative: bool,
+    ) -> Result<(), UnwarpError> {
         let (mut target, _) = self.map_point(Kind::Flat, m.to);
         let clearance = self.opts.travel_clearance;
         if self.done_region {
