@@ -138,6 +138,8 @@ pub(super) struct Core {
     /// Outside the region: where the converted lines left the tip (output frame), `None` while
     /// the pose is unknown.
     pub(super) outside_pose: Option<DVec3>,
+    /// After the region: the coordinates the file has not given since (they stay the head's).
+    pub(super) keep: [bool; 3],
 }
 
 impl Core {
@@ -831,6 +833,7 @@ impl Core {
         // the end G-code starts from the rest pose where the lift left the tip
         self.outside_pose = self.cur.map(|(p, _)| p);
         self.known = [self.outside_pose.is_some(); 3];
+        self.keep = self.known;
         if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > E_QUANTUM {
             let line = format!(
                 "G92 E{} ; warpslice: back to the slicer's E",

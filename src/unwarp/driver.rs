@@ -156,6 +156,7 @@ impl Unwarper {
             convert_outside: false,
             known: [false; 3],
             outside_pose: None,
+            keep: [false; 3],
         };
         let moved = shift != DVec3::ZERO || self.opts.z_offset != 0.0;
         core.convert_outside = core.emit.converts_outside(moved);

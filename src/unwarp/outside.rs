@@ -18,7 +18,9 @@
 //!   with the line and what to change). E passes as the file has it (the emitter's E writer
 //!   is set to the slicer's E before the line); `G0`/`G1` with only E or F pass verbatim.
 //! - **After the region** the head left it lifted, back at the rest pose (the unwarp's lift,
-//!   then [`Emitter::end_region`]). Each travel of the end G-code is planned with the region's
+//!   then [`Emitter::end_region`]). A coordinate the end G-code has not given yet stays where
+//!   the head is (the slicer's `G1 Z<top + 1>` lifts straight up from where the unwarped part
+//!   ended, not from the slicer's last point, which a warp moved). Each travel of the end G-code is planned with the region's
 //!   travel planner (straight, or up, across and down clear of everything printed), and a
 //!   target inside the printed material's shadow lower than its top + the travel clearance is
 //!   raised to that height (the slicer's `G1 Z<top + 1>` meant "above the part", and the
@@ -98,12 +100,16 @@ impl Core {
                 for (k, w) in self.known.iter_mut().zip(words) {
                     *k |= w;
                 }
+                for (k, w) in self.keep.iter_mut().zip(words) {
+                    *k &= !w;
+                }
+                let keep = self.keep;
                 let e_line: f64 = line.moves.iter().map(|m| m.e).sum();
                 // the firmware's E before this line is the slicer's
                 self.emit.reset_e(self.slicer_e - e_line);
                 for m in line.moves {
                     if self.known == [true; 3] {
-                        self.outside_move(line, m, state.e_relative)?;
+                        self.outside_move(line, m, keep, state.e_relative)?;
                     } else {
                         self.outside_partial(line, m, state.e_relative)?;
                     }
@@ -112,6 +118,7 @@ impl Core {
             Command::HeadMove(_) => {
                 self.passthrough(line.raw);
                 self.known = [false; 3];
+                self.keep = [false; 3];
                 self.outside_pose = None;
                 self.emit.outside_pose_lost();
             }
@@ -163,14 +170,21 @@ impl Core {
         Ok(())
     }
 
-    /// A piece whose X, Y and Z are all known: placed, planned and converted.
+    /// A piece whose X, Y and Z are all known: placed, planned and converted. `keep`: the
+    /// coordinates the file has not given since the region ended stay where the head is.
     fn outside_move(
         &mut self,
         line: &Line<'_>,
         m: &Move,
+        keep: [bool; 3],
         relative: bool,
     ) -> Result<(), UnwarpError> {
         let (mut target, _) = self.map_point(Kind::Flat, m.to);
+        if let Some(at) = self.outside_pose {
+            for k in (0..3).filter(|&k| keep[k]) {
+                target[k] = at[k];
+            }
+        }
         let clearance = self.opts.travel_clearance;
         if self.done_region {
             let (_, top) = self.grid.clearance_needed(target, target);
