@@ -22,13 +22,12 @@ use check_files::{bhead_speed_file, clean_file, rtn_reach_file, Lines};
 use std::process::Command;
 
 use common::machine::{fk::Fk, parse};
-use common::preset_warp::warp_for;
+use common::preset_warp::{spec_for, warped_cube6};
 use warpslice::check::{check, CheckError, CheckOptions, CheckStream, FindingKind};
 use warpslice::error::Coded;
-use warpslice::machine::{preset, preset_names, MachineSpec};
-use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions};
+use warpslice::machine::{preset, preset_names};
+use warpslice::pipeline::{unwarp, UnwarpSettings};
 use warpslice::unwarp::UnwarpOptions;
-use warpslice::warp::WarpParams;
 
 /// Tip agreement of the check's path with the tests' forward kinematics of the same written
 /// numbers, mm: both evaluate closed forms of the same values (rounding only; a `G92` rotary
@@ -50,31 +49,10 @@ fn place_for(preset: &str) -> Option<[f64; 2]> {
     }
 }
 
-/// The machine of a preset (the lathe's mandrel under the part, as the lathe warp wants).
-fn spec_for(name: &str) -> MachineSpec {
-    let mut spec = preset(name).unwrap();
-    if let warpslice::machine::spec::Kinematics::LatheA(p) = &mut spec.kinematics {
-        p.axis_z_mm = -20.0;
-    }
-    spec
-}
-
 /// warpslice's machine G-code of a 6 mm cube for `name` (synthetic slicer, tests/common;
 /// small so the nine presets' unwarps and checks stay quick).
 fn written_by_warpslice(name: &str) -> Vec<u8> {
-    let mut m = warpslice::shapes::example("cube").unwrap();
-    for v in &mut m.vertices {
-        *v *= 0.3;
-    }
-    let stl = warpslice::mesh::write_stl(&m, "cube 6");
-    let w = warp_model(
-        &stl,
-        &WarpOptions::new(WarpParams {
-            spec: warp_for(name),
-            base: None,
-        }),
-    )
-    .unwrap();
+    let w = warped_cube6(name);
     let input = synthetic::gcode(&w.job, true, 3.0);
     let settings = UnwarpSettings::with_machine(
         UnwarpOptions {
@@ -165,31 +143,17 @@ fn check_reads_warpslice_output_of_every_preset_on_the_tests_forward_kinematics(
             compared += 1;
         }
         assert!(compared > 500, "{name}: only {compared} machine lines");
-        // warpslice's own file passes its reach check (the emitter refuses otherwise) on every
-        // line it wrote. KNOWN DEFECT (issue 12, open): a slicer-frame move before the first
-        // object point (the synthetic slicer's `G0 X92.200 Y92.200` travel to the skirt) passes
-        // through verbatim, unplaced and not reach-checked; on open5x-prusa-uv (Y travel up to
-        // 50 mm) `check` finds it. Such findings are printed here, not hidden; any other fails.
-        let written: Vec<&str> = text.lines().collect();
-        let slicer_g0 = |line: u64| {
-            let l = written[line as usize - 1];
-            l.starts_with("G0 ") && !l.contains(" E")
-        };
-        for f in report
+        // warpslice's own file passes the check's reach on every line, the start and end
+        // G-code included (converted to the machine's axes, tests/machine_outside.rs)
+        let reach: Vec<_> = report
             .findings
             .iter()
             .filter(|f| f.kind == FindingKind::Reach)
-        {
-            assert!(
-                slicer_g0(f.line),
-                "{name}: reach finding on a line warpslice wrote: {f:?}"
-            );
-            println!(
-                "{name}: KNOWN DEFECT, a slicer-frame travel passed through verbatim is out of reach: line {}: {}",
-                f.line,
-                written[f.line as usize - 1]
-            );
-        }
+            .collect();
+        assert!(
+            reach.is_empty(),
+            "{name}: reach findings in warpslice's own file: {reach:?}"
+        );
         assert!(report.extruded_mm > 0.0, "{name}");
         println!("{name:20} {compared} lines; {}", report.summary());
     }

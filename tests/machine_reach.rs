@@ -152,12 +152,33 @@ fn unlimited(spec: &MachineSpec) -> MachineSpec {
     }
 }
 
+/// `warpslice check` (issue 10 §3) reads the file written without `travel` for the real
+/// machine and finds the same first line beyond the travel, on the same axis: the checker and
+/// the emitter's refusal agree on a file neither wrote for the other.
+fn check_finds_first_reach(text: &str, spec: &MachineSpec, line: usize, axis: &str) {
+    use warpslice::check::{check, CheckOptions, FindingKind};
+    let r = check(text.as_bytes(), spec, &CheckOptions::default()).unwrap();
+    let first = r
+        .findings
+        .iter()
+        .filter(|f| f.kind == FindingKind::Reach)
+        .min_by_key(|f| f.line)
+        .unwrap_or_else(|| panic!("check found no reach finding: {:?}", r.findings));
+    assert_eq!(
+        (first.line as usize, first.axis.as_deref()),
+        (line, Some(axis)),
+        "check's first reach finding vs the emitter's refusal"
+    );
+}
+
 // ---- refusals ----
 
 /// A box 240 mm wide (the B head's bed is 230 mm, seed 000 §4.2.3) centred by the slicer on
 /// x = 100: its skirt and left wall are at x < 0. The refusal names the first output line
 /// beyond the travel — the one the same unwarp without `travel` writes there — and the input
-/// line being read when that move was written.
+/// line being read when that move was written: the slicer's travel to the skirt, before the
+/// region (start-G-code moves are converted and reach-checked like the part's, docs/machines.md
+/// "Start and end G-code").
 #[test]
 fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
     let spec = preset("fullcontrol-prusa-b").unwrap();
@@ -173,10 +194,11 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
         "{text}"
     );
     assert_eq!(warpslice::error::Coded::code(&err), "machine.travel");
-    let warpslice::pipeline::Error::Unwarp(warpslice::unwarp::UnwarpError::Emit { error, .. }) =
-        &err
-    else {
-        panic!("not an emitter error: {err:?}");
+    use warpslice::unwarp::UnwarpError;
+    let error = match &err {
+        warpslice::pipeline::Error::Unwarp(UnwarpError::Emit { error, .. })
+        | warpslice::pipeline::Error::Unwarp(UnwarpError::Outside { error, .. }) => error,
+        _ => panic!("not an emitter error: {err:?}"),
     };
     let Some(MachineError::Travel {
         axis,
@@ -202,9 +224,9 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
     assert!((value - raw).abs() <= WRITTEN, "{value} vs written {raw}");
     assert_eq!((min, max), (0.0, 230.0));
     assert!(value < 0.0);
-    // the input line: the slicer's first extrusion line whose move ends left of the bed (every
-    // written G1 is a move to its end point; the first extrusion starts where the slicer's
-    // travel into the region, passed through verbatim, left the head)
+    check_finds_first_reach(&out, &spec, line, &axis);
+    // the input line: the slicer's first move (travel or extrusion) that ends left of the bed
+    // (every written G1 is a move to its end point)
     let mut pos = (0.0f64, 0.0f64);
     let mut want = None;
     for (i, l) in input.lines().enumerate() {
@@ -217,7 +239,7 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
                 .find_map(|w| w.strip_prefix(c).map(|v| v.parse::<f64>().unwrap()))
         };
         let to = (word('X').unwrap_or(pos.0), word('Y').unwrap_or(pos.1));
-        if word('E').is_some_and(|e| e > 0.0) && to != pos && to.0 < 0.0 {
+        if to != pos && to.0 < 0.0 {
             want = Some(i as u64 + 1);
             break;
         }
@@ -306,6 +328,7 @@ fn a_three_z_pose_outside_the_tilted_volume_is_refused() {
     );
     assert!((value - raw).abs() <= WRITTEN);
     assert!(axis == "X" || axis == "Y", "{axis}");
+    check_finds_first_reach(&free_out, &spec, line, &axis);
 }
 
 /// Seed 002's RTN turns within [−170°, 170°] (`M208 A-170 S1`, `M208 A170 S0`): a ring of
@@ -452,8 +475,9 @@ struct Speeds {
 /// the speed along the linear axes (a pure rotation: along the rotary ones), `all-axes` along
 /// all axes with degrees counted as mm, `inverse-time` F = 1/minutes — and the firmware's
 /// slow-down: a move takes `max(1, maxᵢ vᵢ/max_feedᵢ)` times its nominal time. Retractions
-/// take |E|/F (1/F in inverse time). The head starts where the passed-through 3-axis lines
-/// left it (X Y Z, rotary axes 0: the region starts vertical), the Z axes' `G92` included.
+/// take |E|/F (1/F in inverse time). After homing the head is nowhere known: the start
+/// G-code's moves that give only some axes, and the first move that gives all of them, are
+/// not timed (a `G92` of the axes sets them).
 fn speeds_of(
     text: &str,
     letters: &[char],
@@ -507,8 +531,13 @@ fn speeds_of(
             }
             continue;
         }
-        let from = pos.clone().unwrap_or_else(|| start(&head));
         let to: Vec<f64> = letters.iter().map(|c| has(*c).unwrap()).collect();
+        // the first move with every axis after homing starts where homing left the head,
+        // which neither the file nor the firmware's estimate knows: not timed
+        let Some(from) = pos.clone() else {
+            pos = Some(to);
+            continue;
+        };
         let d: Vec<f64> = (0..k).map(|i| to[i] - from[i]).collect();
         let len = |pick: &dyn Fn(usize) -> bool| {
             (0..k)

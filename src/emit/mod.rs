@@ -113,6 +113,37 @@ pub trait Emitter: Send {
         out.extend_from_slice(b" ; warpslice: the head is where the firmware put it: up first\n");
         Ok(())
     }
+    /// Whether this emitter converts the motion lines outside the printed region (start and end
+    /// G-code, in the slicer's frame) instead of passing them through verbatim; `moved`: the
+    /// output is moved from the slicer's frame (`--place`, `--z-offset`). Asked once, before
+    /// the first line; when `true` the unwarp hands those moves over as [`Emitter::point`]s
+    /// with the rest tool axis +Z (never collected in the toolpath) or as
+    /// [`Emitter::outside_partial`], and the emitter keeps its pose across
+    /// [`Emitter::begin_region`]. The 3-axis emitter (the default) never converts: its output
+    /// is the slicer's own printer.
+    fn converts_outside(&mut self, _moved: bool) -> bool {
+        false
+    }
+    /// Outside the region, the head moved where the file does not say (`G28`, `G27`, a probe,
+    /// a tool change): its pose is unknown until a move gives X, Y and Z.
+    fn outside_pose_lost(&mut self) {}
+    /// A line written verbatim may have set the firmware's modal feed: write F on the next move.
+    fn forget_feed(&mut self) {}
+    /// Outside the region, with the pose unknown, a move gives only some coordinates: `known`
+    /// are the output-frame X Y Z known (the others are wherever homing left them), `e` the
+    /// filament (delta, mm) and the file's E mode, `f` the feed (mm/min). `Ok(true)`: written
+    /// exactly (the axes it changes depend on the known coordinates only); `Ok(false)`: it
+    /// cannot be written without the unknown ones (nothing written; the caller keeps it for the
+    /// next move that gives them). The default writes nothing (`Ok(false)`).
+    fn outside_partial(
+        &mut self,
+        _out: &mut Vec<u8>,
+        _known: [Option<f64>; 3],
+        _e: Option<(f64, bool)>,
+        _f: f64,
+    ) -> Result<bool, EmitError> {
+        Ok(false)
+    }
     /// A line that passes through verbatim (without its terminator).
     fn raw(&mut self, out: &mut Vec<u8>, raw: &[u8]) {
         out.extend_from_slice(raw);

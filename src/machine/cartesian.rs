@@ -47,6 +47,14 @@ impl Machine for Cartesian {
     fn axis_set(&self) -> &AxisSet {
         &self.axis_set
     }
+    /// `forward` is the identity: with the letters X Y Z, the slicer's own words.
+    fn axes_are_output_xyz(&self) -> bool {
+        self.axis_set
+            .limits()
+            .iter()
+            .map(|l| l.name.as_str())
+            .eq(["X", "Y", "Z"])
+    }
     /// The head never turns: the identity.
     fn head_frame(&self, _axes: &[f64]) -> Option<glam::DMat3> {
         Some(glam::DMat3::IDENTITY)

@@ -12,8 +12,16 @@
 //! - [`Emitter::begin_region`] (the head is at the slicer's position, tool vertical): the
 //!   previous axes are `inverse(p, +Z)`; `G93` for inverse-time feed.
 //! - [`Emitter::end_region`] (after the driver's lift): a tessellated travel back to the
-//!   vertical tool axis at the same tip point, `G94` after inverse-time feed — so the 3-axis end
-//!   G-code that follows works.
+//!   vertical tool axis at the same tip point (the rest pose), `G94` after inverse-time feed.
+//!
+//! ## Outside the region
+//! Unless the machine's axes are the output's X Y Z and the output is not moved
+//! ([`Emitter::converts_outside`]), the unwarp hands the start and end G-code's moves over as
+//! points with tool axis +Z ([`crate::unwarp::outside`]): they are written like any point, with
+//! `tip` feed where `inverse-time` is asked for (`G94` is in force there), and the pose carries
+//! over into the region (`begin_region` keeps it). After homing, a move giving only some of
+//! X Y Z is written with the axes that depend on those alone at the rest pose
+//! ([`rest_dependence`]), or not at all ([`Emitter::outside_partial`]).
 //!
 //! ## Machine specifics
 //! - **Single-revolution rotary axis** (Slicer4RTN, `revolution: single`): when consecutive
@@ -126,6 +134,14 @@ pub struct MachineEmitter {
     scan: (usize, usize, u64),
     /// The input line of the toolpath point being written.
     input_line: u64,
+    /// The lines outside the printed region are converted ([`Emitter::converts_outside`]).
+    convert_outside: bool,
+    /// Outside the printed region (before [`Emitter::begin_region`], after
+    /// [`Emitter::end_region`]): `G94` is in force whatever the feed mode.
+    outside: bool,
+    /// Which output coordinates (x, y, z) each axis depends on at the rest pose
+    /// ([`rest_dependence`]), computed on the first partial move.
+    rest_deps: Option<Vec<[bool; 3]>>,
 }
 
 impl std::fmt::Debug for MachineEmitter {
@@ -199,6 +215,9 @@ impl MachineEmitter {
             line_base: 0,
             scan: (0, 0, 0),
             input_line: 0,
+            convert_outside: false,
+            outside: true,
+            rest_deps: None,
         })
     }
 
@@ -234,6 +253,23 @@ impl MachineEmitter {
         self.scan = (out.len(), out.len(), 0);
     }
 
+    /// Axis `i` at `value` is outside its travel, on the next line written to `out`, with the
+    /// tip at `p`.
+    fn travel_error(&mut self, out: &[u8], i: usize, value: f64, p: DVec3) -> MachineError {
+        let b = &self.reach.bounds()[i];
+        let (axis, min, max) = (b.name.clone(), b.min, b.max);
+        MachineError::Travel {
+            machine: self.preset.clone(),
+            axis,
+            value,
+            min,
+            max,
+            output_line: self.next_output_line(out),
+            input_line: self.input_line,
+            p,
+        }
+    }
+
     /// The 1-based output line the next line written to `out` will be.
     fn next_output_line(&mut self, out: &[u8]) -> u64 {
         let (start, upto, n) = self.scan;
@@ -243,11 +279,21 @@ impl MachineEmitter {
         self.line_base + n + more + 1
     }
 
+    /// The feed mode in force: outside the printed region `G94` (mm/min) is, so inverse-time
+    /// feed is written as `tip` there.
+    fn feed_now(&self) -> FeedMode {
+        if self.outside && self.feed == FeedMode::InverseTime {
+            FeedMode::Tip
+        } else {
+            self.feed
+        }
+    }
+
     fn write_feed(&mut self, out: &mut Vec<u8>, f: f64) {
         if !(f.is_finite() && f > 0.0) {
             return;
         }
-        if self.feed == FeedMode::InverseTime {
+        if self.feed_now() == FeedMode::InverseTime {
             out.extend_from_slice(b" F");
             push_fixed(out, f, INVERSE_TIME_DECIMALS);
         } else if self.last_f != Some(f) {
@@ -271,17 +317,7 @@ impl MachineEmitter {
         tag: &str,
     ) -> Result<(), MachineError> {
         if let Err(i) = self.reach.check(axes) {
-            let b = &self.reach.bounds()[i];
-            return Err(MachineError::Travel {
-                machine: self.preset.clone(),
-                axis: b.name.clone(),
-                value: axes[i],
-                min: b.min,
-                max: b.max,
-                output_line: self.next_output_line(out),
-                input_line: self.input_line,
-                p,
-            });
+            return Err(self.travel_error(out, i, axes[i], p));
         }
         // the move as the firmware reads it: the written (rounded) values
         let read =
@@ -313,7 +349,7 @@ impl MachineEmitter {
             push_e(out, v);
         }
         let feed = output_feed(
-            self.feed,
+            self.feed_now(),
             &FeedMove {
                 from,
                 to: axes,
@@ -336,7 +372,7 @@ impl MachineEmitter {
         };
         // timed as the firmware reads it: the written values
         self.speeds
-            .add_move(self.feed, &from_read, &to_read, f_fw, firmware_length);
+            .add_move(self.feed_now(), &from_read, &to_read, f_fw, firmware_length);
         self.written_axes = Some(to_read);
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
@@ -561,13 +597,17 @@ impl Emitter for MachineEmitter {
         if self.feed == FeedMode::InverseTime {
             out.extend_from_slice(b"G93 ; warpslice: inverse-time feed (F = 1/minutes)\n");
         }
-        // lines between regions are not this emitter's: the next G1 is always written
-        self.written_axes = None;
-        self.prev = self
-            .machine
-            .inverse(p, n, None)
-            .ok()
-            .map(|axes| Pose { axes, p, n });
+        self.outside = false;
+        if !self.convert_outside {
+            // the slicer's lines before the region passed through (not this emitter's): the
+            // head is where they left it, and the next G1 is always written
+            self.written_axes = None;
+            self.prev = self
+                .machine
+                .inverse(p, n, None)
+                .ok()
+                .map(|axes| Pose { axes, p, n });
+        }
         Ok(())
     }
 
@@ -583,17 +623,17 @@ impl Emitter for MachineEmitter {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");
             push_e(out, v);
-            let f = if self.feed == FeedMode::InverseTime {
+            let f = if self.feed_now() == FeedMode::InverseTime {
                 tp.f / tp.e.abs()
             } else {
                 tp.f
             };
             self.write_feed(out, f);
-            self.speeds.add_extruder_move(self.feed, tp.e, f);
+            self.speeds.add_extruder_move(self.feed_now(), tp.e, f);
             out.push(b'\n');
             return Ok(());
         }
-        if !tp.travel {
+        if !tp.travel && !self.outside {
             if self.last_layer.is_some_and(|l| l != tp.layer) {
                 self.reset_rotary(out);
             }
@@ -626,7 +666,10 @@ impl Emitter for MachineEmitter {
         }
         if self.feed == FeedMode::InverseTime {
             out.extend_from_slice(b"G94 ; warpslice: feed back to mm/min\n");
+            // the firmware's modal F is an inverse-time value now
+            self.last_f = None;
         }
+        self.outside = true;
         Ok(())
     }
 
@@ -641,6 +684,87 @@ impl Emitter for MachineEmitter {
             machine: self.preset.clone(),
             command: command.to_string(),
         }))
+    }
+
+    fn converts_outside(&mut self, moved: bool) -> bool {
+        self.convert_outside = moved || !self.machine.axes_are_output_xyz();
+        self.convert_outside
+    }
+
+    fn outside_pose_lost(&mut self) {
+        self.prev = None;
+        self.last_f = None;
+        // homing moved the head: the next G1 is written even if its words equal the last ones
+        self.written_axes = None;
+    }
+
+    fn forget_feed(&mut self) {
+        self.last_f = None;
+    }
+
+    fn outside_partial(
+        &mut self,
+        out: &mut Vec<u8>,
+        known: [Option<f64>; 3],
+        e: Option<(f64, bool)>,
+        f: f64,
+    ) -> Result<bool, EmitError> {
+        self.start_lines(out);
+        self.prev = None;
+        self.written_axes = None;
+        let deps = self
+            .rest_deps
+            .get_or_insert_with(|| rest_dependence(self.machine.as_ref()))
+            .clone();
+        let is_known = |d: &[bool; 3]| (0..3).all(|k| !d[k] || known[k].is_some());
+        let touches_known = |d: &[bool; 3]| (0..3).any(|k| d[k] && known[k].is_some());
+        // an axis moved by a known coordinate must be set by known coordinates only
+        if deps.iter().any(|d| touches_known(d) && !is_known(d)) {
+            return Ok(false);
+        }
+        let write: Vec<usize> = (0..deps.len())
+            .filter(|&i| touches_known(&deps[i]))
+            .collect();
+        if write.is_empty() {
+            return Ok(false);
+        }
+        // the unknown coordinates anywhere in the workspace: the written axes do not depend on them
+        let w = self.machine.workspace();
+        let c = (w.min + w.max) * 0.5;
+        let at = DVec3::new(
+            known[0].unwrap_or(c.x),
+            known[1].unwrap_or(c.y),
+            known[2].unwrap_or(c.z),
+        );
+        let axes = self
+            .machine
+            .inverse(at, DVec3::Z, None)
+            .map_err(EmitError::new)?;
+        let p = DVec3::new(
+            known[0].unwrap_or(f64::NAN),
+            known[1].unwrap_or(f64::NAN),
+            known[2].unwrap_or(f64::NAN),
+        );
+        for &i in &write {
+            let b = &self.reach.bounds()[i];
+            if !(axes[i] >= b.min && axes[i] <= b.max) {
+                return Err(EmitError::new(self.travel_error(out, i, axes[i], p)));
+            }
+        }
+        out.extend_from_slice(b"G1");
+        for &i in &write {
+            out.push(b' ');
+            out.extend_from_slice(self.limits[i].name.as_bytes());
+            push_mm(out, axes[i]);
+        }
+        if let Some((de, relative)) = e {
+            let v = self.ew.advance(de, relative);
+            out.extend_from_slice(b" E");
+            push_e(out, v);
+        }
+        self.write_feed(out, f);
+        out.extend_from_slice(b" ; warpslice: the other axes are where homing left them\n");
+        Ok(true)
     }
 
     fn reset_e(&mut self, v: f64) {
@@ -666,6 +790,66 @@ impl Emitter for MachineEmitter {
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
     }
+}
+
+/// A move's step when probing [`rest_dependence`], mm (well above rounding, small against any
+/// workspace).
+pub const REST_PROBE_STEP_MM: f64 = 7.3;
+/// An axis value that changes by more than this (mm or degrees) when a coordinate moves by
+/// [`REST_PROBE_STEP_MM`] depends on that coordinate (rounding of the kinematics is far below).
+pub const REST_PROBE_SLACK: f64 = 1e-9;
+
+/// Which output coordinates (x, y, z) each axis depends on at the rest pose (tool axis +Z, no
+/// previous pose): `inverse(p, +Z)` at five points of the machine's [`Machine::workspace`] (its
+/// centre and four points between the centre and the corners) against the same with one
+/// coordinate moved by [`REST_PROBE_STEP_MM`]. A probe the kinematics refuse counts as
+/// depending (conservative: such a move is not written from partial coordinates). Used for
+/// moves after homing that give only some coordinates ([`Emitter::outside_partial`]): e.g. on
+/// the polar machine Z depends on z alone, so `G1 Z5` after `G28` is `G1 Z5`, while X and C
+/// depend on x and y.
+pub fn rest_dependence(machine: &dyn Machine) -> Vec<[bool; 3]> {
+    let count = machine.limits().len();
+    let w = machine.workspace();
+    let at = |fx: f64, fy: f64, fz: f64| {
+        DVec3::new(
+            w.min.x + fx * (w.max.x - w.min.x),
+            w.min.y + fy * (w.max.y - w.min.y),
+            w.min.z + fz * (w.max.z - w.min.z),
+        )
+    };
+    let samples = [
+        at(0.5, 0.5, 0.5),
+        at(0.25, 0.25, 0.25),
+        at(0.75, 0.25, 0.5),
+        at(0.25, 0.75, 0.75),
+        at(0.75, 0.75, 0.25),
+    ];
+    let mut deps = vec![[false; 3]; count];
+    let mut probed = false;
+    for s in samples {
+        let Ok(a0) = machine.inverse(s, DVec3::Z, None) else {
+            continue;
+        };
+        probed = true;
+        for k in 0..3 {
+            let mut q = s;
+            q[k] += REST_PROBE_STEP_MM;
+            match machine.inverse(q, DVec3::Z, None) {
+                Ok(a1) => {
+                    for (d, (v0, v1)) in deps.iter_mut().zip(a0.iter().zip(&a1)) {
+                        if (v1 - v0).abs() > REST_PROBE_SLACK {
+                            d[k] = true;
+                        }
+                    }
+                }
+                Err(_) => deps.iter_mut().for_each(|d| d[k] = true),
+            }
+        }
+    }
+    if !probed {
+        return vec![[true; 3]; count];
+    }
+    deps
 }
 
 /// `N moves slowed by axis feed limits (A n, …); estimated time h:mm:ss (+s s slow-down)`: the

@@ -230,6 +230,12 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn head_frame(&self, _axes: &[f64]) -> Option<DMat3> {
         None
     }
+    /// Whether the axes are the output frame's X Y Z themselves (the 3-axis machine with the
+    /// letters X Y Z): a slicer's start and end G-code then mean the same on this machine and
+    /// pass through verbatim when the output is not moved ([`emit`], "Outside the region").
+    fn axes_are_output_xyz(&self) -> bool {
+        false
+    }
     /// Where the head is in the machine's own frame for these axis values (mm), for drawing the
     /// toolpath in machine coordinates: by default the first three axes are X Y Z.
     fn head_position(&self, axes: &[f64]) -> DVec3 {

@@ -131,6 +131,15 @@ pub(super) struct Core {
     pub(super) toolpath: Vec<ToolPoint>,
     pub(super) stack: Vec<(f64, DVec3, u32)>,
     pub(super) pieces: Vec<(f64, DVec3)>,
+    /// The lines outside the region are converted by the emitter ([`super::outside`]).
+    pub(super) convert_outside: bool,
+    /// Outside the region: which of the slicer's X Y Z the file gave since the last homing.
+    pub(super) known: [bool; 3],
+    /// Outside the region: where the converted lines left the tip (output frame), `None` while
+    /// the pose is unknown.
+    pub(super) outside_pose: Option<DVec3>,
+    /// After the region: the coordinates the file has not given since (they stay the head's).
+    pub(super) keep: [bool; 3],
 }
 
 impl Core {
@@ -212,8 +221,13 @@ impl Core {
             if state.inch {
                 return Err(UnwarpError::Inches { line: n });
             }
-            let p = state_position_before(line, state);
+            let mut p = state_position_before(line, state);
             self.cur = Some((p, DVec3::Z));
+            if self.convert_outside {
+                // the head is where the converted lines left it (unknown after homing)
+                self.cur = self.outside_pose.map(|q| (q, DVec3::Z));
+                p = self.outside_pose.unwrap_or(self.map_point(Kind::Flat, p).0);
+            }
             // the firmware's E is the slicer's at this point (absolute files: E words continue
             // from it)
             self.emit.reset_e(self.slicer_e);
@@ -231,6 +245,9 @@ impl Core {
             self.slicer_e = v;
         }
         if !self.inside || self.done_region {
+            if self.convert_outside {
+                return self.outside_line(line, state);
+            }
             self.passthrough(line.raw);
             return Ok(());
         }
@@ -405,7 +422,7 @@ impl Core {
         }
     }
 
-    fn passthrough(&mut self, raw: &[u8]) {
+    pub(super) fn passthrough(&mut self, raw: &[u8]) {
         self.emit.raw(&mut self.out, raw);
         self.report.lines_out += 1;
     }
@@ -463,7 +480,7 @@ impl Core {
         (BED_Z - out.z).max(0.0)
     }
 
-    fn map_point(&self, kind: Kind, g: DVec3) -> (DVec3, DVec3) {
+    pub(super) fn map_point(&self, kind: Kind, g: DVec3) -> (DVec3, DVec3) {
         let (out, n) = match kind {
             Kind::Object => {
                 let p = self.to_model(g);
@@ -813,6 +830,10 @@ impl Core {
             let r = self.counted(|c| c.emit.end_region(&mut c.out));
             self.keep_error(r);
         }
+        // the end G-code starts from the rest pose where the lift left the tip
+        self.outside_pose = self.cur.map(|(p, _)| p);
+        self.known = [self.outside_pose.is_some(); 3];
+        self.keep = self.known;
         if !self.e_relative && (self.emit.current_e() - self.slicer_e).abs() > E_QUANTUM {
             let line = format!(
                 "G92 E{} ; warpslice: back to the slicer's E",

@@ -153,7 +153,13 @@ impl Unwarper {
             toolpath: Vec::new(),
             stack: Vec::new(),
             pieces: Vec::new(),
+            convert_outside: false,
+            known: [false; 3],
+            outside_pose: None,
+            keep: [false; 3],
         };
+        let moved = shift != DVec3::ZERO || self.opts.z_offset != 0.0;
+        core.convert_outside = core.emit.converts_outside(moved);
         core.header();
         self.core = Some(core);
         // pass 2 expands arcs only inside the region: the lines outside pass through verbatim

@@ -75,6 +75,56 @@ pub enum UnwarpError {
         /// The `--place x,y` given, mm (at least one is NaN or infinite).
         place: [f64; 2],
     },
+    /// A line outside the printed region (start or end G-code) on a machine output that the
+    /// machine cannot carry out exactly in its own axes ([`super::outside`]).
+    OutsideMotion {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The line as written.
+        command: String,
+        /// What it does that cannot be converted.
+        reason: OutsideReason,
+    },
+    /// The machine refused a converted line outside the printed region (an axis beyond its
+    /// travel, an unreachable pose): the start or end G-code asks for it.
+    Outside {
+        /// 1-based line number of the G-code.
+        line: u64,
+        /// The line as written.
+        command: String,
+        /// What the machine refused (its code is this error's).
+        error: EmitError,
+    },
+}
+
+/// Why a motion line outside the printed region cannot be converted to a machine's axes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum OutsideReason {
+    /// A move with X, Y or Z under `G91`.
+    Relative,
+    /// `G2`/`G3`.
+    Arc,
+    /// `G92` with X, Y or Z.
+    AxisReset,
+    /// `G20`.
+    Inches,
+    /// An extruding move after homing that gives only some of X, Y, Z, on a machine whose
+    /// axes it moves also depend on the others.
+    PartialExtrusion,
+}
+
+impl OutsideReason {
+    /// What the line does, and what to change, for the message.
+    fn explain(self) -> &'static str {
+        match self {
+            OutsideReason::Relative => "a relative move (G91) where the head's position is not known (after homing, before X, Y and Z were all given) cannot be converted to the machine's axes; use absolute moves (G90) in the start G-code, or give X, Y and Z first",
+            OutsideReason::Arc => "an arc (G2/G3) cannot be converted to the machine's axes; use straight G1 moves in the start and end G-code (or remove the prime or purge line)",
+            OutsideReason::AxisReset => "G92 with X, Y or Z redefines the slicer's frame, which the machine's axes cannot follow; remove it from the start and end G-code (G92 E alone is fine)",
+            OutsideReason::Inches => "inches (G20) cannot be converted to the machine's millimetre axes; export the G-code in millimetres",
+            OutsideReason::PartialExtrusion => "after homing this move extrudes while giving only some of X, Y, Z, and the machine's axes it moves depend on the others; give X, Y and Z in the first move after homing (e.g. G1 X… Y… Z…) or remove the prime line",
+        }
+    }
 }
 
 impl From<GcodeError> for UnwarpError {
@@ -126,6 +176,15 @@ impl std::fmt::Display for UnwarpError {
                 w.model.z,
                 w.allowed
             ),
+            UnwarpError::OutsideMotion { line, command, reason } => write!(
+                f,
+                "G-code line {line}: '{command}' outside the printed region (start or end G-code, written for the slicer's printer): {}",
+                reason.explain()
+            ),
+            UnwarpError::Outside { line, command, error } => write!(
+                f,
+                "G-code line {line}: '{command}' outside the printed region (start or end G-code), converted to the machine's axes: {error}. The start and end G-code are in the slicer's frame and are placed and converted like the part: change or remove this move in the slicer's start/end G-code (or unwarp to 3-axis G-code)"
+            ),
             UnwarpError::BadPlace { place } => {
                 write!(f, "place {},{} is not a position: give two finite numbers x,y in mm", place[0], place[1])
             }
@@ -139,7 +198,7 @@ impl std::error::Error for UnwarpError {
             UnwarpError::Gcode(e) => Some(e),
             UnwarpError::Warp(e) => Some(e),
             UnwarpError::Register(e) => Some(e),
-            UnwarpError::Emit { error, .. } => Some(error),
+            UnwarpError::Emit { error, .. } | UnwarpError::Outside { error, .. } => Some(error),
             _ => None,
         }
     }
@@ -172,6 +231,14 @@ impl Coded for UnwarpError {
             UnwarpError::Warp(e) => e.code(),
             UnwarpError::Register(e) => e.code(),
             UnwarpError::Emit { error, .. } => error.code(),
+            UnwarpError::Outside { error, .. } => error.code(),
+            UnwarpError::OutsideMotion { reason, .. } => match reason {
+                OutsideReason::Relative => "unwarp.outside-relative",
+                OutsideReason::Arc => "unwarp.outside-arc",
+                OutsideReason::AxisReset => "unwarp.outside-axis-reset",
+                OutsideReason::Inches => "unwarp.outside-inches",
+                OutsideReason::PartialExtrusion => "unwarp.outside-partial-extrusion",
+            },
         }
     }
 }
@@ -217,5 +284,30 @@ pub const ERROR_CODES: &[ErrorCode] = &[
         code: "unwarp.option",
         area: "unwarp",
         summary: "an unwarp option outside its range",
+    },
+    ErrorCode {
+        code: "unwarp.outside-relative",
+        area: "unwarp",
+        summary: "a relative (G91) move in the start/end G-code of a machine output",
+    },
+    ErrorCode {
+        code: "unwarp.outside-arc",
+        area: "unwarp",
+        summary: "an arc (G2/G3) in the start/end G-code of a machine output",
+    },
+    ErrorCode {
+        code: "unwarp.outside-axis-reset",
+        area: "unwarp",
+        summary: "G92 X/Y/Z in the start/end G-code of a machine output",
+    },
+    ErrorCode {
+        code: "unwarp.outside-inches",
+        area: "unwarp",
+        summary: "G20 inches in the start/end G-code of a machine output",
+    },
+    ErrorCode {
+        code: "unwarp.outside-partial-extrusion",
+        area: "unwarp",
+        summary: "an extruding move after homing that gives only some of X Y Z, on a machine that needs all",
     },
 ];

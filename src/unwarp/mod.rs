@@ -9,8 +9,10 @@
 //!    no piece is longer than `max_segment`; every point is mapped with T⁻¹, gets the tool
 //!    axis (layer normal), layer, feature and feed; E is made volume-correct ([`extrusion`]);
 //!    travels are re-planned ([`travel`]); skirt and brim stay flat at their slicer height (or
-//!    are dropped, `drop_skirt`); the anchor layer's extrusions are dropped; lines outside the
-//!    region, and non-move lines inside it, pass through verbatim and in order.
+//!    are dropped, `drop_skirt`); the anchor layer's extrusions are dropped; non-move lines
+//!    inside the region pass through verbatim and in order; lines outside it (start and end
+//!    G-code) pass through verbatim on 3-axis output, and on a machine output their moves are
+//!    placed and converted at the machine's rest pose, or refused by name ([`outside`]).
 //!
 //! Coordinates: a G-code point g (slicer bed frame) → STL point g − (dx, dy, 0) → T-space
 //! q = STL − (0, 0, stl_z_offset) → model p = T⁻¹(q) → output p + model_to_output, with
@@ -18,7 +20,8 @@
 //! With `place` = (px, py) the part goes there instead of where the slicer put it:
 //! model_to_output = (px, py, z_offset), and the flat skirt and brim move with it by
 //! (px − dx, py − dy) (for machines whose rotary axes pass through a fixed point, e.g. an A/B
-//! table's origin). Lines outside the region (start and end G-code) are never moved.
+//! table's origin). Lines outside the region (start and end G-code) are moved with the part only
+//! on a machine output ([`outside`]); on 3-axis output they stay the slicer's.
 //!
 //! **Never below the bed.** A mapped object point with z < 0 (hundredths of a millimetre from
 //! a slicer's first-layer offset on a steep warp) is clamped to z = 0 and the E of the
@@ -40,6 +43,7 @@ mod driver;
 mod error;
 pub mod flow;
 mod options;
+pub mod outside;
 mod report;
 pub mod segment;
 pub mod shape;
@@ -47,7 +51,7 @@ pub mod travel;
 
 pub use crate::emit::DEFAULT_TRAVEL_FEED;
 pub use driver::Unwarper;
-pub use error::{UnwarpError, ERROR_CODES};
+pub use error::{OutsideReason, UnwarpError, ERROR_CODES};
 pub use flow::Flow;
 pub use options::{UnwarpOptions, PARAMS};
 pub use report::UnwarpReport;
