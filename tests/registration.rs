@@ -9,6 +9,8 @@
 #![cfg(not(target_arch = "wasm32"))] // native only: files, processes and the real slicers
 
 mod common;
+#[path = "common/synthetic.rs"]
+mod synthetic;
 
 use std::path::Path;
 
@@ -399,4 +401,212 @@ fn a_thin_winged_part_is_placed_by_what_was_printed_with_every_slicer() {
     assert!(ran > 0 || common::skip::allowed());
     // the tips were dropped: the box match cannot place every case
     assert!(ran == 0 || refused_without > 0);
+}
+
+// ── issue 12, misleading errors: what the slicer prints beside the part ──────────────────────
+
+/// The synthetic slicer's file with Bambu Studio's / OrcaSlicer's labels (`; FEATURE: Outer
+/// wall`, `Sparse infill`, `Skirt`) instead of PrusaSlicer's `;TYPE:`, a `; FEATURE: Brim` ring
+/// touching the part on the first layer and a 10 mm `; FEATURE: Prime tower` 25 mm beside the
+/// part on every layer. `labels`: false strips every label (an untyped file).
+fn orca_like(g: &str, tower: bool, brim: bool, labels: bool) -> String {
+    let mut out = String::new();
+    let mut layer = 0;
+    let mut brim_done = false;
+    let label = |l: &str| if labels { format!("; FEATURE: {l}\n") } else { String::new() };
+    for l in g.lines() {
+        if let Some(t) = l.strip_prefix(";TYPE:") {
+            let orca = match t {
+                "External perimeter" => "Outer wall",
+                "Internal infill" => "Sparse infill",
+                "Skirt/Brim" => "Skirt",
+                other => other,
+            };
+            out += &label(orca);
+            if brim && layer == 1 && !brim_done && orca == "Outer wall" {
+                // five loops from 0.45 to 2.25 mm outside the cube's 20 mm wall (x, y ∈ 100 ± 10
+                // on a first layer that holds the whole cube)
+                out += &label("Brim");
+                for k in 1..=5 {
+                    let r = 10.0 + 0.45 * f64::from(k);
+                    let (a, b) = (100.0 - r, 100.0 + r);
+                    out += &format!("G0 X{a:.3} Y{a:.3}\n");
+                    for (x, y) in [(b, a), (b, b), (a, b), (a, a)] {
+                        out += &format!("G1 X{x:.3} Y{y:.3} E0.5 F1800\n");
+                    }
+                }
+                out += &label("Outer wall");
+                brim_done = true;
+            }
+            continue;
+        }
+        if l == ";LAYER_CHANGE" {
+            if tower && layer > 0 {
+                let z = f64::from(layer) * 0.2;
+                let (x0, x1, y0, y1) = (135.0, 145.0, 95.0, 105.0);
+                out += &label("Prime tower");
+                out += &format!("G1 E-0.8 F2400\nG0 X{x0} Y{y0} Z{z:.3} F6000\nG1 E0.8 F2400\n");
+                for (x, y) in [(x1, y0), (x1, y1), (x0, y1), (x0, y0)] {
+                    out += &format!("G1 X{x} Y{y} E0.4 F1800\n");
+                }
+            }
+            layer += 1;
+        }
+        out += l;
+        out.push('\n');
+    }
+    out
+}
+
+/// `warpslice unwarp G --job J -o OUT` (without `--offset`): Ok(stdout) or Err(stderr).
+fn cli_unwarp(d: &Path, job: &warpslice::job::Job, g: &str) -> Result<String, String> {
+    let (input, j, out) = (d.join("in.gcode"), d.join("part.job.json"), d.join("out.gcode"));
+    std::fs::write(&input, g).unwrap();
+    std::fs::write(&j, job.to_json_pretty()).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args(["unwarp", input.to_str().unwrap(), "--job"])
+        .arg(&j)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    if o.status.success() {
+        Ok(String::from_utf8_lossy(&o.stdout).into_owned())
+    } else {
+        Err(String::from_utf8_lossy(&o.stderr).into_owned())
+    }
+}
+
+/// Issue 12, misleading errors: a file with Bambu/Orca `; FEATURE:` labels, a prime tower and a
+/// brim got advice to use `--offset` (following it bent the tower and brim as if they were the
+/// part). The labels are read as `;TYPE:` is: the tower and brim stay out of the placement and
+/// are written flat, by the library and the CLI. Without labels, the same file is refused as
+/// `register.more-than-the-model`, naming the missing labels, the tower or brim and the fix
+/// (and saying `--offset` does not help); a brim alone is named as a brim.
+#[test]
+fn orca_feature_labels_keep_a_prime_tower_and_brim_out_of_the_part() {
+    let w = synthetic::conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let d = dir("orca");
+    let c = w.job.warped_bbox.center();
+    let want = [BED_CENTRE[0] - c.x, BED_CENTRE[1] - c.y];
+    let labelled = orca_like(&g, true, true, true);
+    assert!(labelled.contains("; FEATURE: Prime tower") && !labelled.contains(";TYPE:"));
+    let u = warpslice::pipeline::unwarp(labelled.as_bytes(), &w.job, &UnwarpSettings::default())
+        .unwrap_or_else(|e| panic!("labelled: {e}"));
+    let t = u.report.translation;
+    let err = (t[0] - want[0]).hypot(t[1] - want[1]);
+    assert!(err < 0.05, "placed {t:?}, want {want:?}");
+    // the tower's corner is written as it was printed: flat, where the slicer put it
+    let text = String::from_utf8_lossy(&u.gcode);
+    assert!(text.contains("G1 X145 Y105") || text.contains("X145.000 Y105.000"), "the tower is not written flat");
+    let out = cli_unwarp(&d, &w.job, &labelled).unwrap_or_else(|e| panic!("CLI: {e}"));
+    assert!(out.contains("registration: translation"), "{out}");
+
+    // the cube's conic job has an anchor (the cone's tip touches the bed), whose whole first
+    // layer is dropped with a brim in it: the brim case takes a nearly flat belt, no anchor
+    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "c");
+    let mut flat = WarpOptions::new(WarpParams {
+        spec: WarpSpec::Belt {
+            angle: 0.5,
+            toward: [0.0, 1.0],
+        },
+        base: None,
+    });
+    flat.anchor = warpslice::pipeline::AnchorMode::Off;
+    let flat = warpslice::pipeline::warp_model(&stl, &flat).unwrap();
+    let g_flat = synthetic::gcode(&flat.job, true, 2.0);
+    for (what, job, g, tower, brim, words) in [
+        ("tower", &w.job, &g, true, false, &["no feature labels", "prime tower", "--offset does not help"][..]),
+        ("brim", &flat.job, &g_flat, false, true, &["first layer only: a brim", "no feature labels"][..]),
+    ] {
+        let bare = orca_like(g, tower, brim, false)
+            .lines()
+            .filter(|l| !l.starts_with(";TYPE:"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let e = warpslice::pipeline::unwarp(bare.as_bytes(), job, &UnwarpSettings::default())
+            .err()
+            .unwrap_or_else(|| panic!("{what}: an unlabelled file accepted"));
+        assert_eq!(warpslice::error::Coded::code(&e), "register.more-than-the-model", "{what}: {e}");
+        let cli = cli_unwarp(&d, job, &bare).unwrap_err();
+        for n in words {
+            assert!(e.to_string().contains(n), "{what}: {e}");
+            assert!(cli.contains(n), "{what}: {cli}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Issue 12, misleading errors: `--duplicate 2` (PrusaSlicer: two copies of the object) was
+/// refused as a registration residual or, with the warped STL, misplaced onto one copy. It is
+/// named as two objects with the fix (one object per file): a synthetic file with a second copy
+/// 26 mm beside the first (library and CLI), and PrusaSlicer's own `--duplicate 2`.
+#[test]
+fn two_copies_of_the_object_are_named_as_two_objects() {
+    let w = synthetic::conic_cube();
+    let g = synthetic::gcode(&w.job, true, 2.0);
+    let d = dir("duplicate");
+    // every layer printed twice, the second time 26 mm to the right
+    let mut two = String::new();
+    let mut layer = String::new();
+    let flush = |two: &mut String, layer: &mut String| {
+        two.push_str(layer);
+        two.push_str(&synthetic::shifted(layer, 26.0, 0.0));
+        layer.clear();
+    };
+    for l in g.lines() {
+        if l == ";LAYER_CHANGE" {
+            flush(&mut two, &mut layer);
+            two.push_str(";LAYER_CHANGE\n");
+            continue;
+        }
+        layer.push_str(l);
+        layer.push('\n');
+    }
+    flush(&mut two, &mut layer);
+    let e = warpslice::pipeline::unwarp(two.as_bytes(), &w.job, &UnwarpSettings::default())
+        .err()
+        .expect("two copies accepted");
+    assert_eq!(warpslice::error::Coded::code(&e), "register.more-than-the-model", "{e}");
+    let words = ["2 objects", "one object per file"];
+    let cli = cli_unwarp(&d, &w.job, &two).unwrap_err();
+    for n in words {
+        assert!(e.to_string().contains(n), "{e}");
+        assert!(cli.contains(n), "{cli}");
+    }
+    // one copy is accepted
+    assert!(warpslice::pipeline::unwarp(g.as_bytes(), &w.job, &UnwarpSettings::default()).is_ok());
+
+    if let Err(e) = warpslice::slicer::available(SlicerKind::PrusaSlicer) {
+        common::skip::skip_or_fail("PrusaSlicer", &e.to_string());
+        return;
+    }
+    let model = d.join("cube.stl");
+    std::fs::write(
+        &model,
+        warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "cube"),
+    )
+    .unwrap();
+    let files = RunFiles::next_to(&d.join("part.gcode"));
+    files::warp_file(&model, &conic(), &files.warped, &mut ()).unwrap();
+    let slice = SliceOptions {
+        slicer: SlicerKind::PrusaSlicer,
+        extra_args: vec!["--duplicate".into(), "2".into()],
+        ..Default::default()
+    };
+    warpslice::slicer::slice(&files.warped, &files.sliced, &slice).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args(["unwarp", files.sliced.to_str().unwrap(), "--job"])
+        .arg(files::job_path(&files.warped))
+        .arg("-o")
+        .arg(d.join("dup.gcode"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "PrusaSlicer --duplicate 2 accepted");
+    for n in words {
+        assert!(err.contains(n), "PrusaSlicer --duplicate 2: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
 }
