@@ -413,7 +413,13 @@ fn orca_like(g: &str, tower: bool, brim: bool, labels: bool) -> String {
     let mut out = String::new();
     let mut layer = 0;
     let mut brim_done = false;
-    let label = |l: &str| if labels { format!("; FEATURE: {l}\n") } else { String::new() };
+    let label = |l: &str| {
+        if labels {
+            format!("; FEATURE: {l}\n")
+        } else {
+            String::new()
+        }
+    };
     for l in g.lines() {
         if let Some(t) = l.strip_prefix(";TYPE:") {
             let orca = match t {
@@ -460,7 +466,11 @@ fn orca_like(g: &str, tower: bool, brim: bool, labels: bool) -> String {
 
 /// `warpslice unwarp G --job J -o OUT` (without `--offset`): Ok(stdout) or Err(stderr).
 fn cli_unwarp(d: &Path, job: &warpslice::job::Job, g: &str) -> Result<String, String> {
-    let (input, j, out) = (d.join("in.gcode"), d.join("part.job.json"), d.join("out.gcode"));
+    let (input, j, out) = (
+        d.join("in.gcode"),
+        d.join("part.job.json"),
+        d.join("out.gcode"),
+    );
     std::fs::write(&input, g).unwrap();
     std::fs::write(&j, job.to_json_pretty()).unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
@@ -499,7 +509,10 @@ fn orca_feature_labels_keep_a_prime_tower_and_brim_out_of_the_part() {
     assert!(err < 0.05, "placed {t:?}, want {want:?}");
     // the tower's corner is written as it was printed: flat, where the slicer put it
     let text = String::from_utf8_lossy(&u.gcode);
-    assert!(text.contains("G1 X145 Y105") || text.contains("X145.000 Y105.000"), "the tower is not written flat");
+    assert!(
+        text.contains("G1 X145 Y105") || text.contains("X145.000 Y105.000"),
+        "the tower is not written flat"
+    );
     let out = cli_unwarp(&d, &w.job, &labelled).unwrap_or_else(|e| panic!("CLI: {e}"));
     assert!(out.contains("registration: translation"), "{out}");
 
@@ -517,8 +530,22 @@ fn orca_feature_labels_keep_a_prime_tower_and_brim_out_of_the_part() {
     let flat = warpslice::pipeline::warp_model(&stl, &flat).unwrap();
     let g_flat = synthetic::gcode(&flat.job, true, 2.0);
     for (what, job, g, tower, brim, words) in [
-        ("tower", &w.job, &g, true, false, &["no feature labels", "prime tower", "--offset does not help"][..]),
-        ("brim", &flat.job, &g_flat, false, true, &["first layer only: a brim", "no feature labels"][..]),
+        (
+            "tower",
+            &w.job,
+            &g,
+            true,
+            false,
+            &["no feature labels", "prime tower", "--offset does not help"][..],
+        ),
+        (
+            "brim",
+            &flat.job,
+            &g_flat,
+            false,
+            true,
+            &["first layer only: a brim", "no feature labels"][..],
+        ),
     ] {
         let bare = orca_like(g, tower, brim, false)
             .lines()
@@ -528,7 +555,11 @@ fn orca_feature_labels_keep_a_prime_tower_and_brim_out_of_the_part() {
         let e = warpslice::pipeline::unwarp(bare.as_bytes(), job, &UnwarpSettings::default())
             .err()
             .unwrap_or_else(|| panic!("{what}: an unlabelled file accepted"));
-        assert_eq!(warpslice::error::Coded::code(&e), "register.more-than-the-model", "{what}: {e}");
+        assert_eq!(
+            warpslice::error::Coded::code(&e),
+            "register.more-than-the-model",
+            "{what}: {e}"
+        );
         let cli = cli_unwarp(&d, job, &bare).unwrap_err();
         for n in words {
             assert!(e.to_string().contains(n), "{what}: {e}");
@@ -568,7 +599,11 @@ fn two_copies_of_the_object_are_named_as_two_objects() {
     let e = warpslice::pipeline::unwarp(two.as_bytes(), &w.job, &UnwarpSettings::default())
         .err()
         .expect("two copies accepted");
-    assert_eq!(warpslice::error::Coded::code(&e), "register.more-than-the-model", "{e}");
+    assert_eq!(
+        warpslice::error::Coded::code(&e),
+        "register.more-than-the-model",
+        "{e}"
+    );
     let words = ["2 objects", "one object per file"];
     let cli = cli_unwarp(&d, &w.job, &two).unwrap_err();
     for n in words {

@@ -624,7 +624,12 @@ pub const MAX_EXTRA_WIDTH: f64 = 2.0 * MAX_REGISTRATION_RESIDUAL;
 
 /// [`RegisterError::MoreThanTheModel`] when the object's box `bbox` is wider than the mesh's by
 /// more than [`MAX_EXTRA_WIDTH`], with what the extra is.
-fn more_than_the_model(acc: &Acc, bbox: Aabb, mesh: Aabb, typed: bool) -> Result<(), RegisterError> {
+fn more_than_the_model(
+    acc: &Acc,
+    bbox: Aabb,
+    mesh: Aabb,
+    typed: bool,
+) -> Result<(), RegisterError> {
     let wider = |b: Aabb| {
         let (g, m) = (b.size(), mesh.size());
         g.x > m.x + MAX_EXTRA_WIDTH || g.y > m.y + MAX_EXTRA_WIDTH
