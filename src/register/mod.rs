@@ -256,6 +256,10 @@ pub struct Registration {
     /// [`ending`]): the end G-code is missing, or the file was cut short.
     #[serde(default)]
     pub end_gcode_missing: bool,
+    /// Object extrusions outside the `;WARPSLICE_BEGIN` / `;WARPSLICE_END` region: their count
+    /// and the first one's line (`None`: none, or no markers).
+    #[serde(default)]
+    pub outside_markers: Option<[u64; 2]>,
 }
 
 /// What the fine registration found ([`refine`]).
@@ -298,12 +302,17 @@ struct Acc {
     /// Object extrusion runs on the first layer.
     runs0: Vec<Run>,
     in_run: bool,
+    /// Object extrusions before any `;WARPSLICE_BEGIN` and after a `;WARPSLICE_END`: count
+    /// and first line.
+    before_begin: (u64, Option<u64>),
+    after_end: (u64, Option<u64>),
     first_layer: Option<u32>,
     first_layer_z: Option<f64>,
 }
 
 impl Acc {
-    fn extrusion(&mut self, line: u64, m: &crate::gcode::Move) {
+    /// An extrusion at `line`; `markers`: the `;WARPSLICE_BEGIN` / `_END` lines seen so far.
+    fn extrusion(&mut self, line: u64, m: &crate::gcode::Move, markers: [Option<u64>; 2]) {
         if m.feature == crate::toolpath::Feature::Custom {
             self.in_run = false;
             return;
@@ -319,6 +328,15 @@ impl Acc {
         }
         if self.first_obj.is_none() {
             self.first_obj = Some(line);
+        }
+        let outside = match markers {
+            [None, _] => Some(&mut self.before_begin),
+            [_, Some(_)] => Some(&mut self.after_end),
+            _ => None,
+        };
+        if let Some((n, first)) = outside {
+            *n += 1;
+            first.get_or_insert(line);
         }
         self.last_obj = Some(line);
         let first_layer = *self.first_layer.get_or_insert(m.layer);
@@ -413,9 +431,9 @@ impl Scanner {
                         line.number,
                     );
                 }
-                self.untyped.extrusion(line.number, m);
+                self.untyped.extrusion(line.number, m, self.markers);
                 if self.typed {
-                    self.typed_acc.extrusion(line.number, m);
+                    self.typed_acc.extrusion(line.number, m, self.markers);
                 }
             } else if m.from.truncate() != m.to.truncate() {
                 self.untyped.in_run = false;
@@ -612,8 +630,21 @@ impl Scanner {
             fit,
             unterminated_line,
             end_gcode_missing,
+            outside_markers: outside_markers(acc, self.markers),
         })
     }
+}
+
+/// The object extrusions `acc` found outside the region its `markers` set: (count, first line).
+fn outside_markers(acc: &Acc, markers: [Option<u64>; 2]) -> Option<[u64; 2]> {
+    let before = if markers[0].is_some() {
+        acc.before_begin
+    } else {
+        (0, None)
+    };
+    let (after, first_after) = acc.after_end;
+    let first = before.1.or(first_after)?;
+    Some([before.0 + after, first])
 }
 
 /// How much wider than the warped mesh (x or y) the object's extrusions may be before the

@@ -221,6 +221,14 @@ impl Unwarper {
         }
         core.counted(|c| c.emit.finish(&mut c.out));
         core.report.machine = core.emit.machine_report();
+        if let Some(w) = core
+            .report
+            .machine
+            .as_ref()
+            .and_then(UnwarpReport::dropped_tilt_warning)
+        {
+            core.report.warnings.push(w);
+        }
         self.finished = true;
         Ok(core.report.clone())
     }
