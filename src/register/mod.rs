@@ -169,7 +169,7 @@ impl std::fmt::Display for RegisterError {
                     ),
                     (true, _, _) => write!(
                         f,
-                        ": something labelled as the object reaches beyond the part (a second model merged with it, or support wider than the part). Slice the warped STL alone, with support inside the part or off"
+                        ": slice the warped STL written with this job, alone"
                     ),
                     (false, true, _) => write!(
                         f,
@@ -515,7 +515,9 @@ impl Scanner {
             return Err(RegisterError::NoExtrusions);
         }
         let mesh_bbox = job.warped_bbox;
-        more_than_the_model(acc, bbox, mesh_bbox, self.typed)?;
+        if offset.is_none() {
+            more_than_the_model(acc, bbox, mesh_bbox, self.typed)?;
+        }
         let (mut dx, mut dy) = match offset {
             Some([x, y]) => (x, y),
             None => {
@@ -654,7 +656,9 @@ fn outside_markers(acc: &Acc, markers: [Option<u64>; 2]) -> Option<[u64; 2]> {
 pub const MAX_EXTRA_WIDTH: f64 = 2.0 * MAX_REGISTRATION_RESIDUAL;
 
 /// [`RegisterError::MoreThanTheModel`] when the object's box `bbox` is wider than the mesh's by
-/// more than [`MAX_EXTRA_WIDTH`], with what the extra is.
+/// more than [`MAX_EXTRA_WIDTH`] and the extra is something beside the part: two or more
+/// separate groups (copies, a tower), or in an unlabelled file a first layer wider than the
+/// rest (a brim). One wider thing on every layer is another model ([`RegisterError::Mismatch`]).
 fn more_than_the_model(
     acc: &Acc,
     bbox: Aabb,
@@ -668,11 +672,17 @@ fn more_than_the_model(
     if !wider(bbox) {
         return Ok(());
     }
+    let groups = acc.groups_upper.count();
+    let first_layer_only = !typed && !acc.bbox_upper.is_empty() && !wider(acc.bbox_upper);
+    // one wider thing on every layer is another model: the box match names it
+    if groups < 2 && !first_layer_only {
+        return Ok(());
+    }
     let (g, m) = (bbox.size(), mesh.size());
     Err(RegisterError::MoreThanTheModel {
-        groups: acc.groups_upper.count(),
+        groups,
         typed,
-        first_layer_only: !acc.bbox_upper.is_empty() && !wider(acc.bbox_upper),
+        first_layer_only,
         gcode_size: [g.x, g.y],
         mesh_size: [m.x, m.y],
     })

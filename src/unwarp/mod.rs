@@ -41,6 +41,7 @@ mod error;
 pub mod flow;
 mod options;
 mod report;
+pub mod section;
 pub mod segment;
 pub mod shape;
 pub mod travel;

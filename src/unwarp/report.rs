@@ -48,6 +48,11 @@ pub struct UnwarpReport {
     /// part, less what is allowed there, mm (negative: every point inside with this much room).
     #[serde(default)]
     pub shape_margin_mm: f64,
+    /// The shape check by cross-section (with the warped mesh): the worst point's distance
+    /// outside the mesh's cut at its layer's mid-height less its allowance, mm (refused above
+    /// 0; `None` without the mesh).
+    #[serde(default)]
+    pub shape_section_margin_mm: Option<f64>,
     /// Object points beyond the shape check's tolerance (at most
     /// [`crate::unwarp::shape::SHAPE_OUTLIERS`] are accepted).
     #[serde(default)]
