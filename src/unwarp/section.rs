@@ -176,8 +176,8 @@ impl Sections {
                     let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
                     if x > q.x {
                         crossings += 1;
-                        // outward normal on the right: a segment going down (−y) has its
-                        // outside toward −x… toward +x the ray leaves through an upward one
+                        // with the outward normal on each segment's right, a closed outline
+                        // runs counter-clockwise: the ray leaves it through an upward segment
                         winding += if b.y > a.y { 1 } else { -1 };
                     }
                 }
