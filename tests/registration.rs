@@ -672,11 +672,11 @@ fn refused_margin(m: &str) -> Option<f64> {
 /// Issue 12 item 3, by cross-section: with the warped STL beside each job (as the CLI reads
 /// it), the 30° outward cone's G-code of the corpus gear wheel (not a box: the box check's
 /// weak case) is accepted with its own job and refused with each other job (31°, 29.5°,
-/// inward, centre moved 0.5 mm), by every slicer. Prints the accepted cases' largest margin
-/// and the refused cases' smallest (distance outside less allowance, mm) for the box check
-/// alone (without the STL) and with the cross-sections, so the gain is measured.
+/// inward, centre moved 0.5 mm), by every slicer; the own job's points lie inside the mesh's
+/// cross-sections. Prints the accepted case's margin (distance outside less allowance, mm) by
+/// box and by cross-section and the refused cases' smallest, for the record.
 #[test]
-fn with_the_mesh_another_warp_is_refused_by_cross_section_with_a_wider_margin() {
+fn with_the_mesh_another_warp_is_refused_and_the_section_margins_are_measured() {
     let Some(corpus) = common::corpus_dir() else {
         common::skip::skip_or_fail("the corpus models", "no ../shared/corpus/stl");
         return;
@@ -756,7 +756,8 @@ fn with_the_mesh_another_warp_is_refused_by_cross_section_with_a_wider_margin() 
 /// Issue 12 item 3, by cross-section, on its own: a printed point in the warped cylinder's box
 /// but outside its round cross-section (near the box's corner) passes the box check and is
 /// found by the cross-section check (face "outside the warped mesh's cross-section", its
-/// layer), far enough out to refuse at once; the point on the axis passes both.
+/// layer; measured and reported, not yet refusing: see `src/unwarp/shape.rs`); the point on
+/// the axis passes both.
 #[test]
 fn a_point_in_the_box_but_outside_the_cross_section_is_found_only_with_the_mesh() {
     use warpslice::unwarp::shape::{ShapeCheck, SECTION_FACE};
@@ -780,7 +781,7 @@ fn a_point_in_the_box_but_outside_the_cross_section_is_found_only_with_the_mesh(
             (0.0, 0.0),
             79,
             line,
-            g - glam::DVec3::Z * 0.2,
+            axis - glam::DVec3::Z * 0.2,
             warpslice::toolpath::Feature::InnerWall,
         );
         shape.point(
@@ -795,13 +796,22 @@ fn a_point_in_the_box_but_outside_the_cross_section_is_found_only_with_the_mesh(
     };
     let mut with = ShapeCheck::new(Some(&mesh));
     assert_eq!(at(&mut with, axis, 1), None);
-    let f = at(&mut with, corner, 10).expect("the corner point is found by cross-section");
-    assert_eq!((f.face, f.layer, f.line), (SECTION_FACE, 80, 11), "{f:?}");
-    let mut without = ShapeCheck::new(None);
-    assert_eq!(at(&mut without, axis, 1), None);
+    assert_eq!((with.section_beyond, with.section_worst), (0, None));
+    assert!(with.section_margin.is_some_and(|m| m < 0.0));
+    assert_eq!(at(&mut with, corner, 10), None, "the box check passes it");
+    let f = with
+        .section_worst
+        .expect("the corner point is found by cross-section");
     assert_eq!(
-        at(&mut without, corner, 10),
-        None,
-        "inside the box: the box check alone passes it"
+        (f.face, f.layer, f.line, with.section_beyond),
+        (SECTION_FACE, 80, 11, 1),
+        "{f:?}"
     );
+    assert!(
+        f.overshoot > 0.5 && with.section_margin.is_some_and(|m| m > 0.4),
+        "{f:?}"
+    );
+    let mut without = ShapeCheck::new(None);
+    assert_eq!(at(&mut without, corner, 10), None);
+    assert_eq!((without.section_beyond, without.section_margin), (0, None));
 }

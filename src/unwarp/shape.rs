@@ -28,8 +28,10 @@
 //! beside the job; `run` and the page have it), each point is also compared with the mesh's
 //! cut at its layer's mid-height ([`super::section`]): g − (dx, dy) must lie inside the cut or
 //! within [`SECTION_TOLERANCE`] of it (support material, printed outside the part by design,
-//! is left out). The worst point names its layer and distance; more than [`SHAPE_OUTLIERS`]
-//! beyond, or one beyond [`SECTION_GROSS`], refuse the G-code.
+//! is left out). **Measured and reported, not yet refusing** (`shape_section_margin_mm`,
+//! [`ShapeCheck::section_worst`]): in the real-slicer matrix CuraEngine's files of boxes on a
+//! curved warp (curved-out 0.3) hold points up to 1 mm outside this cut (layers 2, 7, 27;
+//! PrusaSlicer and Slic3r not seen), not explained yet — this cut or the slicer.
 
 use glam::DVec3;
 
@@ -55,8 +57,6 @@ pub const SHAPE_OUTLIERS: u64 = 5;
 /// rounding and the slicers' resolution ([`SHAPE_TOLERANCE_NORMAL`]). Bead centres lie about
 /// half a line width (0.2 mm) inside the cut.
 pub const SECTION_TOLERANCE: f64 = SHAPE_TOLERANCE_NORMAL + SHAPE_TOLERANCE_OUTLINE;
-/// A point this far outside the cut refuses at once, mm (a line width and more: another warp).
-pub const SECTION_GROSS: f64 = 0.5;
 
 /// The faces of the model's box, as the error names them.
 pub const FACES: [&str; 7] = [
@@ -104,6 +104,10 @@ pub struct ShapeCheck {
     /// The largest distance outside the cut less its allowance over the points checked by
     /// cross-section, mm.
     pub section_margin: Option<f64>,
+    /// Points beyond the cut's tolerance (reported, not refused).
+    pub section_beyond: u64,
+    /// The worst point outside the cut.
+    pub section_worst: Option<Finding>,
 }
 
 impl ShapeCheck {
@@ -118,7 +122,7 @@ impl ShapeCheck {
 
     /// Check the object extrusion point `g` (G-code frame) of layer `layer` at line `line`,
     /// of `feature`; `(dx, dy)` is the STL → G-code translation. Returns the finding when the
-    /// point lies beyond half a layer outside the part (or [`SECTION_GROSS`] outside the cut).
+    /// point lies beyond half a layer outside the part's box.
     #[allow(clippy::too_many_arguments)]
     pub fn point(
         &mut self,
@@ -179,12 +183,28 @@ impl ShapeCheck {
         if let Some(d) = cut {
             let m = d - SECTION_TOLERANCE;
             self.section_margin = Some(self.section_margin.map_or(m, |w| w.max(m)));
+            if m > 0.0 {
+                self.section_beyond += 1;
+                if self
+                    .section_worst
+                    .is_none_or(|w| m > w.overshoot - w.allowed)
+                {
+                    self.section_worst = Some(Finding {
+                        line,
+                        gcode: g,
+                        model: DVec3::new(q.x, q.y, zmid),
+                        overshoot: d,
+                        allowed: SECTION_TOLERANCE,
+                        face: SECTION_FACE,
+                        layer,
+                    });
+                }
+            }
         }
-        let faces = over
-            .iter()
-            .copied()
-            .enumerate()
-            .chain(cut.map(|d| (SECTION_FACE, d)));
+        // measured, not yet refusing: CuraEngine's curved-warp files of a box have points up to
+        // 1 mm outside the cut, unexplained (the slicer's or this cut's); until that is
+        // understood only the box refuses
+        let faces = over.iter().copied().enumerate();
         for (face, o) in faces {
             let allowed = match face {
                 SECTION_FACE => SECTION_TOLERANCE,
@@ -215,12 +235,9 @@ impl ShapeCheck {
                 continue;
             }
             self.beyond += 1;
-            let limit = if face == SECTION_FACE {
-                SECTION_GROSS
-            } else {
-                0.5 * h + allowed
-            };
-            if o > limit && gross.is_none() {
+            // a point outside the cut only counts (CuraEngine prints a lone point up to 1 mm
+            // out of its cut on curved warps, as its oddities beyond the box are counted)
+            if face != SECTION_FACE && o > 0.5 * h + allowed && gross.is_none() {
                 gross = Some(f);
             }
         }
