@@ -28,6 +28,13 @@ pub const DEFAULT_LAYER_HEIGHT: f64 = 0.2;
 /// Registration: the largest accepted mismatch between the G-code's object-extrusion bounding
 /// box and the warped mesh's, mm. Above it the G-code is taken to be of another model.
 pub const MAX_REGISTRATION_RESIDUAL: f64 = 1.0;
+/// A machine that cannot realise the requested tool axis (a B head beyond its range or
+/// across its tilt plane, the polar and lathe presets, a 3-axis printer) prints with another
+/// one; beyond this angle between the two, degrees, the unwarp's report warns with the count
+/// of such moves and the largest angle. At 1° a nozzle face 1 mm wide rises
+/// 0.5 mm · sin 1° ≈ 0.009 mm at its edge: below the shape check's 0.02 mm
+/// ([`crate::unwarp::shape::SHAPE_TOLERANCE_NORMAL`]); more is a visible difference.
+pub const DROPPED_TILT_WARN_DEG: f64 = 1.0;
 /// Accuracy of the inverse of a warp with a 1-D numeric solve (the `--base` blend), mm.
 pub const INVERSE_SOLVE_TOLERANCE: f64 = 1e-12;
 /// Below this distance two points or lengths are taken to be equal, mm.

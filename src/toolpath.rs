@@ -60,10 +60,14 @@ impl Feature {
             "solid infill" | "internal solid infill" | "skin" => Feature::SolidInfill,
             "top solid infill" | "top surface" => Feature::TopSolidInfill,
             "bottom surface" => Feature::BottomSolidInfill,
-            "bridge infill" | "internal bridge infill" | "bridge" => Feature::Bridge,
+            "bridge infill" | "internal bridge infill" | "internal bridge" | "bridge" => {
+                Feature::Bridge
+            }
             "gap fill" | "gap infill" => Feature::GapFill,
             "ironing" => Feature::Ironing,
-            "support material" | "support" | "support-material" => Feature::Support,
+            "support material" | "support" | "support-material" | "support transition" => {
+                Feature::Support
+            }
             "support material interface"
             | "support-interface"
             | "support interface"

@@ -167,6 +167,67 @@ fn few_trailing_bytes_after_binary_are_tolerated_and_noted() {
     );
 }
 
+/// Issue 12, "report, not refuse": a binary STL with data appended after its facets (73 bytes,
+/// not a whole record; slicers refuse such a file) is read, and the bytes are reported by the
+/// reader, in the warp step's `warnings` and by `warpslice warp`; whole records beyond the
+/// header's count may be facets it does not count, which stays `mesh.face-count`.
+#[test]
+fn a_binary_stl_with_appended_bytes_is_warped_and_the_bytes_reported() {
+    let mut bytes = write_stl(&cube(), "");
+    bytes.extend(std::iter::repeat_n(b'x', 73));
+    let (m, r) = read_stl(&bytes).unwrap();
+    assert_eq!(m.triangles.len(), 12);
+    let says = |w: &str| w.contains("73 bytes after the last of the header's 12 binary facets");
+    assert!(r.warnings.iter().any(|w| says(w)), "{:?}", r.warnings);
+    let opts = warpslice::pipeline::WarpOptions::new(warpslice::warp::WarpParams {
+        spec: warpslice::warp::WarpSpec::Conic {
+            angle: 20.0,
+            direction: warpslice::warp::Direction::Outward,
+            center: [0.0, 0.0],
+        },
+        base: None,
+    });
+    let w = warpslice::pipeline::warp_model(&bytes, &opts).unwrap();
+    assert!(
+        w.report.warnings.iter().any(|w| says(w)),
+        "{:?}",
+        w.report.warnings
+    );
+    let d = std::env::temp_dir().join(format!("warpslice-stl-tail-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("m.stl"), &bytes).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .args([
+            "warp",
+            d.join("m.stl").to_str().unwrap(),
+            "--warp",
+            "conic",
+            "-o",
+        ])
+        .arg(d.join("w.stl"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success()
+            && out
+                .lines()
+                .any(|l| l.starts_with("warning: model:") && says(l)),
+        "{out}"
+    );
+    // two whole records more than the header counts: a wrong count, not appended data
+    let mut more = write_stl(&cube(), "");
+    more.extend(std::iter::repeat_n(0u8, 100));
+    assert_eq!(
+        read_stl(&more).unwrap_err(),
+        MeshError::FaceCountMismatch {
+            header_count: 12,
+            bytes_for: 14
+        }
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn zero_triangles_is_named_for_both_formats() {
     assert_eq!(

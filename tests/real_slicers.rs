@@ -167,6 +167,8 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     let next = AtomicUsize::new(0);
     let failures = Mutex::new(Vec::new());
     let table = Mutex::new(Vec::new());
+    // the shape check's margin of every accepted case (refused above 0)
+    let margins = Mutex::new(Vec::new());
     let machines: Mutex<BTreeMap<&'static str, MachineTally>> = Mutex::new(BTreeMap::new());
     let slices = SliceCache::default();
     std::thread::scope(|s| {
@@ -185,9 +187,10 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
                     Ok(Err(why)) => table.lock().unwrap().push(format!("{name:40} {wname:15} refused as required: {why} ({secs:.1} s)")),
                     Ok(Ok(st)) => {
                         let c = &st.checked;
+                        margins.lock().unwrap().push((st.shape_margin, format!("{name} × {wname}")));
                         table.lock().unwrap().push(format!(
-                            "{name:40} {wname:15} pts {:7} reg {:.4} vertex {:.4} chord {:.4} longest {:.3} outside {:.3} E obj {:.1}/{:.1} flat {:.2}/{:.2} slicer {:.1} (anchor {:.1}) travels {} lifted {} clear {:.2} dip {:.3} min-z {:.3} clamped {} ({secs:.1} s, slice {:.1} s)",
-                            st.points, c.registration_error, c.worst_vertex, c.worst_chord, c.longest, st.worst_outside, c.e_object, c.e_object_expected, c.e_flat, c.e_flat_in, st.e_in, c.e_anchor, c.travels, c.lifted, c.lift_clearance, c.direct_dip, c.min_z, c.clamped, st.slice_secs
+                            "{name:40} {wname:15} pts {:7} reg {:.4} vertex {:.4} chord {:.4} longest {:.3} outside {:.3} E obj {:.1}/{:.1} flat {:.2}/{:.2} slicer {:.1} (anchor {:.1}) travels {} lifted {} clear {:.2} dip {:.3} min-z {:.3} clamped {} shape {:+.3} mm/0 (section {:+.3}; {} beyond, ≤ {}) ({secs:.1} s, slice {:.1} s)",
+                            st.points, c.registration_error, c.worst_vertex, c.worst_chord, c.longest, st.worst_outside, c.e_object, c.e_object_expected, c.e_flat, c.e_flat_in, st.e_in, c.e_anchor, c.travels, c.lifted, c.lift_clearance, c.direct_dip, c.min_z, c.clamped, st.shape_margin, st.shape_section_margin.unwrap_or(f64::NAN), st.shape_outliers, warpslice::unwarp::shape::SHAPE_OUTLIERS, st.slice_secs
                         ))
                     }
                     Err(e) => failures.lock().unwrap().push(format!("{name} × {wname}: {e}")),
@@ -204,6 +207,19 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     println!("{kind:?} {e_mode:?}: {} cases passed", table.len());
     for l in &table {
         println!("  {l}");
+    }
+    let margins = margins.into_inner().unwrap();
+    let lo = margins.iter().min_by(|a, b| a.0.total_cmp(&b.0));
+    let hi = margins.iter().max_by(|a, b| a.0.total_cmp(&b.0));
+    if let (Some(lo), Some(hi)) = (lo, hi) {
+        println!(
+            "{kind:?} {e_mode:?}: shape check margin (worst point outside the part less its allowance; refused above 0 mm) over {} cases: min {:+.3} mm ({}), max {:+.3} mm ({})",
+            margins.len(),
+            lo.0,
+            lo.1,
+            hi.0,
+            hi.1
+        );
     }
     let mut failures = failures.into_inner().unwrap();
     let machines = machines.into_inner().unwrap();
@@ -374,7 +390,13 @@ fn run_case(
             Err(e) => t.failure = Some(format!("machine {name}: {e}")),
         }
     }
-    Ok(Ok(common::CaseStats { slice_secs, ..st }))
+    Ok(Ok(common::CaseStats {
+        slice_secs,
+        shape_margin: out.report.shape_margin_mm,
+        shape_outliers: out.report.shape_outliers,
+        shape_section_margin: out.report.shape_section_margin_mm,
+        ..st
+    }))
 }
 
 /// What the presets did over a matrix test.

@@ -994,3 +994,49 @@ fn a_truncated_gcode_is_unwarped_with_a_warning_in_the_report() {
         assert!(w[1].contains("ends the print"), "{how}: {w:?}");
     }
 }
+
+/// Issue 12 in the browser: two copies of the object are refused as
+/// `register.more-than-the-model` naming two objects and the fix; Bambu/Orca `; FEATURE:`
+/// labels are read; `;WARPSLICE_BEGIN` after the first layers is a warning in the report.
+#[test]
+fn two_objects_labels_and_markers_are_named_in_the_browser() {
+    let (_, job_json, job) = warped("cube", BELT);
+    let g = synthetic::gcode(&job, true, 2.0);
+    // every layer printed again 26 mm to the right
+    let mut two = String::new();
+    for (i, layer) in g.split(";LAYER_CHANGE\n").enumerate() {
+        if i > 0 {
+            two.push_str(";LAYER_CHANGE\n");
+        }
+        two.push_str(layer);
+        if i > 0 {
+            two.push_str(&synthetic::shifted(layer, 26.0, 0.0));
+        }
+    }
+    refused(
+        "two copies",
+        stream(two.as_bytes(), &job_json, "{}"),
+        "register.more-than-the-model",
+        &["2 objects", "one object per file"],
+    );
+    let orca = g
+        .replace(";TYPE:External perimeter", "; FEATURE: Outer wall")
+        .replace(";TYPE:Internal infill", "; FEATURE: Sparse infill")
+        .replace(";TYPE:Skirt/Brim", "; FEATURE: Skirt");
+    assert!(stream(orca.as_bytes(), &job_json, "{}").is_ok());
+    let whole = wasm::unwarp(g.as_bytes(), &job_json, "{}").unwrap();
+    let t = js_sys::Array::from(&get(&get(&whole, "report"), "translation"));
+    let opts = format!(
+        r#"{{"offset":[{},{}]}}"#,
+        t.get(0).as_f64().unwrap(),
+        t.get(1).as_f64().unwrap()
+    );
+    let (late, _) = insert_after(&g, ";LAYER_CHANGE\n", 3, ";WARPSLICE_BEGIN\n");
+    let out = wasm::unwarp(late.as_bytes(), &job_json, &opts).unwrap();
+    let w = warnings(&get(&out, "report"));
+    assert!(
+        w.iter()
+            .any(|x| x.contains("object extrusions lie outside the ;WARPSLICE_BEGIN")),
+        "{w:?}"
+    );
+}

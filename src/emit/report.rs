@@ -64,6 +64,10 @@ pub struct MachineReport {
     pub worst_angle_deg: f64,
     /// Largest angle between a requested tool axis and the realised one, degrees.
     pub worst_dropped_deg: f64,
+    /// Moves whose realised tool axis is more than
+    /// [`crate::tolerance::DROPPED_TILT_WARN_DEG`] from the requested one (warned about).
+    #[serde(default)]
+    pub dropped_moves: u64,
     /// Moves where splitting hit the depth limit (a discontinuity; error still measured).
     pub depth_limited: u64,
     /// Single-revolution rotate-arounds.

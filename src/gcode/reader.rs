@@ -527,7 +527,12 @@ impl Core {
             return Command::Comment;
         };
         let c = trim_end(c);
-        if let Some(label) = c.strip_prefix(b"TYPE:") {
+        // PrusaSlicer, Slic3r PE and CuraEngine write `;TYPE:Label`; Bambu Studio and
+        // OrcaSlicer `; FEATURE: Label` (their G-code processor's role tag)
+        let label = c
+            .strip_prefix(b"TYPE:")
+            .or_else(|| trim_start(c).strip_prefix(b"FEATURE:"));
+        if let Some(label) = label {
             let f = self.feature_of(label);
             self.state.feature = f;
             return Command::FeatureType(f);

@@ -236,6 +236,7 @@ impl MachineEmitter {
         r.worst_position_mm = t.worst_position_mm;
         r.worst_angle_deg = t.worst_angle_deg;
         r.worst_dropped_deg = t.worst_dropped_deg;
+        r.dropped_moves = t.dropped_moves as u64;
         r.depth_limited = t.depth_limited as u64;
         r.reposes = t.reposes as u64;
         r.axes = self.reach.report();

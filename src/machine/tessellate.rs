@@ -157,6 +157,18 @@ pub struct TessellationReport {
     /// Largest angle between a requested tool axis and the one the machine realises (the
     /// dropped component: Y for the B head, the tilt for a fixed-tilt nozzle, the clip), degrees.
     pub worst_dropped_deg: f64,
+    /// Moves dropping more than [`crate::tolerance::DROPPED_TILT_WARN_DEG`].
+    pub dropped_moves: usize,
+}
+
+impl TessellationReport {
+    /// Note the angle `deg` between a move's requested and realised tool axis.
+    fn dropped(&mut self, deg: f64) {
+        self.worst_dropped_deg = self.worst_dropped_deg.max(deg);
+        if deg > crate::tolerance::DROPPED_TILT_WARN_DEG {
+            self.dropped_moves += 1;
+        }
+    }
 }
 
 /// The report's resolution for the worst tip error: it is written with 5 decimals (mm), so a
@@ -695,7 +707,7 @@ pub fn tessellate_move(
         };
     let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
     let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
-    rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+    rep.dropped(dropped);
     rep.moves_in += 1;
     let pc = Piece {
         p0,
@@ -797,7 +809,7 @@ pub fn tessellate(
             None => {
                 let a1 = machine.inverse(tp.p, tp.n, start)?;
                 let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
-                rep.worst_dropped_deg = rep.worst_dropped_deg.max(dropped);
+                rep.dropped(dropped);
                 rep.moves_in += 1;
                 rep.moves_out += 1;
                 moves.push(MachineMove {

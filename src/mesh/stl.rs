@@ -317,14 +317,16 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
             Err(_) => {}
         }
     }
-    // Binary with the wrong length: a few trailing bytes (< one record) are tolerated.
+    // Binary with the wrong length: bytes after the header's facets that are not a whole
+    // number of records (data another program appended) are reported and ignored; whole
+    // records may be facets the header does not count, so that stays an error.
     if let Some(n) = count {
         let expected = binary_len(n);
-        if actual > expected && actual - expected < BINARY_FACET_BYTES as u64 {
-            let extra = actual - expected;
+        let extra = actual.saturating_sub(expected);
+        if n > 0 && extra > 0 && extra % BINARY_FACET_BYTES as u64 != 0 {
             let mut w = solid_header_note(binary_format);
             w.push(format!(
-                "{extra} bytes after the last binary facet were ignored"
+                "{extra} bytes after the last of the header's {n} binary facets were ignored (data appended by another program; PrusaSlicer and other slicers refuse such a file — the warped STL warpslice writes has none)"
             ));
             return read_binary(bytes, n, binary_format, w);
         }

@@ -141,7 +141,8 @@ pub struct WarpReport {
     pub largest_tilt_deg: f64,
     /// Triangles written (part + anchor).
     pub triangles_out: usize,
-    /// What the user should look at although the STL was written (a capped subdivision).
+    /// What the user should look at although the STL was written: what the STL reader
+    /// tolerated in the model (`model: …`, also in `mesh.warnings`), a capped subdivision.
     #[serde(default)]
     pub warnings: Vec<String>,
 }
@@ -225,7 +226,12 @@ pub fn warp_model_capped(
             opts.tolerance,
         )
     });
-    let mut warnings = Vec::new();
+    // what the STL reader tolerated (trailing bytes, a missing `endsolid`, flipped normals)
+    let mut warnings: Vec<String> = mesh_report
+        .warnings
+        .iter()
+        .map(|w| format!("model: {w}"))
+        .collect();
     if let Some(a) = achieved {
         let cap = match a.limit {
             mesh::subdivide::SubdivideLimit::Triangles => {

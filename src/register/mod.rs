@@ -35,6 +35,7 @@ use crate::gcode::{Command, GcodeError, Line, ReadOptions, Reader, State};
 use crate::job::Job;
 use crate::mesh::{Aabb, Mesh};
 
+pub mod clusters;
 pub mod ending;
 pub mod refine;
 pub mod sample;
@@ -90,6 +91,21 @@ pub enum RegisterError {
         /// Width of the warped mesh along it, mm.
         mesh: f64,
     },
+    /// The object's extrusions are wider than the warped mesh: the G-code prints more than this
+    /// model (two copies, a second model, or — in a file without feature labels — a wipe/prime
+    /// tower or a brim that cannot be told from the part).
+    MoreThanTheModel {
+        /// Separate groups of object extrusions above the first layer ([`clusters`]).
+        groups: usize,
+        /// Whether the file labels its features (`;TYPE:` or `; FEATURE:`).
+        typed: bool,
+        /// Whether only the first layer is wider (a brim in an unlabelled file).
+        first_layer_only: bool,
+        /// Size (x, y) of the object's extrusions, mm.
+        gcode_size: [f64; 2],
+        /// Size (x, y) of the warped mesh, mm.
+        mesh_size: [f64; 2],
+    },
     /// The G-code cannot be read.
     Gcode(GcodeError),
     /// The fine registration cannot pin the placement (too little printed near the surface).
@@ -142,6 +158,29 @@ impl std::fmt::Display for RegisterError {
                 mesh - printed,
                 (mesh - printed) - 2.0 * MAX_BOX_INSET,
             ),
+            RegisterError::MoreThanTheModel { groups, typed, first_layer_only, gcode_size, mesh_size } => {
+                let [gx, gy] = gcode_size;
+                let [mx, my] = mesh_size;
+                write!(f, "this G-code prints more than the warped model: its object is {gx:.2} × {gy:.2} mm but the warped mesh is {mx:.2} × {my:.2} mm")?;
+                match (typed, first_layer_only, *groups) {
+                    (true, _, n) if n >= 2 => write!(
+                        f,
+                        ": it prints {n} objects side by side (PrusaSlicer's --duplicate {n}, copies or other models on the plate). warpslice unwarps one object per file: slice the warped STL alone, one copy, and print copies as separate files"
+                    ),
+                    (true, _, _) => write!(
+                        f,
+                        ": slice the warped STL written with this job, alone"
+                    ),
+                    (false, true, _) => write!(
+                        f,
+                        " on its first layer only: a brim (the file has no feature labels — `;TYPE:` or `; FEATURE:` — to tell it from the part). Turn the brim off (the warped STL's anchor holds the part down) or export the G-code with feature labels"
+                    ),
+                    (false, false, n) => write!(
+                        f,
+                        ": it prints {n} separate things and has no feature labels (`;TYPE:` or `; FEATURE:`) to tell a wipe or prime tower, a brim or a second object from the part. Export the G-code with feature labels (PrusaSlicer, OrcaSlicer, Bambu Studio and Cura write them), or turn the tower and brim off and slice one object per file; --offset does not help: the extra extrusions would be bent as if they were the part"
+                    ),
+                }
+            }
             RegisterError::Gcode(e) => e.fmt(f),
             RegisterError::Undetermined { matched, needed, reason } => write!(
                 f,
@@ -167,6 +206,7 @@ crate::error_codes!(RegisterError, ERROR_CODES, "register" {
     AnchorLayer => "register.anchor-layer", "the first layer height is not the anchor's thickness";
     Undetermined => "register.undetermined", "the printed walls do not pin the placement";
     FeaturesDropped => "register.features-dropped", "without the warped mesh, a feature the slicer did not print leaves the placement open";
+    MoreThanTheModel => "register.more-than-the-model", "the G-code prints more than the model: copies, another object, or an unlabelled tower or brim";
 } wraps { Gcode });
 
 /// A run of consecutive extruding moves on the first layer (Slic3r skirt detection).
@@ -216,6 +256,10 @@ pub struct Registration {
     /// [`ending`]): the end G-code is missing, or the file was cut short.
     #[serde(default)]
     pub end_gcode_missing: bool,
+    /// Object extrusions outside the `;WARPSLICE_BEGIN` / `;WARPSLICE_END` region: their count
+    /// and the first one's line (`None`: none, or no markers).
+    #[serde(default)]
+    pub outside_markers: Option<[u64; 2]>,
 }
 
 /// What the fine registration found ([`refine`]).
@@ -251,17 +295,24 @@ struct Acc {
     last_obj: Option<u64>,
     /// Object extrusions above the first layer.
     bbox_upper: Aabb,
+    /// Their footprints grouped into separate things ([`clusters`]).
+    groups_upper: clusters::Clusters,
     /// Every extrusion counted (skirt, brim, wipe tower too; not the start G-code's purge).
     bbox_any: Aabb,
     /// Object extrusion runs on the first layer.
     runs0: Vec<Run>,
     in_run: bool,
+    /// Object extrusions before any `;WARPSLICE_BEGIN` and after a `;WARPSLICE_END`: count
+    /// and first line.
+    before_begin: (u64, Option<u64>),
+    after_end: (u64, Option<u64>),
     first_layer: Option<u32>,
     first_layer_z: Option<f64>,
 }
 
 impl Acc {
-    fn extrusion(&mut self, line: u64, m: &crate::gcode::Move) {
+    /// An extrusion at `line`; `markers`: the `;WARPSLICE_BEGIN` / `_END` lines seen so far.
+    fn extrusion(&mut self, line: u64, m: &crate::gcode::Move, markers: [Option<u64>; 2]) {
         if m.feature == crate::toolpath::Feature::Custom {
             self.in_run = false;
             return;
@@ -277,6 +328,15 @@ impl Acc {
         }
         if self.first_obj.is_none() {
             self.first_obj = Some(line);
+        }
+        let outside = match markers {
+            [None, _] => Some(&mut self.before_begin),
+            [_, Some(_)] => Some(&mut self.after_end),
+            _ => None,
+        };
+        if let Some((n, first)) = outside {
+            *n += 1;
+            first.get_or_insert(line);
         }
         self.last_obj = Some(line);
         let first_layer = *self.first_layer.get_or_insert(m.layer);
@@ -301,6 +361,7 @@ impl Acc {
             self.in_run = false;
             self.bbox_upper.include(m.from);
             self.bbox_upper.include(m.to);
+            self.groups_upper.add(m.from.truncate(), m.to.truncate());
         }
     }
 }
@@ -370,9 +431,9 @@ impl Scanner {
                         line.number,
                     );
                 }
-                self.untyped.extrusion(line.number, m);
+                self.untyped.extrusion(line.number, m, self.markers);
                 if self.typed {
-                    self.typed_acc.extrusion(line.number, m);
+                    self.typed_acc.extrusion(line.number, m, self.markers);
                 }
             } else if m.from.truncate() != m.to.truncate() {
                 self.untyped.in_run = false;
@@ -454,6 +515,9 @@ impl Scanner {
             return Err(RegisterError::NoExtrusions);
         }
         let mesh_bbox = job.warped_bbox;
+        if offset.is_none() {
+            more_than_the_model(acc, bbox, mesh_bbox, self.typed)?;
+        }
         let (mut dx, mut dy) = match offset {
             Some([x, y]) => (x, y),
             None => {
@@ -568,8 +632,60 @@ impl Scanner {
             fit,
             unterminated_line,
             end_gcode_missing,
+            outside_markers: outside_markers(acc, self.markers),
         })
     }
+}
+
+/// The object extrusions `acc` found outside the region its `markers` set: (count, first line).
+fn outside_markers(acc: &Acc, markers: [Option<u64>; 2]) -> Option<[u64; 2]> {
+    let before = if markers[0].is_some() {
+        acc.before_begin
+    } else {
+        (0, None)
+    };
+    let (after, first_after) = acc.after_end;
+    let first = before.1.or(first_after)?;
+    Some([before.0 + after, first])
+}
+
+/// How much wider than the warped mesh (x or y) the object's extrusions may be before the
+/// G-code is taken to print more than the model, mm: twice [`MAX_REGISTRATION_RESIDUAL`], the
+/// box match's own bound (the printed box is normally a bead narrower than the mesh's on each
+/// side; copies, towers and brims add millimetres).
+pub const MAX_EXTRA_WIDTH: f64 = 2.0 * MAX_REGISTRATION_RESIDUAL;
+
+/// [`RegisterError::MoreThanTheModel`] when the object's box `bbox` is wider than the mesh's by
+/// more than [`MAX_EXTRA_WIDTH`] and the extra is something beside the part: two or more
+/// separate groups (copies, a tower), or in an unlabelled file a first layer wider than the
+/// rest (a brim). One wider thing on every layer is another model ([`RegisterError::Mismatch`]).
+fn more_than_the_model(
+    acc: &Acc,
+    bbox: Aabb,
+    mesh: Aabb,
+    typed: bool,
+) -> Result<(), RegisterError> {
+    let wider = |b: Aabb| {
+        let (g, m) = (b.size(), mesh.size());
+        g.x > m.x + MAX_EXTRA_WIDTH || g.y > m.y + MAX_EXTRA_WIDTH
+    };
+    if !wider(bbox) {
+        return Ok(());
+    }
+    let groups = acc.groups_upper.count();
+    let first_layer_only = !typed && !acc.bbox_upper.is_empty() && !wider(acc.bbox_upper);
+    // one wider thing on every layer is another model: the box match names it
+    if groups < 2 && !first_layer_only {
+        return Ok(());
+    }
+    let (g, m) = (bbox.size(), mesh.size());
+    Err(RegisterError::MoreThanTheModel {
+        groups,
+        typed,
+        first_layer_only,
+        gcode_size: [g.x, g.y],
+        mesh_size: [m.x, m.y],
+    })
 }
 
 /// Registration by boxes (no warped mesh): how far inside the mesh's side the object's

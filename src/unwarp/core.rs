@@ -614,6 +614,7 @@ impl Core {
             m.layer,
             self.report.lines_in,
             to,
+            m.feature,
         );
         if let (Some(finding), None) = (gross, &self.emit_error) {
             self.emit_error = Some(UnwarpError::ShapeMismatch {

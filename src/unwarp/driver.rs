@@ -89,7 +89,8 @@ impl Unwarper {
             .ok_or(UnwarpError::Order { expected: "scan" })?;
         let reg =
             scanner.finish_with_mesh(&self.job, self.opts.offset, self.warped_mesh.as_ref())?;
-        self.warped_mesh = None;
+        // the shape check compares the extrusions with the mesh's cross-sections too
+        let mesh = self.warped_mesh.take();
         let mut params = self.job.warp.clone();
         let warp = params.build(&self.job.model_bbox)?;
         let [dx, dy, _] = reg.translation;
@@ -122,7 +123,7 @@ impl Unwarper {
             out: Vec::with_capacity(1 << 16),
             emit,
             emit_error: None,
-            shape: super::shape::ShapeCheck::default(),
+            shape: super::shape::ShapeCheck::new(mesh.as_ref()),
             slicer_e: 0.0,
             cur: None,
             pending: None,
@@ -222,11 +223,20 @@ impl Unwarper {
         }
         core.report.shape_margin_mm = core.shape.margin().unwrap_or(0.0);
         core.report.shape_outliers = core.shape.beyond;
+        core.report.shape_section_margin_mm = core.shape.section_margin;
         if let Some((finding, beyond)) = core.shape.verdict() {
             return Err(UnwarpError::ShapeMismatch { finding, beyond });
         }
         core.counted(|c| c.emit.finish(&mut c.out));
         core.report.machine = core.emit.machine_report();
+        if let Some(w) = core
+            .report
+            .machine
+            .as_ref()
+            .and_then(UnwarpReport::dropped_tilt_warning)
+        {
+            core.report.warnings.push(w);
+        }
         self.finished = true;
         Ok(core.report.clone())
     }

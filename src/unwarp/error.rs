@@ -162,6 +162,18 @@ impl std::fmt::Display for UnwarpError {
                 f,
                 "G-code line {line}: '{command}' inside the printed region drives the nozzle or the probe down to the bed, where the part stands; move it to the start G-code (before the first layer), or home only X and Y (G28 X Y)"
             ),
+            UnwarpError::ShapeMismatch { finding: w, beyond } if w.face == super::shape::SECTION_FACE => write!(
+                f,
+                "G-code line {}: this G-code does not fit this job's warped mesh: on layer {} its object extrusion at X{:.3} Y{:.3} Z{:.3} lies {:.3} mm outside the warped mesh's cross-section at z = {:.3} mm (the layer's mid-height, where the slicer cut it; {:.3} mm allowed; {beyond} points beyond). It was sliced from another warp of the model or other warp parameters (angle, direction, centre, strength: their boxes can agree), or from another model, or --offset is wrong: unwarp with the job written beside the warped STL you sliced, or slice this job's warped STL again; leave --offset out to have the placement found",
+                w.line,
+                w.layer,
+                w.gcode.x,
+                w.gcode.y,
+                w.gcode.z,
+                w.overshoot,
+                w.model.z,
+                w.allowed
+            ),
             UnwarpError::ShapeMismatch { finding: w, beyond } => write!(
                 f,
                 "G-code line {}: this G-code does not fit this job's part: its object extrusion at X{:.3} Y{:.3} Z{:.3} maps {:.3} mm {} (model point {:.3}, {:.3}, {:.3} at the layer's mid-height; {:.3} mm allowed; {beyond} points beyond). It was sliced from another warp of the model (another angle, direction or centre: their boxes can agree) or from another model, or --offset is wrong: unwarp with the job written beside the warped STL you sliced, or slice this job's warped STL again; leave --offset out to have the placement found",

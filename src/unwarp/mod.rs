@@ -45,6 +45,7 @@ pub mod flow;
 mod options;
 pub mod outside;
 mod report;
+pub mod section;
 pub mod segment;
 pub mod shape;
 pub mod travel;

@@ -48,6 +48,11 @@ pub struct UnwarpReport {
     /// part, less what is allowed there, mm (negative: every point inside with this much room).
     #[serde(default)]
     pub shape_margin_mm: f64,
+    /// The shape check by cross-section (with the warped mesh): the worst point's distance
+    /// outside the mesh's cut at its layer's mid-height less its allowance, mm (refused above
+    /// 0; `None` without the mesh).
+    #[serde(default)]
+    pub shape_section_margin_mm: Option<f64>,
     /// Object points beyond the shape check's tolerance (at most
     /// [`crate::unwarp::shape::SHAPE_OUTLIERS`] are accepted).
     #[serde(default)]
@@ -65,9 +70,27 @@ pub struct UnwarpReport {
 }
 
 impl UnwarpReport {
-    /// The warnings of a registration's findings about the file's end.
+    /// The warning for a machine that printed moves with a tool axis more than
+    /// [`crate::tolerance::DROPPED_TILT_WARN_DEG`] from the requested one.
+    pub fn dropped_tilt_warning(m: &crate::emit::MachineReport) -> Option<String> {
+        (m.dropped_moves > 0).then(|| format!(
+            "machine {}: {} moves printed with the tool axis up to {:.2}° away from the layer's normal (more than {}°): this machine cannot tilt that way (a B head beyond its range or across its tilt plane, a polar or lathe machine, a 3-axis printer), so those layers are printed with the nozzle off their surface normal; choose a machine that realises the warp's tilt, or a gentler warp",
+            m.machine,
+            m.dropped_moves,
+            m.worst_dropped_deg,
+            crate::tolerance::DROPPED_TILT_WARN_DEG
+        ))
+    }
+
+    /// The warnings of a registration's findings: the file's end, region markers that leave
+    /// object extrusions out.
     pub fn end_warnings(reg: &crate::register::Registration) -> Vec<String> {
         let mut w = Vec::new();
+        if let Some([n, first]) = reg.outside_markers {
+            w.push(format!(
+                "{n} object extrusions lie outside the ;WARPSLICE_BEGIN/;WARPSLICE_END region (the first on line {first}): they are written as the slicer printed them, flat and not placed by the warp; move the markers so the region holds every layer of the part"
+            ));
+        }
         if let Some(n) = reg.unterminated_line {
             w.push(format!(
                 "the G-code's last line ({n}) has no line end: the file may be cut short (a copy or download that did not finish), its last move perhaps in the middle of a number; export or copy it again"

@@ -22,11 +22,24 @@
 //! point, mm, bottom/top; negative: inside): the right job −0.07/−0.04 (PrusaSlicer),
 //! −0.10/−0.01 (Slic3r), −0.11/−0.11 (CuraEngine); a 31° job +0.19…+0.21 on the bottom; a 29.5°
 //! job +0.045…+0.15 on the top; the centre moved 0.5 mm +0.17…+0.26; the inward cone +7.4.
+//!
+//! **By cross-section.** The box is larger than most parts' cross-sections, so on a non-box
+//! model a wrong job can stay inside it. With the warped mesh at hand (the CLI reads the STL
+//! beside the job; `run` and the page have it), each point is also compared with the mesh's
+//! cut at its layer's mid-height ([`super::section`]): g − (dx, dy) must lie inside the cut or
+//! within [`SECTION_TOLERANCE`] of it (support material, printed outside the part by design,
+//! is left out). **Measured and reported, not yet refusing** (`shape_section_margin_mm`,
+//! [`ShapeCheck::section_worst`]): in the real-slicer matrix CuraEngine's files of boxes on a
+//! curved warp (curved-out 0.3) hold points up to 1 mm outside this cut (layers 2, 7, 27;
+//! PrusaSlicer and Slic3r not seen), not explained yet — this cut or the slicer.
 
 use glam::DVec3;
 
 use crate::job::Job;
+use crate::toolpath::Feature;
 use crate::warp::Warp;
+
+use super::section::Sections;
 
 /// Distance (normal to the warped surface) a printed point may lie outside the part, mm: the
 /// warped STL's chord tolerance (0.01, [`crate::tolerance::DEFAULT_TOLERANCE`]), the slicers'
@@ -39,16 +52,24 @@ pub const SHAPE_TOLERANCE_OUTLINE: f64 = 0.03;
 /// Points beyond the tolerance (but within half a layer) that are taken as a slicer's
 /// oddities; more refuse the G-code.
 pub const SHAPE_OUTLIERS: u64 = 5;
+/// How far outside the warped mesh's cut at the layer's mid-height a printed point may lie,
+/// mm: the slicers' outline simplification ([`SHAPE_TOLERANCE_OUTLINE`]) and the G-code's
+/// rounding and the slicers' resolution ([`SHAPE_TOLERANCE_NORMAL`]). Bead centres lie about
+/// half a line width (0.2 mm) inside the cut.
+pub const SECTION_TOLERANCE: f64 = SHAPE_TOLERANCE_NORMAL + SHAPE_TOLERANCE_OUTLINE;
 
 /// The faces of the model's box, as the error names them.
-pub const FACES: [&str; 6] = [
+pub const FACES: [&str; 7] = [
     "beyond the part's −x side",
     "beyond the part's +x side",
     "beyond the part's −y side",
     "beyond the part's +y side",
     "below the part's bottom",
     "above the part's top",
+    "outside the warped mesh's cross-section at the layer's mid-height",
 ];
+/// The index of the cross-section in [`FACES`].
+pub const SECTION_FACE: usize = 6;
 
 /// The worst point found.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +86,8 @@ pub struct Finding {
     pub allowed: f64,
     /// Index into [`FACES`].
     pub face: usize,
+    /// The slicer's layer index.
+    pub layer: u32,
 }
 
 /// The running check.
@@ -76,12 +99,31 @@ pub struct ShapeCheck {
     pub beyond: u64,
     /// The point with the largest overshoot beyond its allowance (negative: inside with room).
     pub worst: Option<Finding>,
+    /// The warped mesh's cuts, when the mesh was given.
+    sections: Option<Sections>,
+    /// The largest distance outside the cut less its allowance over the points checked by
+    /// cross-section, mm.
+    pub section_margin: Option<f64>,
+    /// Points beyond the cut's tolerance (reported, not refused).
+    pub section_beyond: u64,
+    /// The worst point outside the cut.
+    pub section_worst: Option<Finding>,
 }
 
 impl ShapeCheck {
-    /// Check the object extrusion point `g` (G-code frame) of layer `layer` at line `line`;
-    /// `(dx, dy)` is the STL → G-code translation. Returns the finding when the point lies
-    /// beyond half a layer outside the part.
+    /// The check against the box, and against the cross-sections of `mesh` (the job's warped
+    /// mesh, STL frame) when given.
+    pub fn new(mesh: Option<&crate::mesh::Mesh>) -> ShapeCheck {
+        ShapeCheck {
+            sections: mesh.map(Sections::new),
+            ..ShapeCheck::default()
+        }
+    }
+
+    /// Check the object extrusion point `g` (G-code frame) of layer `layer` at line `line`,
+    /// of `feature`; `(dx, dy)` is the STL → G-code translation. Returns the finding when the
+    /// point lies beyond half a layer outside the part's box.
+    #[allow(clippy::too_many_arguments)]
     pub fn point(
         &mut self,
         warp: &dyn Warp,
@@ -90,6 +132,7 @@ impl ShapeCheck {
         layer: u32,
         line: u64,
         g: DVec3,
+        feature: Feature,
     ) -> Option<Finding> {
         let (_, top, prev) = match self.layer {
             Some((l, top, prev)) if l == layer => (l, top, prev),
@@ -128,15 +171,59 @@ impl ShapeCheck {
         let z_allowed = SHAPE_TOLERANCE_NORMAL / cos + SHAPE_TOLERANCE_OUTLINE * tan;
         let xy_allowed = SHAPE_TOLERANCE_NORMAL + SHAPE_TOLERANCE_OUTLINE;
         let mut gross = None;
-        for (face, &o) in over.iter().enumerate() {
-            let allowed = if face >= 4 { z_allowed } else { xy_allowed };
+        // the cut at the layer's mid-height (G-code z is the STL's: the slicer puts the
+        // warped STL's lowest point on the bed); support is printed outside the part
+        let support = matches!(feature, Feature::Support | Feature::SupportInterface);
+        let zmid = g.z - 0.5 * h;
+        let q = glam::DVec2::new(g.x - dx, g.y - dy);
+        let cut = match self.sections.as_mut() {
+            Some(s) if !support => Some(s.signed_distance(zmid, q)),
+            _ => None,
+        };
+        if let Some(d) = cut {
+            let m = d - SECTION_TOLERANCE;
+            self.section_margin = Some(self.section_margin.map_or(m, |w| w.max(m)));
+            if m > 0.0 {
+                self.section_beyond += 1;
+                if self
+                    .section_worst
+                    .is_none_or(|w| m > w.overshoot - w.allowed)
+                {
+                    self.section_worst = Some(Finding {
+                        line,
+                        gcode: g,
+                        model: DVec3::new(q.x, q.y, zmid),
+                        overshoot: d,
+                        allowed: SECTION_TOLERANCE,
+                        face: SECTION_FACE,
+                        layer,
+                    });
+                }
+            }
+        }
+        // measured, not yet refusing: CuraEngine's curved-warp files of a box have points up to
+        // 1 mm outside the cut, unexplained (the slicer's or this cut's); until that is
+        // understood only the box refuses
+        let faces = over.iter().copied().enumerate();
+        for (face, o) in faces {
+            let allowed = match face {
+                SECTION_FACE => SECTION_TOLERANCE,
+                4 | 5 => z_allowed,
+                _ => xy_allowed,
+            };
+            let model = if face == SECTION_FACE {
+                DVec3::new(q.x, q.y, zmid)
+            } else {
+                p
+            };
             let f = Finding {
                 line,
                 gcode: g,
-                model: p,
+                model,
                 overshoot: o,
                 allowed,
                 face,
+                layer,
             };
             if self
                 .worst
@@ -148,7 +235,9 @@ impl ShapeCheck {
                 continue;
             }
             self.beyond += 1;
-            if o > 0.5 * h + allowed && gross.is_none() {
+            // a point outside the cut only counts (CuraEngine prints a lone point up to 1 mm
+            // out of its cut on curved warps, as its oddities beyond the box are counted)
+            if face != SECTION_FACE && o > 0.5 * h + allowed && gross.is_none() {
                 gross = Some(f);
             }
         }

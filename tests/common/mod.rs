@@ -217,6 +217,14 @@ pub struct CaseStats {
     pub checked: check::Checked,
     /// Wall time of the slicer, s (for the table; never asserted).
     pub slice_secs: f64,
+    /// The unwarp's shape check: the worst point's distance outside the part less its
+    /// allowance, mm (refused above 0), and the points beyond their allowance (refused above
+    /// `warpslice::unwarp::shape::SHAPE_OUTLIERS`): printed by the matrix so a drift toward the
+    /// threshold shows.
+    pub shape_margin: f64,
+    pub shape_outliers: u64,
+    /// Of `shape_margin`, the part measured against the warped mesh's cross-sections.
+    pub shape_section_margin: Option<f64>,
 }
 
 /// Read every move and non-move line of a G-code with the crate's reader.

@@ -115,7 +115,11 @@ pub fn read(bytes: &[u8]) -> Result<Written, String> {
             w.model_to_output = Some(DVec3::new(v[0], v[1], v[2]));
             continue;
         }
-        if let Some(t) = line.strip_prefix(";TYPE:") {
+        // Bambu Studio and OrcaSlicer label features `; FEATURE: Outer wall`
+        let feature = line
+            .strip_prefix(';')
+            .and_then(|c| c.trim_start().strip_prefix("FEATURE:"));
+        if let Some(t) = line.strip_prefix(";TYPE:").or(feature) {
             typed = Typed::of(t);
             w.typed = true;
             continue;

@@ -22,6 +22,7 @@ export const ADVICE = {
   'register.cut-short': 'The G-code stops before the top of the part and its end is missing: the file was cut short (an interrupted export, copy or download). Export it from the slicer again.',
   'register.undetermined': 'The printed walls do not pin the part\'s placement (a part without walls in some direction?): give the slicer\'s placement (“Slicer placement dx,dy”) or slice with walls.',
   'register.features-dropped': 'The slicer left part of the model unprinted (a feature thinner than a line), so the box cannot place the part: load the warped STL of step 3 with the G-code, or give the slicer\'s placement (“Slicer placement dx,dy”).',
+  'register.more-than-the-model': 'The G-code prints more than the warped part: copies or other objects on the plate (slice the warped STL of step 3 alone, one copy), or, in a file without feature labels, a wipe/prime tower or brim (turn them off, or use a slicer that writes ;TYPE: or ; FEATURE: labels).',
   'register.anchor-layer': 'Slice with first layer height = layer height (the value under “Slicing”): the first layer is the anchor slab.',
   'gcode.bad-arc': 'Turn off arc fitting in the slicer (PrusaSlicer: Printer settings → Arc fitting: disabled) and export again.',
   'gcode.bad-word': 'A move word on the line named has no plain decimal number or appears twice (exponent notation such as 1e-05, NaN): a firmware would misread it. Export the G-code from the slicer again, or fix that line.',

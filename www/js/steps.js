@@ -59,6 +59,7 @@ export function resetWarp() {
   setDownload('warped-download', null);
   setDownload('job-download', null);
   $('warp-info').replaceChildren();
+  showWarpWarnings(null);
   $('gcode-input').disabled = true;
   resetResult();
   showWarnings();
@@ -93,6 +94,7 @@ export async function doWarp() {
   resetWarp();
   $('warp-button').disabled = true;
   $('warp-info').textContent = 'warping…';
+  showWarpWarnings(null);
   try {
     const cli = ['warpslice', 'warp', state.stlName, ...cliArgs().warp, '-o', `${baseName(state.stlName)}.warped.stl`];
     const out = await call('warp', { stl: state.stl.buffer.slice(0), options: warpOptions(), every: 5, grid: SURFACE_GRID });
@@ -112,6 +114,7 @@ export async function doWarp() {
     ]);
     $('warp-info').replaceChildren(dl);
     $('warp-info').dataset.largestTilt = String(r.largest_tilt_deg);
+    showWarpWarnings(r);
     const name = baseName(state.stlName);
     setDownload('warped-download', new Blob([out.stl], { type: 'model/stl' }), `${name}.warped.stl`);
     setDownload('job-download', new Blob([out.job], { type: 'application/json' }), `${name}.warped.job.json`);
@@ -125,6 +128,18 @@ export async function doWarp() {
   }
   showWarnings();
   showModel();
+}
+
+/**
+ * The warp report's `warnings` (what the STL reader tolerated in the model, a capped
+ * subdivision), one item each, as the CLI prints them after `warning: `. `null` clears them.
+ */
+function showWarpWarnings(report) {
+  $('warp-warnings').replaceChildren(...(report?.warnings ?? []).map((w) => {
+    const li = document.createElement('li');
+    li.textContent = w;
+    return li;
+  }));
 }
 
 /** The warp against the machine: its tilt limit or fixed tilt, a 3-axis machine's vertical nozzle. */

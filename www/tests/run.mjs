@@ -1162,6 +1162,28 @@ try {
     assert(e.code === 'check.bad-number' && e.message.includes('line 3'), `error ${JSON.stringify(e)}`);
   });
 
+  // Issue 12: the warp step's report warnings (here what the STL reader tolerated: bytes
+  // another program appended to a binary STL) are listed on the page as the CLI prints them.
+  await test('warp warnings: the page lists the warp report warnings as the CLI prints them', async () => {
+    const dir = join(TMP, 'warp-warnings');
+    mkdirSync(dir, { recursive: true });
+    const p = join(dir, 'cube-tail.stl');
+    writeFileSync(p, Buffer.concat([Buffer.from(wasm.example_stl('cube')), Buffer.alloc(73, 'x')]));
+    await tid('model-input').setInputFiles(p);
+    await warpSettled();
+    await setConic(30);
+    const cliOut = sh(CLI, ['warp', p, '--warp', 'conic', '--angle', '30', '--direction', 'outward', '-o', join(dir, 'C.stl')]);
+    const cliWarnings = cliOut.split('\n').filter((l) => l.startsWith('warning: ')).map((l) => l.slice(9));
+    assert(cliWarnings.some((w) => w.includes('73 bytes after the last')), `the CLI warns of the appended bytes: ${cliOut}`);
+    const pageWarnings = await tid('warp-warnings').locator('li').allInnerTexts();
+    assert(JSON.stringify(pageWarnings) === JSON.stringify(cliWarnings), `page warp warnings ${JSON.stringify(pageWarnings)} vs the CLI's ${JSON.stringify(cliWarnings)}`);
+    // a clean model: no warp warnings left from the previous one
+    writeFileSync(join(dir, 'cube.stl'), wasm.example_stl('cube'));
+    await tid('model-input').setInputFiles(join(dir, 'cube.stl'));
+    await warpSettled();
+    assert((await tid('warp-warnings').locator('li').count()) === 0, 'no warp warnings for a clean cube');
+  });
+
   await test('no request left 127.0.0.1 and no console errors', async () => {
     assert(outside.length === 0, `requests outside 127.0.0.1: ${outside.slice(0, 5).join(', ')}`);
     const bad = consoleErrors.filter((e) => /Content Security Policy|pageerror|Refused/i.test(e));

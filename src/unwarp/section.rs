@@ -1,0 +1,230 @@
+//! The warped mesh's cross-section at a layer's mid-height, for the shape check by
+//! cross-section ([`super::shape`]).
+//!
+//! A planar slicer prints layer k inside the warped mesh's cut by the plane z = z_k − h_k/2
+//! (PrusaSlicer, Slic3r and CuraEngine slice at the middle of the layer). The cut is the set of
+//! segments where the plane meets the triangles (a triangle whose z-span straddles the plane
+//! gives one segment between its two crossing edges). A point q (XY, STL frame) is inside when
+//! a ray from q toward +x crosses the segments an odd number of times **or** with a non-zero
+//! winding number (each segment oriented with the triangle's outward normal on its right; so
+//! overlapping shells, which slicers unite, count as inside). Its signed distance is the
+//! distance to the nearest segment, negative inside, clamped to ±[`SEARCH_RADIUS`].
+//!
+//! Segments are kept in a uniform grid of [`CELL`] cells over the cut's box: the distance
+//! looks at the cells within [`SEARCH_RADIUS`], the ray at the cells of q's row to its right.
+
+use glam::{DVec2, DVec3};
+
+use crate::mesh::Mesh;
+
+/// Grid cell size, mm.
+pub const CELL: f64 = 1.0;
+/// Distances are searched (and clamped) to this, mm: more than any tolerance of the check and
+/// half a layer.
+pub const SEARCH_RADIUS: f64 = 1.0;
+
+/// One cut: its segments, oriented, in a grid.
+#[derive(Clone, Debug, Default)]
+struct Cut {
+    z: f64,
+    segs: Vec<(DVec2, DVec2)>,
+    origin: DVec2,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+/// The warped mesh, cut at the current layer's mid-height on demand.
+#[derive(Clone, Debug)]
+pub struct Sections {
+    /// Triangles sorted by their lowest z, with their (lowest, highest) z.
+    tris: Vec<([DVec3; 3], f64, f64)>,
+    /// The last cut made.
+    cut: Option<Cut>,
+    /// Stamps for de-duplicating segments met in several cells.
+    seen: Vec<u32>,
+    stamp: u32,
+}
+
+impl Sections {
+    /// The sections of `mesh` (STL frame).
+    pub fn new(mesh: &Mesh) -> Sections {
+        let mut tris: Vec<([DVec3; 3], f64, f64)> = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|i| mesh.vertices[i as usize]);
+                let lo = p[0].z.min(p[1].z).min(p[2].z);
+                let hi = p[0].z.max(p[1].z).max(p[2].z);
+                (p, lo, hi)
+            })
+            .collect();
+        tris.sort_by(|a, b| a.1.total_cmp(&b.1));
+        Sections {
+            tris,
+            cut: None,
+            seen: Vec::new(),
+            stamp: 0,
+        }
+    }
+
+    fn cut_at(&mut self, z: f64) -> &Cut {
+        if self.cut.as_ref().is_none_or(|c| c.z != z) {
+            let mut segs = Vec::new();
+            let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+            for (p, zl, zh) in &self.tris {
+                if *zl >= z {
+                    break;
+                }
+                if *zh <= z {
+                    continue;
+                }
+                let mut ends = [DVec2::ZERO; 2];
+                let mut k = 0;
+                for (a, b) in [(p[0], p[1]), (p[1], p[2]), (p[2], p[0])] {
+                    if (a.z < z) != (b.z < z) && k < 2 {
+                        let s = (z - a.z) / (b.z - a.z);
+                        let q = a + (b - a) * s;
+                        ends[k] = DVec2::new(q.x, q.y);
+                        k += 1;
+                    }
+                }
+                if k != 2 {
+                    continue;
+                }
+                // outward normal (XY) on the segment's right: (e1 − e0) rotated −90°
+                let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                let d = ends[1] - ends[0];
+                if DVec2::new(d.y, -d.x).dot(DVec2::new(n.x, n.y)) < 0.0 {
+                    ends.swap(0, 1);
+                }
+                lo = lo.min(ends[0]).min(ends[1]);
+                hi = hi.max(ends[0]).max(ends[1]);
+                segs.push((ends[0], ends[1]));
+            }
+            let (nx, ny) = if segs.is_empty() {
+                (0, 0)
+            } else {
+                (
+                    ((hi.x - lo.x) / CELL).floor() as usize + 1,
+                    ((hi.y - lo.y) / CELL).floor() as usize + 1,
+                )
+            };
+            let mut cells = vec![Vec::new(); nx * ny];
+            for (i, (a, b)) in segs.iter().enumerate() {
+                let c0 = ((a.min(*b) - lo) / CELL).floor();
+                let c1 = ((a.max(*b) - lo) / CELL).floor();
+                for iy in c0.y as usize..=(c1.y as usize).min(ny - 1) {
+                    for ix in c0.x as usize..=(c1.x as usize).min(nx - 1) {
+                        cells[iy * nx + ix].push(i as u32);
+                    }
+                }
+            }
+            self.seen = vec![0; segs.len()];
+            self.stamp = 0;
+            self.cut = Some(Cut {
+                z,
+                segs,
+                origin: lo,
+                nx,
+                ny,
+                cells,
+            });
+        }
+        self.cut.as_ref().expect("cut")
+    }
+
+    /// Signed distance of `q` (XY, STL frame) from the cut at height `z`: positive outside,
+    /// negative inside, clamped to ±[`SEARCH_RADIUS`], mm.
+    pub fn signed_distance(&mut self, z: f64, q: DVec2) -> f64 {
+        self.cut_at(z);
+        let cut = self.cut.as_ref().expect("cut");
+        if cut.segs.is_empty() {
+            return SEARCH_RADIUS;
+        }
+        let (nx, ny) = (cut.nx as i64, cut.ny as i64);
+        let c = ((q - cut.origin) / CELL).floor();
+        let (cx, cy) = (c.x as i64, c.y as i64);
+        // nearest segment within the search radius
+        let r = (SEARCH_RADIUS / CELL).ceil() as i64;
+        self.stamp = self.stamp.wrapping_add(1);
+        let mut best = SEARCH_RADIUS;
+        for iy in (cy - r).max(0)..=(cy + r).min(ny - 1) {
+            for ix in (cx - r).max(0)..=(cx + r).min(nx - 1) {
+                for &s in &cut.cells[(iy * nx + ix) as usize] {
+                    let (a, b) = cut.segs[s as usize];
+                    best = best.min(point_segment(q, a, b));
+                }
+            }
+        }
+        // the ray toward +x along q's row: parity and winding
+        let inside = if cy < 0 || cy >= ny {
+            false
+        } else {
+            let (mut crossings, mut winding) = (0u32, 0i32);
+            for ix in cx.max(0)..nx {
+                for &s in &cut.cells[(cy * nx + ix) as usize] {
+                    let seen = &mut self.seen[s as usize];
+                    if *seen == self.stamp {
+                        continue;
+                    }
+                    *seen = self.stamp;
+                    let (a, b) = cut.segs[s as usize];
+                    if (a.y <= q.y) == (b.y <= q.y) {
+                        continue;
+                    }
+                    let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                    if x > q.x {
+                        crossings += 1;
+                        // with the outward normal on each segment's right, a closed outline
+                        // runs counter-clockwise: the ray leaves it through an upward segment
+                        winding += if b.y > a.y { 1 } else { -1 };
+                    }
+                }
+            }
+            crossings % 2 == 1 || winding != 0
+        };
+        if inside {
+            -best
+        } else {
+            best
+        }
+    }
+}
+
+/// Distance from `q` to the segment a–b.
+fn point_segment(q: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let d = b - a;
+    let l2 = d.length_squared();
+    let t = if l2 > 0.0 {
+        ((q - a).dot(d) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + d * t - q).length()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cube_cut_at_mid_height_is_signed_inside_and_outside() {
+        let m = crate::shapes::example("cube").unwrap();
+        let b = m.bbox();
+        let mut s = Sections::new(&m);
+        let z = 0.5 * (b.min.z + b.max.z);
+        let c = DVec2::new(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y));
+        let half = 0.5 * (b.max.x - b.min.x);
+        // 0.3 mm inside the +x face, 0.2 mm outside it, far inside, far outside
+        assert!((s.signed_distance(z, c + DVec2::new(half - 0.3, 0.0)) + 0.3).abs() < 1e-9);
+        assert!((s.signed_distance(z, c + DVec2::new(half + 0.2, 0.0)) - 0.2).abs() < 1e-9);
+        assert_eq!(s.signed_distance(z, c), -SEARCH_RADIUS);
+        assert_eq!(
+            s.signed_distance(z, c + DVec2::new(half + 5.0, 0.0)),
+            SEARCH_RADIUS
+        );
+        // above the top: no cut, outside
+        assert_eq!(s.signed_distance(b.max.z + 1.0, c), SEARCH_RADIUS);
+    }
+}
