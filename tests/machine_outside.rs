@@ -343,10 +343,17 @@ fn a_relative_end_gcode_lift_and_wipe_moves_by_its_deltas_from_where_the_head_is
         let tip = |l: &AxisLine| fk.forward(&l.axes).unwrap();
         let p0 = tip(lines.iter().rev().find(|l| l.number < mark).unwrap()).0;
         let after: Vec<_> = lines.iter().filter(|l| l.number > mark).collect();
-        assert!(!after.is_empty(), "{name}: nothing converted after the mark");
+        assert!(
+            !after.is_empty(),
+            "{name}: nothing converted after the mark"
+        );
         for l in &after {
             let (_, n) = tip(l);
-            assert!((n - DVec3::Z).length() < VERTICAL, "{name} line {}: {n:?}", l.number);
+            assert!(
+                (n - DVec3::Z).length() < VERTICAL,
+                "{name} line {}: {n:?}",
+                l.number
+            );
         }
         let end = tip(after[after.len() - 1]).0;
         let want = p0 + DVec3::new(5.0, 5.0, 10.2);
