@@ -11,8 +11,7 @@ use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
 use warpslice::machine::{preset, preset_names};
-use warpslice::pipeline::{unwarp, warp_model, UnwarpSettings, WarpOptions, WarpOutput};
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+use warpslice::pipeline::{unwarp, UnwarpSettings, WarpOutput};
 use warpslice::unwarp::UnwarpOptions;
 
 #[path = "../../tests/common/synthetic.rs"]
@@ -24,25 +23,6 @@ const INFILL_STEP: f64 = 2.0;
 /// Edge of the fuzzed cube, mm (the tests' cube is 20 mm: scaled down, ~30 layers).
 const CUBE_MM: f64 = 6.0;
 
-/// The warped cube and its job (conic 30° outward, as the regression tests' part).
-fn small_conic_cube() -> WarpOutput {
-    let mut cube = warpslice::shapes::example("cube").expect("the cube example exists");
-    let size = cube.bbox().size().x;
-    for v in &mut cube.vertices {
-        *v *= CUBE_MM / size;
-    }
-    let stl = warpslice::mesh::write_stl(&cube, "fuzz");
-    let p = WarpParams {
-        spec: WarpSpec::Conic {
-            angle: 30.0,
-            direction: Direction::Outward,
-            center: [0.0, 0.0],
-        },
-        base: None,
-    };
-    warp_model(&stl, &WarpOptions::new(p)).expect("the small cube warps")
-}
-
 struct Base {
     part: WarpOutput,
     /// The base G-code's lines, absolute and relative E.
@@ -52,7 +32,7 @@ struct Base {
 fn base() -> &'static Base {
     static BASE: OnceLock<Base> = OnceLock::new();
     BASE.get_or_init(|| {
-        let part = small_conic_cube();
+        let part = synthetic::conic_cube_of(CUBE_MM);
         let lines = [false, true].map(|relative| {
             synthetic::gcode(&part.job, relative, INFILL_STEP)
                 .lines()

@@ -248,8 +248,20 @@ pub fn gcode(job: &Job, relative: bool, infill_step: f64) -> String {
 /// The warped 20 mm cube (conic 30° outward) and its job: the regression tests' part.
 #[allow(dead_code)]
 pub fn conic_cube() -> warpslice::pipeline::WarpOutput {
+    conic_cube_of(20.0)
+}
+
+/// The same part scaled to an `edge_mm` cube (the example cube is 20 mm: `conic_cube_of(20.0)`
+/// is [`conic_cube`] exactly, the scale factor being 1).
+#[allow(dead_code)]
+pub fn conic_cube_of(edge_mm: f64) -> warpslice::pipeline::WarpOutput {
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
-    let stl = warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "t");
+    let mut cube = warpslice::shapes::example("cube").unwrap();
+    let scale = edge_mm / cube.bbox().size().x;
+    for v in &mut cube.vertices {
+        *v *= scale;
+    }
+    let stl = warpslice::mesh::write_stl(&cube, "t");
     let p = WarpParams {
         spec: WarpSpec::Conic {
             angle: 30.0,
