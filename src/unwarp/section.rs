@@ -73,10 +73,15 @@ impl Sections {
             let mut segs = Vec::new();
             let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
             for (p, zl, zh) in &self.tris {
+                // a vertex exactly on the plane counts as above it (`a.z < z` is below): a
+                // triangle crosses when it has a vertex below and one on or above. So a plane
+                // through a ring of vertices (a subdivided wall's row at a layer's mid-height)
+                // takes the segment from the triangles below the ring, whose top edge lies on
+                // it; skipping triangles with their highest vertex on the plane lost the wall
                 if *zl >= z {
                     break;
                 }
-                if *zh <= z {
+                if *zh < z {
                     continue;
                 }
                 let mut ends = [DVec2::ZERO; 2];
@@ -226,5 +231,39 @@ mod tests {
         );
         // above the top: no cut, outside
         assert_eq!(s.signed_distance(b.max.z + 1.0, c), SEARCH_RADIUS);
+    }
+
+    /// A subdivided cube's walls have rows of vertices; a layer's mid-height can fall exactly
+    /// on one (found on CuraEngine's files of a curved warp: a 20 mm cube's wall row at z = 5.5,
+    /// the layer at 5.6 with h = 0.2): the cut must still hold the walls.
+    #[test]
+    fn a_cut_exactly_through_a_row_of_vertices_keeps_the_walls() {
+        let m = crate::shapes::example("cube").unwrap();
+        let b = m.bbox();
+        let (m, _) = crate::mesh::subdivide(
+            &m,
+            &crate::mesh::SubdivideOptions {
+                max_edge: 0.25 * (b.max.z - b.min.z),
+                ..Default::default()
+            },
+            &|v| v,
+        );
+        // a height where the subdivided walls have vertices
+        let z = m
+            .vertices
+            .iter()
+            .map(|v| v.z)
+            .find(|&z| z > b.min.z + 1e-9 && z < b.max.z - 1e-9)
+            .expect("a vertex inside the wall");
+        let mut s = Sections::new(&m);
+        let c = DVec2::new(0.5 * (b.min.x + b.max.x), 0.5 * (b.min.y + b.max.y));
+        let half = 0.5 * (b.max.x - b.min.x);
+        for dir in [DVec2::X, DVec2::Y, -DVec2::X, -DVec2::Y] {
+            let d = s.signed_distance(z, c + dir * (half - 0.3));
+            assert!((d + 0.3).abs() < 1e-9, "0.3 mm inside the wall {dir}: {d}");
+            let d = s.signed_distance(z, c + dir * (half + 0.2));
+            assert!((d - 0.2).abs() < 1e-9, "0.2 mm outside the wall {dir}: {d}");
+        }
+        assert_eq!(s.signed_distance(z, c), -SEARCH_RADIUS);
     }
 }
