@@ -43,6 +43,8 @@ pub struct Move {
     pub typed: Typed,
     /// `Some(true)` for G10 (firmware retract), `Some(false)` for G11.
     pub fw: Option<bool>,
+    /// The line names no axis, only E (and F): a retraction or its push-back.
+    pub e_only: bool,
 }
 
 impl Move {
@@ -79,6 +81,17 @@ impl Written {
         let net = self.moves.iter().map(|m| m.e).sum();
         let pos = self.moves.iter().map(|m| m.e.max(0.0)).sum();
         (net, pos)
+    }
+
+    /// The positive E steps of the lines that name an axis (not `G1 E…` alone), mm: what the
+    /// file deposits, without the push-backs after retractions, whose number follows the
+    /// travels a file plans (a lifted travel gets a retraction of the unwarp's own).
+    pub fn extruded_by_moves(&self) -> f64 {
+        self.moves
+            .iter()
+            .filter(|m| !m.e_only)
+            .map(|m| m.e.max(0.0))
+            .sum()
     }
 
     /// The extrusions (see [`Move::extrudes`]).
@@ -169,12 +182,15 @@ pub fn read(bytes: &[u8]) -> Result<Written, String> {
                 e: 0.0,
                 typed,
                 fw: Some(cmd == "G10"),
+                e_only: false,
             }),
             "G0" | "G1" => {
                 let (mut to, mut e) = (pos, None);
+                let mut axis_word = false;
                 for wd in words {
                     let (k, v) = wd.split_at(1);
                     let k = k.to_ascii_uppercase();
+                    axis_word |= k != "E" && k != "F";
                     let axis = match k.as_str() {
                         "X" => Some(0),
                         "Y" => Some(1),
@@ -203,6 +219,7 @@ pub fn read(bytes: &[u8]) -> Result<Written, String> {
                     e: de,
                     typed,
                     fw: None,
+                    e_only: !axis_word && e.is_some(),
                 });
                 pos = to;
             }
