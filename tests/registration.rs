@@ -25,14 +25,19 @@ const REGISTRATION_TOLERANCE: f64 = 0.02;
 const BED_CENTRE: [f64; 2] = [100.0, 100.0];
 
 fn conic() -> WarpOptions {
-    WarpOptions::new(WarpParams {
-        spec: WarpSpec::Conic {
-            angle: 30.0,
-            direction: Direction::Outward,
-            center: [0.0, 0.0],
-        },
-        base: None,
-    })
+    conic_with(30.0, Direction::Outward, [0.0, 0.0])
+}
+
+/// `model` warped with `opts`, written where a run beside `d/part.gcode` puts it; the run's
+/// file names and the warp's output.
+fn warped_beside(
+    d: &std::path::Path,
+    model: &std::path::Path,
+    opts: &WarpOptions,
+) -> (RunFiles, warpslice::pipeline::WarpOutput) {
+    let files = RunFiles::next_to(&d.join("part.gcode"));
+    let w = files::warp_file(model, opts, &files.warped, &mut ()).unwrap();
+    (files, w)
 }
 
 fn dir(tag: &str) -> std::path::PathBuf {
@@ -118,8 +123,7 @@ fn without_the_mesh_a_part_missing_its_fins_is_refused_by_name() {
     let d = dir("nomesh");
     let stl = d.join("fins.stl");
     std::fs::write(&stl, common::finned_block()).unwrap();
-    let files = RunFiles::next_to(&d.join("part.gcode"));
-    let w = files::warp_file(&stl, &conic(), &files.warped, &mut ()).unwrap();
+    let (files, w) = warped_beside(&d, &stl, &conic());
     let slice = SliceOptions {
         slicer: SlicerKind::CuraEngine,
         ..Default::default()
@@ -242,14 +246,7 @@ fn a_job_of_another_warp_is_refused_even_when_the_boxes_agree() {
         warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "cube"),
     )
     .unwrap();
-    let files = RunFiles::next_to(&d.join("part.gcode"));
-    let right = files::warp_file(
-        &model,
-        &conic_with(30.0, Direction::Outward, [0.0, 0.0]),
-        &files.warped,
-        &mut (),
-    )
-    .unwrap();
+    let (files, right) = warped_beside(&d, &model, &conic());
     let stl = std::fs::read(&model).unwrap();
     let others: Vec<(&str, warpslice::job::Job)> = other_warps(&stl)
         .into_iter()
@@ -340,8 +337,7 @@ fn a_thin_winged_part_is_placed_by_what_was_printed_with_every_slicer() {
             let d = dir(&tag);
             let model = d.join("wing.stl");
             std::fs::write(&model, common::thin_wing()).unwrap();
-            let files = RunFiles::next_to(&d.join("part.gcode"));
-            let w = files::warp_file(&model, &warp, &files.warped, &mut ()).unwrap();
+            let (files, w) = warped_beside(&d, &model, &warp);
             let slice = SliceOptions {
                 slicer: kind,
                 ..Default::default()
@@ -634,8 +630,7 @@ fn two_copies_of_the_object_are_named_as_two_objects() {
         warpslice::mesh::write_stl(&warpslice::shapes::example("cube").unwrap(), "cube"),
     )
     .unwrap();
-    let files = RunFiles::next_to(&d.join("part.gcode"));
-    files::warp_file(&model, &conic(), &files.warped, &mut ()).unwrap();
+    let (files, _) = warped_beside(&d, &model, &conic());
     let slice = SliceOptions {
         slicer: SlicerKind::PrusaSlicer,
         extra_args: vec!["--duplicate".into(), "2".into()],
@@ -685,14 +680,7 @@ fn with_the_mesh_another_warp_is_refused_and_the_section_margins_are_measured() 
     let stl = std::fs::read(corpus.join("sm_gearwheel_bin.stl")).unwrap();
     let model = d.join("gear.stl");
     std::fs::write(&model, &stl).unwrap();
-    let files = RunFiles::next_to(&d.join("part.gcode"));
-    let right = files::warp_file(
-        &model,
-        &conic_with(30.0, Direction::Outward, [0.0, 0.0]),
-        &files.warped,
-        &mut (),
-    )
-    .unwrap();
+    let (files, right) = warped_beside(&d, &model, &conic());
     let right_stl = std::fs::read(&files.warped).unwrap();
     let others = other_warps(&stl);
     let s = UnwarpSettings::default();
