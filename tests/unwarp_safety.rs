@@ -12,6 +12,8 @@ mod common;
 mod synthetic;
 
 use std::collections::HashMap;
+
+use glam::DVec3;
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -1003,6 +1005,176 @@ fn rotbot_reorients_at_a_cone_apex_without_repeated_lines() {
         prev = code;
     }
     assert!(reorients > 50, "{reorients} reorientation lines");
+}
+
+// ── issue 10 §2: singularities ───────────────────────────────────────────────────────────────
+
+/// The swing the issue names: a rotary axis turning this much (degrees) …
+const SWING_TURN_DEG: f64 = 90.0;
+/// … while the tip, extruding or turning in place on the part, travels at most this, mm
+/// (issue 10: "about 175° within 0.15 mm of extrusion").
+const SWING_TIP_MM: f64 = 0.15;
+/// A line whose tip moves less than this from the line before it turns in place, mm.
+const IN_PLACE_MM: f64 = 0.005;
+/// A swing lift's lines in the air are at least this far above the part's line before them, mm
+/// (the emitter's lift is 1 mm; the run's own path rises less than a tenth of it).
+const LIFTED_MM: f64 = 0.9;
+
+/// Issue 10 §2 "singularities", on every preset (RepRapFirmware): at a cone's apex (the
+/// zig-zag whose corners are the apex, where the tool axis flips 180°) no rotary axis turns
+/// [`SWING_TURN_DEG`] while the tip stays on the part within [`SWING_TIP_MM`] of path
+/// (extruding lines and in-place turns, read with the tests' own forward kinematics, `fk.rs`);
+/// instead the head is lifted ([`LIFTED_MM`] above the part for every line in the air of a
+/// `; swing-lift` group), turned and set down, and the report lists every such place. pax-5axis
+/// and open5x-ab (the issue's two) lift at least once. A preset that refuses the job does so by
+/// name.
+#[test]
+fn every_machine_lifts_over_a_swing_at_a_cone_apex_instead_of_turning_on_the_part() {
+    let w = conic_cube();
+    let g = apex_zigzag(&w.job);
+    let mut lifted = HashMap::new();
+    for name in warpslice::machine::preset_names() {
+        let spec = warpslice::machine::preset(name).unwrap();
+        // a table machine prints the part on its axes: placed at the origin when the slicer's
+        // placement is beyond its travel
+        let placed = || {
+            let mut s = settings(Some(spec.clone()), None);
+            s.unwarp.place = Some([0.0, 0.0]);
+            unwarp(g.as_bytes(), &w.job, &s)
+        };
+        let out = match run_lib(&g, &w.job, Some(name)).or_else(|e| match e.code() {
+            "machine.travel" => placed(),
+            _ => Err(e),
+        }) {
+            Ok(o) => o,
+            Err(e) => {
+                assert!(
+                    e.code().starts_with("machine.") || e.code().starts_with("unwarp."),
+                    "{name}: refused without a machine code: {e}"
+                );
+                println!("{name:20} refused: {}", e.code());
+                continue;
+            }
+        };
+        let rep = out.report.machine.clone().expect("a machine report");
+        let text = String::from_utf8(out.gcode).unwrap();
+        let m = spec.build().unwrap();
+        let names = m.axis_names();
+        let rotary: Vec<bool> = m.limits().iter().map(|l| l.rotary).collect();
+        let fk = common::machine::fk::Fk::from_spec(&spec).unwrap();
+        let lines = common::machine::parse(&text, &names).unwrap();
+        let all: Vec<&str> = text.lines().collect();
+        let e_of = |l: &common::machine::AxisLine| {
+            all[l.number - 1]
+                .split(';')
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .find_map(|w| w.strip_prefix('E'))
+                .map_or(0.0, |v| v.parse::<f64>().unwrap())
+        };
+        let tips: Vec<DVec3> = lines
+            .iter()
+            .map(|l| fk.forward(&l.axes).unwrap().0)
+            .collect();
+        // an in-place line belongs to an extruding move when the next line that moves the tip
+        // extrudes (a travel's turns in place are the travel planner's, not a swing)
+        let mut extruding_next = vec![false; lines.len()];
+        for k in (0..lines.len()).rev() {
+            let moves = k == 0 || (tips[k] - tips[k - 1]).length() >= IN_PLACE_MM;
+            extruding_next[k] = if moves {
+                e_of(&lines[k]) > 0.0
+            } else {
+                extruding_next.get(k + 1).copied().unwrap_or(false)
+            };
+        }
+        let mut window: Vec<(usize, f64, Vec<f64>)> = Vec::new(); // (line, tip path so far, axes)
+        let mut path = 0.0;
+        let (mut groups, mut in_group, mut before_z) = (0u64, false, f64::NAN);
+        let mut prev: Option<(DVec3, Vec<f64>)> = None;
+        for (k, l) in lines.iter().enumerate() {
+            let tip = tips[k];
+            let src = all[l.number - 1];
+            let swing = src.contains("; swing-lift");
+            let e = e_of(l);
+            let (moved, start_axes) = match &prev {
+                Some((p, a)) => ((tip - *p).length(), a.clone()),
+                None => (f64::INFINITY, l.axes.clone()),
+            };
+            if swing && !in_group {
+                groups += 1;
+                before_z = prev.as_ref().map_or(tip.z, |(p, _)| p.z);
+            }
+            // the lines in the air: every line of a group but the set-down (its last)
+            let next_swing = all
+                .get(l.number)
+                .is_some_and(|n| n.contains("; swing-lift"));
+            if swing && next_swing {
+                assert!(
+                    tip.z >= before_z + LIFTED_MM,
+                    "{name} line {}: a swing lift's line at z {:.3}, not {LIFTED_MM} mm above the part's {before_z:.3}",
+                    l.number,
+                    tip.z
+                );
+            }
+            in_group = swing;
+            let on_part = !swing && (e > 0.0 || (moved < IN_PLACE_MM && extruding_next[k]));
+            if !on_part {
+                window.clear();
+                path = 0.0;
+            } else {
+                if window.is_empty() {
+                    window.push((l.number, 0.0, start_axes));
+                }
+                path += if moved.is_finite() { moved } else { 0.0 };
+                window.push((l.number, path, l.axes.clone()));
+                for (from_line, at, axes) in &window {
+                    if path - at > SWING_TIP_MM {
+                        continue;
+                    }
+                    for (i, &r) in rotary.iter().enumerate() {
+                        let turn = (l.axes[i] - axes[i]).abs();
+                        assert!(
+                            !r || turn < SWING_TURN_DEG,
+                            "{name}: lines {from_line}–{}: {} turns {turn:.1}° with the tip on the part over {:.3} mm",
+                            l.number,
+                            names[i],
+                            path - at
+                        );
+                    }
+                }
+            }
+            if l.after.is_some() {
+                // a G92 renames the rotary axes: turns are not compared across it
+                window.clear();
+                path = 0.0;
+            }
+            prev = Some((tip, l.after.clone().unwrap_or_else(|| l.axes.clone())));
+        }
+        assert_eq!(
+            groups, rep.swing_lifts,
+            "{name}: the file's swing-lift groups and the report's count"
+        );
+        assert_eq!(rep.swings.len() as u64, rep.swing_lifts, "{name}");
+        for sw in &rep.swings {
+            assert!(
+                all[sw.output_line as usize - 1].contains("; swing-lift"),
+                "{name}: the report's swing at output line {} is not one",
+                sw.output_line
+            );
+        }
+        println!(
+            "{name:20} {} swing lifts, {:.3} mm of tip path lifted over",
+            rep.swing_lifts, rep.swing_skipped_mm
+        );
+        lifted.insert(name, rep.swing_lifts);
+    }
+    for m in ["pax-5axis", "open5x-ab"] {
+        assert!(
+            lifted.get(m).is_some_and(|&n| n > 0),
+            "{m} has no swing lift at the apex: {lifted:?}"
+        );
+    }
 }
 
 /// Issue 12 item 4 with a real slicer: PrusaSlicer with two extruders (perimeters from the

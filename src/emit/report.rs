@@ -79,6 +79,17 @@ pub struct MachineReport {
     pub e_skipped_mm: f64,
     /// `G92` modulo-360° resets of unlimited rotary axes.
     pub rotary_resets: u64,
+    /// Swing lifts: places near a cone's apex or a kinematic pole where a rotary axis would
+    /// swing while the tip barely moves, extruding (`crate::machine::emit::SWING_RATE_DEG_PER_MM`);
+    /// the head was lifted, turned in the air and set down instead.
+    #[serde(default)]
+    pub swing_lifts: u64,
+    /// Tip path lifted over by the swing lifts, mm (its filament went to the next piece).
+    #[serde(default)]
+    pub swing_skipped_mm: f64,
+    /// Every swing lift, in file order.
+    #[serde(default)]
+    pub swings: Vec<SwingPlace>,
     /// The collision check ran (`check_collisions`; see `crate::collision`).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub collisions_checked: bool,
@@ -96,6 +107,21 @@ pub struct MachineReport {
     pub print_time_min: f64,
     /// The part of `print_time_min` that the axis feed limits add, minutes.
     pub slowdown_min: f64,
+}
+
+/// One swing lift of a machine file (see [`MachineReport::swing_lifts`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SwingPlace {
+    /// The output line (1-based) of the lift.
+    pub output_line: u64,
+    /// The slicer's input line (1-based) of the move it is in (0: none).
+    pub input_line: u64,
+    /// The slicer's layer index (0-based).
+    pub layer: u32,
+    /// The largest turn of one rotary axis in the air, degrees.
+    pub turn_deg: f64,
+    /// The tip path lifted over, mm.
+    pub tip_mm: f64,
 }
 
 /// One axis over a machine file: travel, range written, margins, feed limit.

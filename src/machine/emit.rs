@@ -64,9 +64,9 @@ use super::feed::{fastest, output_feed, FeedMode, FeedMove};
 use super::flavour::Flavour;
 use super::reach::Reach;
 use super::speed::AxisSpeeds;
-use super::tessellate::{tessellate_move, Bounds, TessellationReport, DEFAULT_BOUNDS};
+use super::tessellate::{tessellate_move, Bounds, MachineMove, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
-use crate::emit::{EWriter, EmitError, Emitter, MachineReport, DEFAULT_TRAVEL_FEED};
+use crate::emit::{EWriter, EmitError, Emitter, MachineReport, SwingPlace, DEFAULT_TRAVEL_FEED};
 use crate::gcode::write::{push_e, push_fixed, push_mm, written_value, MM_DECIMALS};
 use crate::job::Job;
 use crate::toolpath::{Feature, ToolPoint};
@@ -77,6 +77,28 @@ pub const ROTATE_AROUND_LIFT_MM: f64 = 1.0;
 pub const INVERSE_TIME_DECIMALS: u32 = 5;
 /// Trailing comment of the lines of a rotate-around (not toolpath points).
 pub const ROTATE_AROUND_TAG: &str = "; rotate-around";
+/// Trailing comment of the lines of a swing lift ([`SWING_RATE_DEG_PER_MM`]): lift, turn in
+/// the air along the pieces the swing would have printed, set down.
+pub const SWING_TAG: &str = "; swing-lift";
+/// A piece of an extruding move whose rotary axes turn faster than this per mm of tip path
+/// (the largest |Δ| of one rotary axis over the piece's tip length, °/mm; a piece with no tip
+/// motion turns infinitely fast) is part of a **swing**: the tool axis circles a point less than
+/// 180°/(π·600) ≈ 0.095 mm away, a cone's apex or a pole of the kinematics, where pax-5axis and
+/// open5x-ab turn a rotary axis about 175° within 0.15 mm of extrusion (issue 10 §2,
+/// "singularities"). Printed as written, the nozzle dwells on the part, extruding, for the
+/// seconds the axis takes to turn.
+pub const SWING_RATE_DEG_PER_MM: f64 = 600.0;
+/// A run of consecutive swing pieces of one move whose rotary axes turn at least this much in
+/// all (the largest summed |Δ| of one axis, degrees) is a swing lift: the head lifts
+/// [`ROTATE_AROUND_LIFT_MM`] along +Z at the run's start, turns through the run's poses in the
+/// air, and sets down at its end; the run's filament goes to the next extruding piece, as a
+/// rotate-around's does. A shorter turn is printed as is.
+pub const SWING_MIN_TURN_DEG: f64 = 45.0;
+/// Two swing runs of one move with less tip path than this between them are one swing lift,
+/// mm (the tool axis circling an apex turns slower for a piece or two where the path is
+/// farthest from it: lifting, setting down and lifting again there gains nothing).
+pub const SWING_JOIN_MM: f64 = 0.1;
+
 /// Trailing comment of an in-place reorientation (a held rotary axis catching up).
 pub const REORIENT_TAG: &str = "; reorient";
 /// Trailing comment of a move where the splitting hit its depth limit: the interpolation bound
@@ -122,6 +144,8 @@ pub struct MachineEmitter {
     report: MachineReport,
     /// Filament of a rotate-around's piece, given to the next extruding piece, mm.
     carry_e: f64,
+    /// Rotary axes (machine order), for [`swing_runs`].
+    rotary: Vec<bool>,
     /// Every written move's axes inside their travel; the range written.
     reach: Reach,
     /// Moves slowed by an axis' largest feed; the time estimate.
@@ -163,6 +187,7 @@ impl MachineEmitter {
     ) -> Result<MachineEmitter, MachineError> {
         let machine = spec.build()?;
         let limits = machine.limits().to_vec();
+        let rotary = limits.iter().map(|l| l.rotary).collect();
         let axis_bounds = spec.axis_bounds(&limits)?;
         let max_feed: Vec<f64> = axis_bounds.iter().map(|b| b.max_feed).collect();
         let speeds = AxisSpeeds::new(
@@ -208,6 +233,7 @@ impl MachineEmitter {
             prev: None,
             last_layer: None,
             carry_e: 0.0,
+            rotary,
             tess: TessellationReport::default(),
             report,
             reach: Reach::new(axis_bounds),
@@ -232,7 +258,8 @@ impl MachineEmitter {
         let mut r = self.report.clone();
         let t = &self.tess;
         r.moves_in = t.moves_in as u64;
-        r.moves_out = (t.moves_out as u64 + r.rotate_arounds * 2).saturating_sub(self.dropped);
+        r.moves_out = (t.moves_out as u64 + r.rotate_arounds * 2 + r.swing_lifts * 2)
+            .saturating_sub(self.dropped);
         r.worst_position_mm = t.worst_position_mm;
         r.worst_angle_deg = t.worst_angle_deg;
         r.worst_dropped_deg = t.worst_dropped_deg;
@@ -447,6 +474,77 @@ impl MachineEmitter {
         Ok(())
     }
 
+    /// A swing lift ([`SWING_MIN_TURN_DEG`]): from `from`, lift the tip by
+    /// [`ROTATE_AROUND_LIFT_MM`] along +Z with the pose held, pass through the poses of `run`
+    /// each lifted the same way (`inverse(p + lift, n)` from the piece's own axes, so every
+    /// rotary value is the piece's and the turn is the one the swing would have printed), and
+    /// set down on the run's last pose. Nothing is extruded: the run's filament goes to the next
+    /// extruding piece. Each place goes into the report.
+    fn swing_lift(
+        &mut self,
+        out: &mut Vec<u8>,
+        from: &Pose,
+        run: &[MachineMove],
+        turn_deg: f64,
+        tp: &ToolPoint,
+    ) -> Result<(), MachineError> {
+        let lift = DVec3::Z * ROTATE_AROUND_LIFT_MM;
+        let output_line = self.next_output_line(out);
+        let up0 = self
+            .machine
+            .inverse(from.p + lift, from.n, Some(&from.axes))?;
+        let tag = SWING_TAG;
+        self.write_g1(
+            out,
+            &from.axes,
+            &up0,
+            from.p + lift,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            tp.f,
+            tag,
+        )?;
+        let mut at = up0;
+        let mut tip = 0.0;
+        for m in run {
+            let up = self.machine.inverse(m.p + lift, m.n, Some(&m.axes))?;
+            self.write_g1(
+                out,
+                &at,
+                &up,
+                m.p + lift,
+                None,
+                m.tip_length,
+                tp.f.max(m.f),
+                tag,
+            )?;
+            self.carry_e += m.e;
+            tip += m.tip_length;
+            at = up;
+        }
+        let last = &run[run.len() - 1];
+        self.write_g1(
+            out,
+            &at,
+            &last.axes,
+            last.p,
+            None,
+            ROTATE_AROUND_LIFT_MM,
+            tp.f,
+            tag,
+        )?;
+        self.report.swing_lifts += 1;
+        self.report.swing_skipped_mm += tip;
+        self.report.swings.push(SwingPlace {
+            output_line,
+            input_line: self.input_line,
+            layer: tp.layer,
+            turn_deg,
+            tip_mm: tip,
+        });
+        Ok(())
+    }
+
     /// Move from the previous pose to `tp` (tessellated).
     fn move_to(
         &mut self,
@@ -472,8 +570,27 @@ impl MachineEmitter {
             &self.bounds,
             &mut self.tess,
         )?;
+        let swings = if tp.travel {
+            Vec::new()
+        } else {
+            swing_runs(&prev.axes, &moves, &self.rotary)
+        };
         let mut from = prev.clone();
-        for m in &moves {
+        let mut k = 0;
+        while k < moves.len() {
+            if let Some(run) = swings.iter().find(|r| r.pieces.start == k) {
+                self.swing_lift(out, &from, &moves[run.pieces.clone()], run.turn_deg, tp)?;
+                let last = &moves[run.pieces.end - 1];
+                from = Pose {
+                    axes: last.axes.clone(),
+                    p: last.p,
+                    n: last.n,
+                };
+                k = run.pieces.end;
+                continue;
+            }
+            let m = &moves[k];
+            k += 1;
             if m.rotate_around {
                 // the piece turned around in the air (≤ SEAM_PIECE_MM): its filament goes to
                 // the next extruding piece, so the volume is kept
@@ -779,9 +896,9 @@ impl Emitter for MachineEmitter {
     fn finish(&mut self, out: &mut Vec<u8>) {
         let r = self.report();
         let line = format!(
-            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} rotary resets; {} re-poses; {}; {}\n",
+            "; warpslice machine report: {} moves in, {} out; worst interpolation {:.5} mm / {:.4} deg; largest dropped tool-axis angle {:.3} deg; {} rotate-arounds ({:.5} mm E carried past the seam); {} swing lifts ({:.3} mm of tip path lifted over); {} rotary resets; {} re-poses; {}; {}\n",
             r.moves_in, r.moves_out, r.worst_position_mm, r.worst_angle_deg, r.worst_dropped_deg,
-            r.rotate_arounds, r.e_skipped_mm, r.rotary_resets, r.reposes,
+            r.rotate_arounds, r.e_skipped_mm, r.swing_lifts, r.swing_skipped_mm, r.rotary_resets, r.reposes,
             speed_summary(&r),
             margins_summary(&r.axes)
         );
@@ -791,6 +908,85 @@ impl Emitter for MachineEmitter {
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
     }
+}
+
+/// A run of swing pieces to lift over ([`swing_runs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SwingRun {
+    /// The pieces of the move (indices).
+    pub pieces: std::ops::Range<usize>,
+    /// The largest summed |Δ| of one rotary axis over the run, degrees.
+    pub turn_deg: f64,
+}
+
+/// The swing runs of one extruding move's `pieces`, reached from the axes `start`: runs of
+/// consecutive pieces each turning a rotary axis (`rotary[i]`) faster than
+/// [`SWING_RATE_DEG_PER_MM`] per mm of tip, joined when less than [`SWING_JOIN_MM`] of tip path
+/// lies between them (the pieces between are lifted over too: one lift, not several), whose
+/// largest summed turn of one axis reaches [`SWING_MIN_TURN_DEG`]. A rotate-around piece is
+/// never in a run and separates runs (it has its own lifted turn).
+pub fn swing_runs(start: &[f64], pieces: &[MachineMove], rotary: &[bool]) -> Vec<SwingRun> {
+    let mut runs: Vec<SwingRun> = Vec::new();
+    if !rotary.iter().any(|&r| r) {
+        return runs;
+    }
+    // per piece: its largest turn of one axis and whether it swings
+    let mut prev = start;
+    let mut turns: Vec<Vec<f64>> = Vec::with_capacity(pieces.len());
+    let mut swing: Vec<bool> = Vec::with_capacity(pieces.len());
+    for m in pieces {
+        let t: Vec<f64> = rotary
+            .iter()
+            .zip(prev.iter().zip(&m.axes))
+            .map(|(&r, (a, b))| if r { (b - a).abs() } else { 0.0 })
+            .collect();
+        let turn = t.iter().copied().fold(0.0, f64::max);
+        swing.push(
+            !m.rotate_around
+                && turn > 0.0
+                && (m.tip_length <= 0.0 || turn / m.tip_length > SWING_RATE_DEG_PER_MM),
+        );
+        turns.push(t);
+        prev = &m.axes;
+    }
+    // raw runs, joined across short gaps without a rotate-around
+    let mut raw: Vec<std::ops::Range<usize>> = Vec::new();
+    let mut k = 0;
+    while k < pieces.len() {
+        if !swing[k] {
+            k += 1;
+            continue;
+        }
+        let s = k;
+        while k < pieces.len() && swing[k] {
+            k += 1;
+        }
+        if let Some(last) = raw.last_mut() {
+            let gap = &pieces[last.end..s];
+            let gap_mm: f64 = gap.iter().map(|m| m.tip_length).sum();
+            if gap_mm < SWING_JOIN_MM && !gap.iter().any(|m| m.rotate_around) {
+                last.end = k;
+                continue;
+            }
+        }
+        raw.push(s..k);
+    }
+    for r in raw {
+        let mut sums = vec![0.0; rotary.len()];
+        for t in &turns[r.clone()] {
+            for (s, x) in sums.iter_mut().zip(t) {
+                *s += x;
+            }
+        }
+        let turn = sums.iter().copied().fold(0.0, f64::max);
+        if turn >= SWING_MIN_TURN_DEG {
+            runs.push(SwingRun {
+                pieces: r,
+                turn_deg: turn,
+            });
+        }
+    }
+    runs
 }
 
 /// A move's step when probing [`rest_dependence`], mm (well above rounding, small against any

@@ -98,7 +98,9 @@ pub fn parse(text: &str, names: &[String]) -> Result<Vec<AxisLine>, String> {
             out.push(AxisLine {
                 number: i + 1,
                 axes,
-                rotate_around: comment.contains("rotate-around"),
+                // a swing lift (lift, turn in the air, set down) is off the path by design
+                // like a rotate-around
+                rotate_around: comment.contains("rotate-around") || comment.contains("swing-lift"),
                 after: None,
                 reorient: comment.contains("; reorient"),
                 discontinuity: comment.contains("; discontinuity"),

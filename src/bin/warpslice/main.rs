@@ -276,8 +276,9 @@ mod cli {
         say!("largest tilt {:.2}°; {} travels lifted ({} retractions added); {} points clamped to the bed; shape check: {} points outside the part, {:+.3} mm from the allowance", r.largest_tilt_deg, r.lifts, r.retracts_added, r.clamped_points, r.shape_outliers, r.shape_margin_mm);
         if let Some(m) = &r.machine {
             say!(
-                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} rotary resets; {}; {}",
-                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.rotary_resets,
+                "machine {} ({}): {} moves → {} G1; worst interpolation {:.5} mm / {:.4}°; largest dropped tool-axis angle {:.3}°; {} rotate-arounds; {} swing lifts{}; {} rotary resets; {}; {}",
+                m.machine, m.flavour, m.moves_in, m.moves_out, m.worst_position_mm, m.worst_angle_deg, m.worst_dropped_deg, m.rotate_arounds, m.swing_lifts,
+                crate::swing_lines(m), m.rotary_resets,
                 warpslice::machine::emit::speed_summary(m),
                 warpslice::machine::emit::margins_summary(&m.axes)
             );
@@ -554,4 +555,21 @@ mod cli {
             }
         }
     }
+}
+
+/// The output lines of the first swing lifts, for the summary (`" (output lines 143, 380, …)"`).
+#[cfg(not(target_arch = "wasm32"))]
+fn swing_lines(m: &warpslice::emit::MachineReport) -> String {
+    const SHOWN: usize = 5;
+    if m.swings.is_empty() {
+        return String::new();
+    }
+    let lines: Vec<String> = m
+        .swings
+        .iter()
+        .take(SHOWN)
+        .map(|s| s.output_line.to_string())
+        .collect();
+    let more = if m.swings.len() > SHOWN { ", …" } else { "" };
+    format!(" (output lines {}{more})", lines.join(", "))
 }
