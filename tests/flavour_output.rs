@@ -20,16 +20,18 @@
 //! no real slicer needed, so nothing here can skip.
 #![cfg(not(target_arch = "wasm32"))]
 
+#[path = "common/cli_part.rs"]
+#[allow(dead_code)]
+mod cli_part;
 #[path = "common/synthetic.rs"]
+#[allow(dead_code)]
 mod synthetic;
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
-use std::process::Command;
 
+use cli_part::{ok, run};
 use warpslice::job::Job;
-
-const CLI: &str = env!("CARGO_BIN_EXE_warpslice");
 
 /// Layer height the CLI warps with (its default, the synthetic slicer's layers).
 const H: f64 = 0.2;
@@ -38,20 +40,6 @@ fn tmpdir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("warpslice-flavour-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
     d
-}
-
-fn run(args: &[&str]) -> std::process::Output {
-    Command::new(CLI).args(args).output().expect("run the CLI")
-}
-
-fn ok(args: &[&str]) {
-    let o = run(args);
-    assert!(
-        o.status.success(),
-        "warpslice {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&o.stderr)
-    );
 }
 
 /// A warped 20 mm cube and the synthetic slicer's G-code of it.

@@ -80,7 +80,7 @@ pub const ROTATE_AROUND_TAG: &str = "; rotate-around";
 /// Trailing comment of the lines of a swing lift ([`SWING_RATE_DEG_PER_MM`]): lift, turn in
 /// the air along the pieces the swing would have printed, set down.
 pub const SWING_TAG: &str = "; swing-lift";
-/// A piece of an extruding move whose rotary axes turn faster than this per mm of tip path
+/// A piece of a move whose rotary axes turn faster than this per mm of tip path
 /// (the largest |Δ| of one rotary axis over the piece's tip length, °/mm; a piece with no tip
 /// motion turns infinitely fast) is part of a **swing**: the tool axis circles a point less than
 /// 180°/(π·600) ≈ 0.095 mm away, a cone's apex or a pole of the kinematics, where pax-5axis and
@@ -570,11 +570,9 @@ impl MachineEmitter {
             &self.bounds,
             &mut self.tess,
         )?;
-        let swings = if tp.travel {
-            Vec::new()
-        } else {
-            swing_runs(&prev.axes, &moves, &self.rotary)
-        };
+        // extruding or not: a travel's turn in place (a held axis catching up at the end of a
+        // planar skirt) is done in the air too
+        let swings = swing_runs(&prev.axes, &moves, &self.rotary);
         let mut from = prev.clone();
         let mut k = 0;
         while k < moves.len() {
@@ -919,7 +917,7 @@ pub struct SwingRun {
     pub turn_deg: f64,
 }
 
-/// The swing runs of one extruding move's `pieces`, reached from the axes `start`: runs of
+/// The swing runs of one move's `pieces`, reached from the axes `start`: runs of
 /// consecutive pieces each turning a rotary axis (`rotary[i]`) faster than
 /// [`SWING_RATE_DEG_PER_MM`] per mm of tip, joined when less than [`SWING_JOIN_MM`] of tip path
 /// lies between them (the pieces between are lifted over too: one lift, not several), whose
