@@ -525,3 +525,87 @@ fn ab_table_head_frame_places_the_heater_block_so_a_20_degree_tilt_clears_the_be
         "engine depth {depth} vs the block's lowest edge {lowest}"
     );
 }
+
+/// The RTN's fixed 45° nozzle printing flat layers, lines side by side across its lean (the
+/// false findings of note 7: the first version's bead top followed the tilted face, `n × d`
+/// rising 45° across the bead, so one edge of every bead stood 0.225·sin 45° = 0.16 mm above
+/// the tip and the next line's nozzle "collided" with it). For each lean azimuth φ (tool axis
+/// `(sin 45° cos φ, sin 45° sin φ, cos 45°)`, axes from the machine's inverse), a pad of 4
+/// layers of 0.2 mm, lines along X stepped 0.45 mm in Y, printed back and forth (serpentine,
+/// the step extruded) or each towards +X after a travel at the layer's height, and each layer
+/// started by a travel across the one below rising to its height (PrusaSlicer's flat layers
+/// have no lifts: the old model's findings were on such travels). The layer is flat: a bead's top
+/// is the tip's height across its whole width (checked on the height field, 3 mm inside the
+/// pad), and no move collides.
+#[test]
+fn rtn_45_degree_nozzle_printing_flat_layers_side_by_side_reports_no_collision() {
+    use warpslice::collision::material::{cell_of, CELL_MM};
+    use warpslice::collision::Walker;
+    let spec = preset("rtn-slicer4rtn").unwrap();
+    let machine = spec.build().unwrap();
+    for phi_deg in [-90.0f64, 0.0, 90.0, 180.0] {
+        for serpentine in [true, false] {
+            let (s, c) = (45f64.to_radians().sin(), 45f64.to_radians().cos());
+            let phi = phi_deg.to_radians();
+            let n = glam::DVec3::new(s * phi.cos(), s * phi.sin(), c);
+            let mut prev: Option<Vec<f64>> = None;
+            let mut g = Gcode::default();
+            let mut to = |g: &mut Gcode, p: [f64; 3], e: Option<f64>| {
+                let a = machine
+                    .inverse(glam::DVec3::from_array(p), n, prev.as_deref())
+                    .unwrap();
+                let e = e.map(|e| format!(" E{e:.4}")).unwrap_or_default();
+                g.line(&format!(
+                    "G1 X{:.3} Y{:.3} Z{:.3} A{:.3}{e}",
+                    a[0], a[1], a[2], a[3]
+                ));
+                prev = Some(a);
+            };
+            g.line("M83");
+            g.line(";WIDTH:0.45");
+            g.line(";HEIGHT:0.2");
+            to(&mut g, [100.0, 100.0, 10.0], None);
+            let lines = 22;
+            let top = 0.8;
+            for k in 1..=4 {
+                let z = 0.2 * k as f64;
+                g.line(";LAYER_CHANGE");
+                for i in 0..lines {
+                    let y = 100.0 + 0.45 * i as f64;
+                    let (x0, x1) = if serpentine && i % 2 == 1 {
+                        (110.0, 100.0)
+                    } else {
+                        (100.0, 110.0)
+                    };
+                    // the step to the next line: extruded (serpentine) or a travel at the
+                    // layer's height, as PrusaSlicer's flat layers give it (no lift); the
+                    // layer's first line starts with a travel across the layer below
+                    to(&mut g, [x0, y, z], (serpentine && i > 0).then_some(0.02));
+                    to(&mut g, [x1, y, z], Some(0.4));
+                }
+            }
+            let y_end = 100.0 + 0.45 * (lines - 1) as f64;
+            to(&mut g, [100.0, y_end, top + 1.0], None);
+            let mut w = Walker::new(&spec).unwrap();
+            w.push(g.text.as_bytes()).unwrap();
+            let (f, checker) = w.finish().unwrap();
+            assert!(
+                f.is_empty(),
+                "φ = {phi_deg}°, serpentine {serpentine}: {f:?}"
+            );
+            // every cell 3 mm inside the pad: the top layer's height (f32)
+            let m = checker.material();
+            for j in cell_of(103.0)..=cell_of(106.0) {
+                for i in cell_of(103.0)..=cell_of(107.0) {
+                    let h = m.height(i, j);
+                    assert!(
+                        (h - top).abs() < 1e-5,
+                        "φ = {phi_deg}°, serpentine {serpentine}: the bead top at ({:.1}, {:.1}) is {h}, not the layer's {top}",
+                        (i as f64 + 0.5) * CELL_MM,
+                        (j as f64 + 0.5) * CELL_MM
+                    );
+                }
+            }
+        }
+    }
+}

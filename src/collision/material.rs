@@ -1,8 +1,8 @@
 //! The printed material: a height field over the output frame's XY plane.
 //!
-//! Every extrusion written so far is a bead of the line width whose top surface is the swept
-//! segment `p(t) + λ u`, `λ ∈ [−w/2, w/2]`, `u = n × d / |n × d|` (n the tool axis, d the
-//! move's direction; the nozzle's flat tip presses the bead's top at the tip). Each cell of
+//! Every extrusion written so far is a bead of the line width whose top passes through the
+//! tip's path and rises across it with the layer's cross slope, bounded by the tool face's
+//! ([`super::bead`]). Each cell of
 //! [`CELL_MM`] keeps the highest top over its centre; the material is taken as everything
 //! below (a column): conservative under overhangs, exact above the printed surface, which is
 //! where the head is (every warp's layers are graphs z(x, y) in the output frame; the lathe's
@@ -18,6 +18,8 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+
+use super::bead::{across, Side};
 
 /// Cell size of the height field, mm: half the thinnest line width the check is built for
 /// (0.4 mm), so a flat bead covers at least two cell centres across its width.
@@ -133,29 +135,45 @@ impl Material {
         }
     }
 
-    /// Deposit the bead of width `w` from tip `p0` to `p1` printed with tool axis `n` in layer
-    /// `layer` (see the module documentation); its index is the new [`Material::beads`].
-    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, n: DVec3, w: f64, layer: u32) {
+    /// What the material at (x, y) tells of the surface of layer `layer` there: the top of a
+    /// bead of that layer, of an older one, or nothing ([`super::bead::Side`]).
+    pub fn side_at(&self, x: f64, y: f64, layer: u32) -> Side {
+        let (i, j) = (cell_of(x), cell_of(y));
+        let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
+        let Some(t) = self.tiles.get(&(ti, tj)) else {
+            return Side::Unknown;
+        };
+        let k = j.rem_euclid(TILE as i64) as usize * TILE + i.rem_euclid(TILE as i64) as usize;
+        let h = t.h[k] as f64;
+        match self.layer_of(t.owner[k]) {
+            Some(l) if l == layer => Side::Current(h),
+            Some(l) if l < layer => Side::Older(h),
+            _ => Side::Unknown,
+        }
+    }
+
+    /// Deposit the bead of width `w` from tip `p0` to `p1` with cross slope `slope` (mm of z
+    /// per mm along `h = ẑ × d_xy/|d_xy|`, [`super::bead`]) in layer `layer`: every cell whose
+    /// centre is within `w/2` of the path (horizontally; never less than half a cell diagonal,
+    /// so a vertical piece still marks the cells along it) is raised to
+    /// `on_z + clamp((c − on)·h, ±w/2)·slope`, `on` the path's point nearest the centre. Its
+    /// index is the new [`Material::beads`].
+    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, slope: f64, w: f64, layer: u32) {
         self.beads += 1;
         let bead = self.beads.min(u32::MAX as u64) as u32;
         if self.layer_starts.last().is_none_or(|(_, l)| *l != layer) {
             self.layer_starts.push((bead, layer));
         }
         let d = p1 - p0;
-        let u = n.cross(d);
-        let u = if u.length() > 1e-9 {
-            u.normalize()
-        } else {
-            DVec3::ZERO
-        };
+        let h = across(d).unwrap_or(glam::DVec2::ZERO);
         let half = 0.5 * w;
-        // the top face's half-width seen from above; never less than half a cell diagonal,
-        // so a steep bead still marks the cells along its centre line
-        let reach = (half * u.truncate().length()).max(CELL_MM * std::f64::consts::FRAC_1_SQRT_2);
+        let reach = if h == glam::DVec2::ZERO {
+            CELL_MM * std::f64::consts::FRAC_1_SQRT_2
+        } else {
+            half.max(CELL_MM * std::f64::consts::FRAC_1_SQRT_2)
+        };
         let dxy = d.truncate();
         let l2 = dxy.length_squared();
-        let uxy = u.truncate();
-        let u2 = uxy.length_squared();
         let (lo, hi) = (p0.min(p1), p0.max(p1));
         for j in cell_of(lo.y - reach)..=cell_of(hi.y + reach) {
             for i in cell_of(lo.x - reach)..=cell_of(hi.x + reach) {
@@ -170,12 +188,8 @@ impl Material {
                 if off.length() > reach {
                     continue;
                 }
-                let lambda = if u2 > 1e-18 {
-                    (off.dot(uxy) / u2).clamp(-half, half)
-                } else {
-                    0.0
-                };
-                self.raise(i, j, on.z + lambda * u.z, bead);
+                let lambda = off.dot(h).clamp(-half, half);
+                self.raise(i, j, on.z + lambda * slope, bead);
             }
         }
     }

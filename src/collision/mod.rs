@@ -4,6 +4,7 @@
 //! - [`solid`]: a head part placed in the output frame (frustum or oriented box): where a
 //!   vertical line crosses it, its distance from a point.
 //! - [`material`]: the printed material, a sparse height field of the bead tops.
+//! - [`bead`]: a bead's top across its width (the layer's slope, bounded by the tool face's).
 //! - [`contact`]: where the nozzle's flat face may touch the material it prints on (the
 //!   contact surface `s ≤ (ρ + w/2)·tan 30°`, and a layer height into the current layer).
 //! - [`sweep`]: the [`Checker`]: poses sampled along a move (every head point moves at most
@@ -30,6 +31,7 @@
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
 //! --machine`.
 
+pub mod bead;
 pub mod contact;
 pub mod material;
 pub mod solid;

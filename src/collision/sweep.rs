@@ -22,6 +22,7 @@
 
 use glam::{DMat3, DVec3};
 
+use super::bead;
 use super::contact::ContactSurface;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
@@ -601,6 +602,23 @@ impl Checker {
         Some(cells)
     }
 
+    /// The cross slope of the bead piece from `p0` to `p1` printed with tool axis `n`, width
+    /// `w` ([`super::bead`]): the layer's, read from the material at `±w·h` beside the piece's
+    /// middle, bounded by the tool face's.
+    fn cross_slope(&self, p0: DVec3, p1: DVec3, n: DVec3, w: f64) -> f64 {
+        let Some(h) = bead::across(p1 - p0) else {
+            return 0.0;
+        };
+        let mid = (0.5 * (p0 + p1)).truncate();
+        let side = |k: f64| {
+            let q = mid + h * (k * w);
+            self.material.side_at(q.x, q.y, self.layer)
+        };
+        let z = 0.5 * (p0.z + p1.z);
+        let layer = bead::layer_slope(z, side(1.0), side(-1.0), w, self.layer_height);
+        bead::cross_slope(bead::tool_slope(n, p1 - p0, h), layer)
+    }
+
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
     /// sampled at the pieces the firmware's interpolation gives, each piece a straight bead.
     pub fn deposit(&mut self, from: &[f64], to: &[f64], width: f64) -> Result<(), MachineError> {
@@ -623,7 +641,9 @@ impl Checker {
                 self.pose(&axes)?
             };
             let n = (prev.n + next.n).normalize_or(next.n);
-            self.material.deposit(prev.p, next.p, n, width, self.layer);
+            let slope = self.cross_slope(prev.p, next.p, n, width);
+            self.material
+                .deposit(prev.p, next.p, slope, width, self.layer);
             prev = next;
         }
         Ok(())
