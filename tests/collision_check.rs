@@ -609,3 +609,111 @@ fn rtn_45_degree_nozzle_printing_flat_layers_side_by_side_reports_no_collision()
         }
     }
 }
+
+/// The checker's findings with and without its speed bounds ([`Walker::exhaustive`]: every
+/// cell under every part at every pose): the same lines, parts, obstacles and depths.
+fn bounded_and_exhaustive(gcode: &str, spec: &MachineSpec) -> Vec<CollisionFinding> {
+    use warpslice::collision::Walker;
+    let run = |exhaustive: bool| {
+        let mut w = Walker::new(spec).unwrap();
+        w.exhaustive(exhaustive);
+        w.push(gcode.as_bytes()).unwrap();
+        w.finish().unwrap().0
+    };
+    let (fast, slow) = (run(false), run(true));
+    assert_eq!(
+        fast.len(),
+        slow.len(),
+        "bounded {fast:?}\nexhaustive {slow:?}"
+    );
+    for (a, b) in fast.iter().zip(&slow) {
+        assert_eq!(
+            (a.line, a.layer, &a.part, &a.obstacle),
+            (b.line, b.layer, &b.part, &b.obstacle),
+            "bounded {a:?} vs exhaustive {b:?}"
+        );
+        assert!(
+            (a.depth_mm - b.depth_mm).abs() < 1e-9,
+            "bounded {a:?} vs exhaustive {b:?}"
+        );
+    }
+    fast
+}
+
+/// Law: the speed bounds lose no finding and change no depth. Files: the plunge into a pad
+/// (cartesian), the B head tilted beside a wall, the RTN rotate-around into a pad, the RTN
+/// printing flat layers across its lean, the B head's block on the bed, and the conic 20 mm
+/// cube's machine output on the cartesian and PAX presets (written by the CLI; the heater
+/// block meets the cone's rising layers).
+#[test]
+fn speed_bounds_give_the_same_findings_as_the_exhaustive_check() {
+    let mut cases: Vec<(&str, String)> = Vec::new();
+    let mut g = Gcode::default();
+    pad(&mut g, (10.0, 14.0), (10.0, 14.0), 6, "");
+    g.line("G1 Z10");
+    g.line("G1 X12 Y12");
+    g.line("G1 Z0.6");
+    g.line("G1 X13 Y13 Z0.8");
+    cases.push(("cartesian", g.text));
+    let mut g = Gcode::default();
+    pad(&mut g, (0.0, 4.0), (0.0, 4.0), 10, " A179");
+    g.line("G1 Z20 A179");
+    g.line("G1 X2 Y6.225 A179");
+    g.line("G1 Z0.5 A179");
+    g.line("G1 A-179");
+    g.line("G1 X2 Y2 Z2.5 A-90 E0.5");
+    cases.push(("rtn-slicer4rtn", g.text));
+    let mut g = Gcode::default();
+    g.line("M83");
+    g.line(";WIDTH:0.45");
+    for k in 1..=30 {
+        g.line(";LAYER_CHANGE");
+        g.line(&format!("G1 X50 Y35 Z{:.3} B0", 0.2 * k as f64));
+        g.line("G1 X50 Y45 E1");
+    }
+    g.line("G1 Z20");
+    let (x, z) = bhead_axes(60.0, 3.0, -45.0);
+    g.line(&format!("G1 X{:.3} Y40 Z{z:.3} B-45", x + 20.0));
+    let (x, _) = bhead_axes(53.0, 3.0, -45.0);
+    g.line(&format!("G1 X{x:.3} Y40 Z{z:.3} B-45"));
+    let (x, z) = bhead_axes(100.0, 0.3, 25.0);
+    g.line(&format!("G1 X{x:.3} Y100 Z{z:.3} B25"));
+    cases.push(("fullcontrol-prusa-b", g.text));
+    let mut total = 0;
+    for (preset_name, text) in &cases {
+        let f = bounded_and_exhaustive(text, &preset(preset_name).unwrap());
+        assert!(!f.is_empty(), "{preset_name}: the case must find something");
+        total += f.len();
+    }
+    // machine outputs of the conic cube, through the CLI
+    let w = synthetic::conic_cube_of(8.0);
+    let dir = std::env::temp_dir().join(format!("warpslice-collision-law-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gcode, job) = (dir.join("in.gcode"), dir.join("job.json"));
+    std::fs::write(&gcode, synthetic::gcode(&w.job, true, 1.0)).unwrap();
+    std::fs::write(&job, w.job.to_json_pretty()).unwrap();
+    for machine in ["cartesian", "pax-5axis", "rtn-slicer4rtn"] {
+        let out = dir.join(format!("{machine}.gcode"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+            .arg("unwarp")
+            .arg(&gcode)
+            .arg("--job")
+            .arg(&job)
+            .args(["--machine", machine, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&out).unwrap();
+        // the exhaustive check is slow: the file up to its fourth finding (a walk's findings
+        // before a line do not depend on the lines after it), or its first 3000 lines
+        let spec = preset(machine).unwrap();
+        let upto = findings(&text, &spec)
+            .get(3)
+            .map_or(3000, |f| f.line as usize);
+        let head: String = text.lines().take(upto).map(|l| format!("{l}\n")).collect();
+        total += bounded_and_exhaustive(&head, &spec).len();
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(total > 5, "{total} findings in all");
+}

@@ -53,10 +53,35 @@ impl Tile {
 /// A cell of the height field (integer coordinates: centre at `(i + ½, j + ½)·CELL_MM`).
 pub type Cell = (i64, i64);
 
+/// The hasher of tile keys: the two indices mixed by a multiply and a rotate (FxHash's step),
+/// not SipHash: the keys are the program's own tile indices, not an attacker's, and a lookup
+/// happens per tile per query (measured: SipHash was 2–3 % of a checked unwarp).
+#[derive(Default, Clone, Copy)]
+pub struct TileHasher(u64);
+
+impl std::hash::Hasher for TileHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(*b as u64);
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+}
+
+type Tiles = HashMap<(i64, i64), Tile, std::hash::BuildHasherDefault<TileHasher>>;
+
 /// The height field of printed material.
 #[derive(Default)]
 pub struct Material {
-    tiles: HashMap<(i64, i64), Tile>,
+    tiles: Tiles,
     /// Beads deposited.
     pub beads: u64,
     /// `(first bead, layer)` of every layer deposited, in file order (layers only grow).
@@ -224,17 +249,48 @@ impl Material {
         best
     }
 
+    /// Whether some material over the rectangle `[x0, x1] × [y0, y1]` may be above `z`: the
+    /// test `max_over(rect) > z`, answered from the tiles' maxima where they suffice and
+    /// stopping at the first block above `z` (a head part far above the print, the usual case
+    /// for the heater block and the heat sink, costs a few tile lookups).
+    pub fn any_above(&self, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> bool {
+        let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
+        let t = TILE as i64;
+        let b = BLOCK as i64;
+        for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
+            for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
+                let Some(tile) = self.tiles.get(&(ti, tj)) else {
+                    continue;
+                };
+                if (tile.max as f64) <= z {
+                    continue;
+                }
+                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
+                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
+                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
+                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
+                for bj in bj0..=bj1 {
+                    for bi in bi0..=bi1 {
+                        if tile.block_max[bj * BLOCKS + bi] as f64 > z {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
+    }
+
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
     /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
-    /// half_diagonal)` says the solid cannot reach the block's region from height `zlow` (the
-    /// solid's lowest point) to the block's top; `visit(i, j, top, bead)` (the bead whose top it
-    /// is).
+    /// half_diagonal, top)` says the solid cannot reach the material of the block (its centre
+    /// and the half diagonal of its square seen from above, its highest top);
+    /// `visit(i, j, top, bead)` (the bead whose top it is).
     pub fn for_cells_above(
         &self,
         (x0, y0, x1, y1): (f64, f64, f64, f64),
         above: f64,
-        zlow: f64,
-        mut far: impl FnMut(DVec3, f64) -> bool,
+        mut far: impl FnMut(glam::DVec2, f64, f64) -> bool,
         mut visit: impl FnMut(i64, i64, f64, u32),
     ) {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
@@ -262,16 +318,12 @@ impl Material {
                         if top <= above {
                             continue;
                         }
-                        // the block's region between the solid's lowest point and its top
                         let side = b as f64 * CELL_MM;
-                        let c = DVec3::new(
+                        let c = glam::DVec2::new(
                             ci0 as f64 * CELL_MM + 0.5 * side,
                             cj0 as f64 * CELL_MM + 0.5 * side,
-                            0.5 * (zlow + top),
                         );
-                        let half_diag =
-                            (0.5 * side * std::f64::consts::SQRT_2).hypot(0.5 * (top - zlow));
-                        if far(c, half_diag) {
+                        if far(c, 0.5 * side * std::f64::consts::SQRT_2, top) {
                             continue;
                         }
                         for j in cj0.max(j0)..=(cj0 + b - 1).min(j1) {

@@ -26,8 +26,11 @@
 //! Per move and part, the union of the part's boxes over the move against the material's block
 //! maxima skips parts that cannot reach anything; a translation (the pose fixed) finds the cells
 //! its frustum parts can reach once ([`Checker`]'s swept cells, from the parts' floor bounds
-//! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]); per pose only cells
-//! within the tip radius under which the part can reach the highest material are visited. The
+//! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
+//! the height field whose highest top is under the floor at the block's least distance from
+//! the tip's path; per pose only cells within the tip radius under which the part can reach the
+//! highest material are visited. [`Checker::exhaustive`] switches every bound off: the law test
+//! in `tests/collision_check.rs` compares the findings. The
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
 //! --machine`.
 
