@@ -467,6 +467,7 @@ impl Checker {
                             obstacle: obstacle.to_string(),
                             depth_mm: depth,
                             at,
+                            input_line: None,
                         }),
                     }
                 }
