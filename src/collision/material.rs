@@ -219,33 +219,50 @@ impl Material {
         }
     }
 
-    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
-    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
-    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
-    pub fn max_over(&self, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> f64 {
+    /// The tiles the rectangle `[x0, x1] × [y0, y1]` touches, each with the range of its
+    /// blocks inside the rectangle (`bi0..=bi1`, `bj0..=bj1`); stops when `visit` says so.
+    fn tiles_over(
+        &self,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        mut visit: impl FnMut(&Tile, [usize; 4]) -> bool,
+    ) -> bool {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
         let t = TILE as i64;
         let b = BLOCK as i64;
-        let mut best = f64::NEG_INFINITY;
         for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
             for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
                 let Some(tile) = self.tiles.get(&(ti, tj)) else {
                     continue;
                 };
-                if (tile.max as f64) <= best {
-                    continue;
+                let blocks = [
+                    ((i0 - ti * t).max(0) / b) as usize,
+                    ((i1 - ti * t).min(t - 1) / b) as usize,
+                    ((j0 - tj * t).max(0) / b) as usize,
+                    ((j1 - tj * t).min(t - 1) / b) as usize,
+                ];
+                if visit(tile, blocks) {
+                    return true;
                 }
-                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
-                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
-                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
-                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
+            }
+        }
+        false
+    }
+
+    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
+    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
+    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
+    pub fn max_over(&self, rect: (f64, f64, f64, f64)) -> f64 {
+        let mut best = f64::NEG_INFINITY;
+        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
+            if (tile.max as f64) > best {
                 for bj in bj0..=bj1 {
                     for bi in bi0..=bi1 {
                         best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
                     }
                 }
             }
-        }
+            false
+        });
         best
     }
 
@@ -253,32 +270,12 @@ impl Material {
     /// test `max_over(rect) > z`, answered from the tiles' maxima where they suffice and
     /// stopping at the first block above `z` (a head part far above the print, the usual case
     /// for the heater block and the heat sink, costs a few tile lookups).
-    pub fn any_above(&self, (x0, y0, x1, y1): (f64, f64, f64, f64), z: f64) -> bool {
-        let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
-        let t = TILE as i64;
-        let b = BLOCK as i64;
-        for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
-            for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
-                let Some(tile) = self.tiles.get(&(ti, tj)) else {
-                    continue;
-                };
-                if (tile.max as f64) <= z {
-                    continue;
-                }
-                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
-                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
-                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
-                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
-                for bj in bj0..=bj1 {
-                    for bi in bi0..=bi1 {
-                        if tile.block_max[bj * BLOCKS + bi] as f64 > z {
-                            return true;
-                        }
-                    }
-                }
-            }
-        }
-        false
+    pub fn any_above(&self, rect: (f64, f64, f64, f64), z: f64) -> bool {
+        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
+            (tile.max as f64) > z
+                && (bj0..=bj1)
+                    .any(|bj| (bi0..=bi1).any(|bi| tile.block_max[bj * BLOCKS + bi] as f64 > z))
+        })
     }
 
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
