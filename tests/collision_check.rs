@@ -108,9 +108,12 @@ fn tip_plunging_through_printed_material_is_found_on_its_line() {
     assert_eq!(e.code(), "machine.collision");
     let msg = e.to_string();
     assert!(
-        msg.contains(&format!("output line {plunge} (layer 10)")) && msg.contains("nozzle"),
+        msg.contains(&format!("output line {plunge} (layer 10; no input line"))
+            && msg.contains("nozzle"),
         "{msg}"
     );
+    // a machine G-code checked alone has no slicer's line
+    assert!(f.iter().all(|f| f.input_line.is_none()), "{f:?}");
 }
 
 /// B head (seed 000, r = 46 mm): tip of written axes (X, Y, Z, B), the docs' formula.
@@ -459,9 +462,10 @@ fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
     assert!(!ok, "a colliding output was written");
     assert!(
         err.contains(&format!(
-            "output line {} (layer {}): the {} goes",
-            f[0].line, f[0].layer, f[0].part
-        )) && err.contains("--allow-collisions"),
+            "output line {} (layer {}; from input line ",
+            f[0].line, f[0].layer
+        )) && err.contains(&format!("): the {} goes", f[0].part))
+            && err.contains("--allow-collisions"),
         "{err}"
     );
     // the default (no --check-collisions): written, nothing listed
@@ -524,4 +528,271 @@ fn ab_table_head_frame_places_the_heater_block_so_a_20_degree_tilt_clears_the_be
         (depth - -lowest).abs() < 0.02,
         "engine depth {depth} vs the block's lowest edge {lowest}"
     );
+}
+
+/// The RTN's fixed 45° nozzle printing flat layers, lines side by side across its lean (the
+/// false findings of note 7: the first version's bead top followed the tilted face, `n × d`
+/// rising 45° across the bead, so one edge of every bead stood 0.225·sin 45° = 0.16 mm above
+/// the tip and the next line's nozzle "collided" with it). For each lean azimuth φ (tool axis
+/// `(sin 45° cos φ, sin 45° sin φ, cos 45°)`, axes from the machine's inverse), a pad of 4
+/// layers of 0.2 mm, lines along X stepped 0.45 mm in Y, printed back and forth (serpentine,
+/// the step extruded) or each towards +X after a travel at the layer's height, and each layer
+/// started by a travel across the one below rising to its height (PrusaSlicer's flat layers
+/// have no lifts: the old model's findings were on such travels). The layer is flat: a bead's top
+/// is the tip's height across its whole width (checked on the height field, 3 mm inside the
+/// pad), and no move collides.
+#[test]
+fn rtn_45_degree_nozzle_printing_flat_layers_side_by_side_reports_no_collision() {
+    use warpslice::collision::material::{cell_of, CELL_MM};
+    use warpslice::collision::Walker;
+    let spec = preset("rtn-slicer4rtn").unwrap();
+    let machine = spec.build().unwrap();
+    for phi_deg in [-90.0f64, 0.0, 90.0, 180.0] {
+        for serpentine in [true, false] {
+            let (s, c) = (45f64.to_radians().sin(), 45f64.to_radians().cos());
+            let phi = phi_deg.to_radians();
+            let n = glam::DVec3::new(s * phi.cos(), s * phi.sin(), c);
+            let mut prev: Option<Vec<f64>> = None;
+            let mut g = Gcode::default();
+            let mut to = |g: &mut Gcode, p: [f64; 3], e: Option<f64>| {
+                let a = machine
+                    .inverse(glam::DVec3::from_array(p), n, prev.as_deref())
+                    .unwrap();
+                let e = e.map(|e| format!(" E{e:.4}")).unwrap_or_default();
+                g.line(&format!(
+                    "G1 X{:.3} Y{:.3} Z{:.3} A{:.3}{e}",
+                    a[0], a[1], a[2], a[3]
+                ));
+                prev = Some(a);
+            };
+            g.line("M83");
+            g.line(";WIDTH:0.45");
+            g.line(";HEIGHT:0.2");
+            to(&mut g, [100.0, 100.0, 10.0], None);
+            let lines = 22;
+            let top = 0.8;
+            for k in 1..=4 {
+                let z = 0.2 * k as f64;
+                g.line(";LAYER_CHANGE");
+                for i in 0..lines {
+                    let y = 100.0 + 0.45 * i as f64;
+                    let (x0, x1) = if serpentine && i % 2 == 1 {
+                        (110.0, 100.0)
+                    } else {
+                        (100.0, 110.0)
+                    };
+                    // the step to the next line: extruded (serpentine) or a travel at the
+                    // layer's height, as PrusaSlicer's flat layers give it (no lift); the
+                    // layer's first line starts with a travel across the layer below
+                    to(&mut g, [x0, y, z], (serpentine && i > 0).then_some(0.02));
+                    to(&mut g, [x1, y, z], Some(0.4));
+                }
+            }
+            let y_end = 100.0 + 0.45 * (lines - 1) as f64;
+            to(&mut g, [100.0, y_end, top + 1.0], None);
+            let mut w = Walker::new(&spec).unwrap();
+            w.push(g.text.as_bytes()).unwrap();
+            let (f, checker) = w.finish().unwrap();
+            assert!(
+                f.is_empty(),
+                "φ = {phi_deg}°, serpentine {serpentine}: {f:?}"
+            );
+            // every cell 3 mm inside the pad: the top layer's height (f32)
+            let m = checker.material();
+            for j in cell_of(103.0)..=cell_of(106.0) {
+                for i in cell_of(103.0)..=cell_of(107.0) {
+                    let h = m.height(i, j);
+                    assert!(
+                        (h - top).abs() < 1e-5,
+                        "φ = {phi_deg}°, serpentine {serpentine}: the bead top at ({:.1}, {:.1}) is {h}, not the layer's {top}",
+                        (i as f64 + 0.5) * CELL_MM,
+                        (j as f64 + 0.5) * CELL_MM
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The checker's findings with and without its speed bounds ([`Walker::exhaustive`]: every
+/// cell under every part at every pose): the same lines, parts, obstacles and depths.
+fn bounded_and_exhaustive(gcode: &str, spec: &MachineSpec) -> Vec<CollisionFinding> {
+    use warpslice::collision::Walker;
+    let run = |exhaustive: bool| {
+        let mut w = Walker::new(spec).unwrap();
+        w.exhaustive(exhaustive);
+        w.push(gcode.as_bytes()).unwrap();
+        w.finish().unwrap().0
+    };
+    let (fast, slow) = (run(false), run(true));
+    assert_eq!(
+        fast.len(),
+        slow.len(),
+        "bounded {fast:?}\nexhaustive {slow:?}"
+    );
+    for (a, b) in fast.iter().zip(&slow) {
+        assert_eq!(
+            (a.line, a.layer, &a.part, &a.obstacle),
+            (b.line, b.layer, &b.part, &b.obstacle),
+            "bounded {a:?} vs exhaustive {b:?}"
+        );
+        assert!(
+            (a.depth_mm - b.depth_mm).abs() < 1e-9,
+            "bounded {a:?} vs exhaustive {b:?}"
+        );
+    }
+    fast
+}
+
+/// Law: the speed bounds lose no finding and change no depth. Files: the plunge into a pad
+/// (cartesian), the B head tilted beside a wall, the RTN rotate-around into a pad, the RTN
+/// printing flat layers across its lean, the B head's block on the bed, and the conic 20 mm
+/// cube's machine output on the cartesian and PAX presets (written by the CLI; the heater
+/// block meets the cone's rising layers).
+#[test]
+fn speed_bounds_give_the_same_findings_as_the_exhaustive_check() {
+    let mut cases: Vec<(&str, String)> = Vec::new();
+    let mut g = Gcode::default();
+    pad(&mut g, (10.0, 14.0), (10.0, 14.0), 6, "");
+    g.line("G1 Z10");
+    g.line("G1 X12 Y12");
+    g.line("G1 Z0.6");
+    g.line("G1 X13 Y13 Z0.8");
+    cases.push(("cartesian", g.text));
+    let mut g = Gcode::default();
+    pad(&mut g, (0.0, 4.0), (0.0, 4.0), 10, " A179");
+    g.line("G1 Z20 A179");
+    g.line("G1 X2 Y6.225 A179");
+    g.line("G1 Z0.5 A179");
+    g.line("G1 A-179");
+    g.line("G1 X2 Y2 Z2.5 A-90 E0.5");
+    cases.push(("rtn-slicer4rtn", g.text));
+    let mut g = Gcode::default();
+    g.line("M83");
+    g.line(";WIDTH:0.45");
+    for k in 1..=30 {
+        g.line(";LAYER_CHANGE");
+        g.line(&format!("G1 X50 Y35 Z{:.3} B0", 0.2 * k as f64));
+        g.line("G1 X50 Y45 E1");
+    }
+    g.line("G1 Z20");
+    let (x, z) = bhead_axes(60.0, 3.0, -45.0);
+    g.line(&format!("G1 X{:.3} Y40 Z{z:.3} B-45", x + 20.0));
+    let (x, _) = bhead_axes(53.0, 3.0, -45.0);
+    g.line(&format!("G1 X{x:.3} Y40 Z{z:.3} B-45"));
+    let (x, z) = bhead_axes(100.0, 0.3, 25.0);
+    g.line(&format!("G1 X{x:.3} Y100 Z{z:.3} B25"));
+    cases.push(("fullcontrol-prusa-b", g.text));
+    let mut total = 0;
+    for (preset_name, text) in &cases {
+        let f = bounded_and_exhaustive(text, &preset(preset_name).unwrap());
+        assert!(!f.is_empty(), "{preset_name}: the case must find something");
+        total += f.len();
+    }
+    // machine outputs of the conic cube, through the CLI
+    let w = synthetic::conic_cube_of(8.0);
+    let dir = std::env::temp_dir().join(format!("warpslice-collision-law-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gcode, job) = (dir.join("in.gcode"), dir.join("job.json"));
+    std::fs::write(&gcode, synthetic::gcode(&w.job, true, 1.0)).unwrap();
+    std::fs::write(&job, w.job.to_json_pretty()).unwrap();
+    for machine in ["cartesian", "pax-5axis", "rtn-slicer4rtn"] {
+        let out = dir.join(format!("{machine}.gcode"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+            .arg("unwarp")
+            .arg(&gcode)
+            .arg("--job")
+            .arg(&job)
+            .args(["--machine", machine, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&out).unwrap();
+        // the exhaustive check is slow: the file up to its fourth finding (a walk's findings
+        // before a line do not depend on the lines after it), or its first 3000 lines
+        let spec = preset(machine).unwrap();
+        let upto = findings(&text, &spec)
+            .get(3)
+            .map_or(3000, |f| f.line as usize);
+        let head: String = text.lines().take(upto).map(|l| format!("{l}\n")).collect();
+        total += bounded_and_exhaustive(&head, &spec).len();
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(total > 5, "{total} findings in all");
+}
+
+/// A collision finding of the unwarp names the output line and the slicer's input line (issue
+/// 10 §2). The conic 8 mm cube's synthetic G-code on the cartesian preset, with a plunge
+/// inserted at the start of layer 20: a travel to the cone's axis (100, 100), where the warp
+/// moves nothing, then a vertical extrusion 1 mm down into the 19 layers below, and back up to
+/// the layer. Its input line is where it was inserted; its output line is the written file's one
+/// extruding line to X100 Y100 exactly (found in the text, not from the engine: the layers'
+/// lines cross the axis at Y100.2); the finding listed for that output line names that input
+/// line.
+#[test]
+fn an_unwarp_collision_names_its_output_line_and_the_slicers_input_line() {
+    let w = synthetic::conic_cube_of(8.0);
+    let g = synthetic::gcode(&w.job, true, 1.0);
+    let layer = 20;
+    let z = 0.2 * layer as f64;
+    let (g, first) = synthetic::insert_after(
+        &g,
+        " F600\n",
+        layer,
+        &format!(
+            "G1 X100 Y100 F1235\nG1 Z{:.3} E0.03 F1234\nG1 Z{z:.3} F1236\n",
+            z - 1.0
+        ),
+    );
+    let plunge_in = first as u64 + 1;
+    assert!(g.lines().nth(first).unwrap().contains("F1234"));
+    let dir =
+        std::env::temp_dir().join(format!("warpslice-collision-lines-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gcode, job, out) = (
+        dir.join("in.gcode"),
+        dir.join("job.json"),
+        dir.join("out.gcode"),
+    );
+    std::fs::write(&gcode, &g).unwrap();
+    std::fs::write(&job, w.job.to_json_pretty()).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_warpslice"))
+        .arg("unwarp")
+        .arg(&gcode)
+        .arg("--job")
+        .arg(&job)
+        .args([
+            "--machine",
+            "cartesian",
+            "--check-collisions",
+            "--allow-collisions",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let plunge_out: Vec<u64> = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with("G1 X100 Y100 Z") && l.contains(" E"))
+        .map(|(i, _)| i as u64 + 1)
+        .collect();
+    assert_eq!(
+        plunge_out.len(),
+        1,
+        "the plunge's output line: {plunge_out:?}"
+    );
+    let listed = format!(
+        "; warpslice collision: line {} layer {layer}: nozzle into material",
+        plunge_out[0]
+    );
+    let l = text
+        .lines()
+        .find(|l| l.starts_with(&listed))
+        .unwrap_or_else(|| panic!("no finding on the plunge's line: {listed}"));
+    assert!(l.ends_with(&format!(" (input line {plunge_in})")), "{l}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -77,7 +77,7 @@ impl fmt::Display for Finding {
             ),
             (FindingKind::Collision, Some(c)) => write!(
                 f,
-                "line {}: collision: the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3})",
+                "line {}: collision: the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) (no input line: a machine G-code checked alone has no slicer's line to name)",
                 self.line,
                 c.part,
                 c.depth_mm,

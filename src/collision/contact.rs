@@ -42,7 +42,8 @@
 //! On the line `q(t) = (x, y, t)`, `v(t) = s(t) − (ρ(t) + w/2) tan β` has
 //! `v'(t) = n_z − tan β · ρ'(t) ≥ cos θ − tan β sin θ` (θ the tool's tilt from vertical, since
 //! `|ρ'| ≤ sin θ`), which is positive while θ < 90° − β_max (60°): the part above the contact
-//! surface is one interval ending at the top, and t₀ is found by bisection. For steeper tilts
+//! surface is one interval ending at the top, and t₀ is found in closed form (a quadratic,
+//! `ContactSurface::crossing`), by bisection where no root checks out. For steeper tilts
 //! the rule is not applied (the whole overlap counts: more findings, never fewer).
 
 use glam::DVec3;
@@ -96,14 +97,19 @@ impl ContactSurface {
     /// `ρ_min = max(0, (D − c T sin θ)/(1 + T sin θ))`, giving
     /// `p_z + ρ_min (T n_z − sin θ) + c T n_z`.
     pub fn floor_at(&self, x: f64, y: f64) -> f64 {
+        let (dx, dy) = (x - self.p.x, y - self.p.y);
+        self.floor_at_distance((dx * dx + dy * dy).sqrt())
+    }
+
+    /// [`ContactSurface::floor_at`] of a vertical line at horizontal distance `d` from the tip
+    /// (the bound depends on that distance only, and does not decrease with it).
+    pub fn floor_at_distance(&self, d: f64) -> f64 {
         let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
         let t = self.tan_beta;
         let gain = t * self.n.z - sin_t;
         if gain < 0.0 {
             return f64::NEG_INFINITY;
         }
-        let (dx, dy) = (x - self.p.x, y - self.p.y);
-        let d = (dx * dx + dy * dy).sqrt();
         let rho = ((d - self.half_width * t * sin_t) / (1.0 + t * sin_t)).max(0.0);
         self.p.z + rho * gain + self.half_width * t * self.n.z
     }
@@ -155,7 +161,10 @@ impl ContactSurface {
         if v(z_in) > 0.0 {
             return top - z_in;
         }
-        // v(lo) ≤ 0 < v(hi)
+        // v(z_in) ≤ 0 < v(top): one crossing (monotone), in closed form when it checks out
+        if let Some(t0) = self.crossing(x, y, z_in, top) {
+            return top - t0;
+        }
         let (mut lo, mut hi) = (z_in, top);
         for _ in 0..BISECTION_STEPS {
             let mid = 0.5 * (lo + hi);
@@ -167,7 +176,52 @@ impl ContactSurface {
         }
         top - hi
     }
+
+    /// Where the vertical line (x, y) crosses the contact surface between `lo` and `hi`, in
+    /// closed form (None: no root checks out, bisect instead). With `u = t − p_z`,
+    /// `s(u) = s₀ + n_z u` (`s₀ = n_x Δx + n_y Δy`), `|q − p|² = D² + u²` and `ρ² = |q − p|² − s²`,
+    /// `v = 0` is `s − cT = T ρ` (c = w/2, T = tan β_max) with `s − cT ≥ 0`; squared,
+    /// `(s − cT)² + T² s² − T² (D² + u²) = 0`, the quadratic `A u² + B u + C = 0` with
+    /// `A = (1 + T²) n_z² − T²`, `B = 2 n_z ((1 + T²) s₀ − cT)`,
+    /// `C = (1 + T²) s₀² − 2cT s₀ + c²T² − T² D²`. A root counts when it lies in `[lo, hi]`
+    /// (within [`CROSSING_SLACK_MM`]) and `|v|` there is below that slack too.
+    fn crossing(&self, x: f64, y: f64, lo: f64, hi: f64) -> Option<f64> {
+        let (dx, dy) = (x - self.p.x, y - self.p.y);
+        let (n, t, c) = (self.n, self.tan_beta, self.half_width);
+        let s0 = n.x * dx + n.y * dy;
+        let k = 1.0 + t * t;
+        let a = k * n.z * n.z - t * t;
+        let b = 2.0 * n.z * (k * s0 - c * t);
+        let cc = k * s0 * s0 - 2.0 * c * t * s0 + c * c * t * t - t * t * (dx * dx + dy * dy);
+        let roots: [Option<f64>; 2] = if a.abs() < 1e-12 {
+            [(b.abs() > 1e-300).then(|| -cc / b), None]
+        } else {
+            let disc = b * b - 4.0 * a * cc;
+            if disc < 0.0 {
+                return None;
+            }
+            // the stable pair: q = −(b + sign(b)·√disc)/2, roots q/a and c/q
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            [Some(q / a), (q.abs() > 1e-300).then(|| cc / q)]
+        };
+        roots
+            .into_iter()
+            .flatten()
+            .map(|u| u + self.p.z)
+            .find(|&t0| {
+                t0 >= lo - CROSSING_SLACK_MM
+                    && t0 <= hi + CROSSING_SLACK_MM
+                    && self.excess(DVec3::new(x, y, t0)).abs() <= CROSSING_SLACK_MM
+            })
+            .map(|t0| t0.clamp(lo, hi))
+    }
 }
+
+/// How far a closed-form crossing of the contact surface may lie outside the line's interval,
+/// and how far from the surface (along the tool axis) it may be, mm: rounding of the quadratic's
+/// coefficients (a few 1e-15 relative on mm-sized values), far below the check's
+/// [`super::sweep::CONTACT_TOLERANCE_MM`] (0.05 mm).
+const CROSSING_SLACK_MM: f64 = 1e-9;
 
 #[cfg(test)]
 mod tests {
@@ -207,6 +261,41 @@ mod tests {
                         assert!(z >= floor - 1e-9, "tilt {tilt} ({x}, {y}): {z} < {floor}");
                     }
                     z += 0.001;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_closed_form_crossing_equals_bisection() {
+        // bisection on v written here (not the engine's): every tilt, azimuth and line where the
+        // surface is crossed
+        for tilt in [0.0f64, 10.0, 30.0, 45.0, 55.0] {
+            for az in [0.0f64, 70.0, 200.0] {
+                let (t, a) = (tilt.to_radians(), az.to_radians());
+                let n = DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos());
+                let c = ContactSurface::new(DVec3::new(1.0, 2.0, 3.0), n, 0.45);
+                for (x, y) in [(1.0, 2.0), (1.3, 2.1), (0.4, 2.5), (2.5, 1.0)] {
+                    let (lo, hi) = (1.0, 6.0);
+                    let v = |z: f64| c.excess(DVec3::new(x, y, z));
+                    if v(lo) > 0.0 || v(hi) <= 0.0 {
+                        continue;
+                    }
+                    let (mut a, mut b) = (lo, hi);
+                    for _ in 0..60 {
+                        let m = 0.5 * (a + b);
+                        if v(m) > 0.0 {
+                            b = m
+                        } else {
+                            a = m
+                        }
+                    }
+                    let got = c.depth_above(x, y, lo, hi);
+                    assert!(
+                        (got - (hi - b)).abs() < 1e-8,
+                        "tilt {tilt} az {az} ({x}, {y}): {got} vs {}",
+                        hi - b
+                    );
                 }
             }
         }

@@ -1,8 +1,8 @@
 //! The printed material: a height field over the output frame's XY plane.
 //!
-//! Every extrusion written so far is a bead of the line width whose top surface is the swept
-//! segment `p(t) + λ u`, `λ ∈ [−w/2, w/2]`, `u = n × d / |n × d|` (n the tool axis, d the
-//! move's direction; the nozzle's flat tip presses the bead's top at the tip). Each cell of
+//! Every extrusion written so far is a bead of the line width whose top passes through the
+//! tip's path and rises across it with the layer's cross slope, bounded by the tool face's
+//! ([`super::bead`]). Each cell of
 //! [`CELL_MM`] keeps the highest top over its centre; the material is taken as everything
 //! below (a column): conservative under overhangs, exact above the printed surface, which is
 //! where the head is (every warp's layers are graphs z(x, y) in the output frame; the lathe's
@@ -18,6 +18,8 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+
+use super::bead::{across, Side};
 
 /// Cell size of the height field, mm: half the thinnest line width the check is built for
 /// (0.4 mm), so a flat bead covers at least two cell centres across its width.
@@ -51,10 +53,35 @@ impl Tile {
 /// A cell of the height field (integer coordinates: centre at `(i + ½, j + ½)·CELL_MM`).
 pub type Cell = (i64, i64);
 
+/// The hasher of tile keys: the two indices mixed by a multiply and a rotate (FxHash's step),
+/// not SipHash: the keys are the program's own tile indices, not an attacker's, and a lookup
+/// happens per tile per query (measured: SipHash was 2–3 % of a checked unwarp).
+#[derive(Default, Clone, Copy)]
+pub struct TileHasher(u64);
+
+impl std::hash::Hasher for TileHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(*b as u64);
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+}
+
+type Tiles = HashMap<(i64, i64), Tile, std::hash::BuildHasherDefault<TileHasher>>;
+
 /// The height field of printed material.
 #[derive(Default)]
 pub struct Material {
-    tiles: HashMap<(i64, i64), Tile>,
+    tiles: Tiles,
     /// Beads deposited.
     pub beads: u64,
     /// `(first bead, layer)` of every layer deposited, in file order (layers only grow).
@@ -133,29 +160,45 @@ impl Material {
         }
     }
 
-    /// Deposit the bead of width `w` from tip `p0` to `p1` printed with tool axis `n` in layer
-    /// `layer` (see the module documentation); its index is the new [`Material::beads`].
-    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, n: DVec3, w: f64, layer: u32) {
+    /// What the material at (x, y) tells of the surface of layer `layer` there: the top of a
+    /// bead of that layer, of an older one, or nothing ([`super::bead::Side`]).
+    pub fn side_at(&self, x: f64, y: f64, layer: u32) -> Side {
+        let (i, j) = (cell_of(x), cell_of(y));
+        let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
+        let Some(t) = self.tiles.get(&(ti, tj)) else {
+            return Side::Unknown;
+        };
+        let k = j.rem_euclid(TILE as i64) as usize * TILE + i.rem_euclid(TILE as i64) as usize;
+        let h = t.h[k] as f64;
+        match self.layer_of(t.owner[k]) {
+            Some(l) if l == layer => Side::Current(h),
+            Some(l) if l < layer => Side::Older(h),
+            _ => Side::Unknown,
+        }
+    }
+
+    /// Deposit the bead of width `w` from tip `p0` to `p1` with cross slope `slope` (mm of z
+    /// per mm along `h = ẑ × d_xy/|d_xy|`, [`super::bead`]) in layer `layer`: every cell whose
+    /// centre is within `w/2` of the path (horizontally; never less than half a cell diagonal,
+    /// so a vertical piece still marks the cells along it) is raised to
+    /// `on_z + clamp((c − on)·h, ±w/2)·slope`, `on` the path's point nearest the centre. Its
+    /// index is the new [`Material::beads`].
+    pub fn deposit(&mut self, p0: DVec3, p1: DVec3, slope: f64, w: f64, layer: u32) {
         self.beads += 1;
         let bead = self.beads.min(u32::MAX as u64) as u32;
         if self.layer_starts.last().is_none_or(|(_, l)| *l != layer) {
             self.layer_starts.push((bead, layer));
         }
         let d = p1 - p0;
-        let u = n.cross(d);
-        let u = if u.length() > 1e-9 {
-            u.normalize()
-        } else {
-            DVec3::ZERO
-        };
+        let h = across(d).unwrap_or(glam::DVec2::ZERO);
         let half = 0.5 * w;
-        // the top face's half-width seen from above; never less than half a cell diagonal,
-        // so a steep bead still marks the cells along its centre line
-        let reach = (half * u.truncate().length()).max(CELL_MM * std::f64::consts::FRAC_1_SQRT_2);
+        let reach = if h == glam::DVec2::ZERO {
+            CELL_MM * std::f64::consts::FRAC_1_SQRT_2
+        } else {
+            half.max(CELL_MM * std::f64::consts::FRAC_1_SQRT_2)
+        };
         let dxy = d.truncate();
         let l2 = dxy.length_squared();
-        let uxy = u.truncate();
-        let u2 = uxy.length_squared();
         let (lo, hi) = (p0.min(p1), p0.max(p1));
         for j in cell_of(lo.y - reach)..=cell_of(hi.y + reach) {
             for i in cell_of(lo.x - reach)..=cell_of(hi.x + reach) {
@@ -170,57 +213,81 @@ impl Material {
                 if off.length() > reach {
                     continue;
                 }
-                let lambda = if u2 > 1e-18 {
-                    (off.dot(uxy) / u2).clamp(-half, half)
-                } else {
-                    0.0
-                };
-                self.raise(i, j, on.z + lambda * u.z, bead);
+                let lambda = off.dot(h).clamp(-half, half);
+                self.raise(i, j, on.z + lambda * slope, bead);
             }
         }
     }
 
-    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
-    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
-    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
-    pub fn max_over(&self, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> f64 {
+    /// The tiles the rectangle `[x0, x1] × [y0, y1]` touches, each with the range of its
+    /// blocks inside the rectangle (`bi0..=bi1`, `bj0..=bj1`); stops when `visit` says so.
+    fn tiles_over(
+        &self,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        mut visit: impl FnMut(&Tile, [usize; 4]) -> bool,
+    ) -> bool {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
         let t = TILE as i64;
         let b = BLOCK as i64;
-        let mut best = f64::NEG_INFINITY;
         for tj in j0.div_euclid(t)..=j1.div_euclid(t) {
             for ti in i0.div_euclid(t)..=i1.div_euclid(t) {
                 let Some(tile) = self.tiles.get(&(ti, tj)) else {
                     continue;
                 };
-                if (tile.max as f64) <= best {
-                    continue;
+                let blocks = [
+                    ((i0 - ti * t).max(0) / b) as usize,
+                    ((i1 - ti * t).min(t - 1) / b) as usize,
+                    ((j0 - tj * t).max(0) / b) as usize,
+                    ((j1 - tj * t).min(t - 1) / b) as usize,
+                ];
+                if visit(tile, blocks) {
+                    return true;
                 }
-                let bj0 = ((j0 - tj * t).max(0) / b) as usize;
-                let bj1 = ((j1 - tj * t).min(t - 1) / b) as usize;
-                let bi0 = ((i0 - ti * t).max(0) / b) as usize;
-                let bi1 = ((i1 - ti * t).min(t - 1) / b) as usize;
+            }
+        }
+        false
+    }
+
+    /// An upper bound of the material's top over the rectangle `[x0, x1] × [y0, y1]`: the
+    /// largest maximum of the blocks it touches (−∞: none). A move whose head part stays above
+    /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
+    pub fn max_over(&self, rect: (f64, f64, f64, f64)) -> f64 {
+        let mut best = f64::NEG_INFINITY;
+        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
+            if (tile.max as f64) > best {
                 for bj in bj0..=bj1 {
                     for bi in bi0..=bi1 {
                         best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
                     }
                 }
             }
-        }
+            false
+        });
         best
+    }
+
+    /// Whether some material over the rectangle `[x0, x1] × [y0, y1]` may be above `z`: the
+    /// test `max_over(rect) > z`, answered from the tiles' maxima where they suffice and
+    /// stopping at the first block above `z` (a head part far above the print, the usual case
+    /// for the heater block and the heat sink, costs a few tile lookups).
+    pub fn any_above(&self, rect: (f64, f64, f64, f64), z: f64) -> bool {
+        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
+            (tile.max as f64) > z
+                && (bj0..=bj1)
+                    .any(|bj| (bi0..=bi1).any(|bi| tile.block_max[bj * BLOCKS + bi] as f64 > z))
+        })
     }
 
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
     /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
-    /// half_diagonal)` says the solid cannot reach the block's region from height `zlow` (the
-    /// solid's lowest point) to the block's top; `visit(i, j, top, bead)` (the bead whose top it
-    /// is).
+    /// half_diagonal, top)` says the solid cannot reach the material of the block (its centre
+    /// and the half diagonal of its square seen from above, its highest top);
+    /// `visit(i, j, top, bead)` (the bead whose top it is).
     pub fn for_cells_above(
         &self,
         (x0, y0, x1, y1): (f64, f64, f64, f64),
         above: f64,
-        zlow: f64,
-        mut far: impl FnMut(DVec3, f64) -> bool,
+        mut far: impl FnMut(glam::DVec2, f64, f64) -> bool,
         mut visit: impl FnMut(i64, i64, f64, u32),
     ) {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
@@ -248,16 +315,12 @@ impl Material {
                         if top <= above {
                             continue;
                         }
-                        // the block's region between the solid's lowest point and its top
                         let side = b as f64 * CELL_MM;
-                        let c = DVec3::new(
+                        let c = glam::DVec2::new(
                             ci0 as f64 * CELL_MM + 0.5 * side,
                             cj0 as f64 * CELL_MM + 0.5 * side,
-                            0.5 * (zlow + top),
                         );
-                        let half_diag =
-                            (0.5 * side * std::f64::consts::SQRT_2).hypot(0.5 * (top - zlow));
-                        if far(c, half_diag) {
+                        if far(c, 0.5 * side * std::f64::consts::SQRT_2, top) {
                             continue;
                         }
                         for j in cj0.max(j0)..=(cj0 + b - 1).min(j1) {

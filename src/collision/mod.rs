@@ -4,6 +4,7 @@
 //! - [`solid`]: a head part placed in the output frame (frustum or oriented box): where a
 //!   vertical line crosses it, its distance from a point.
 //! - [`material`]: the printed material, a sparse height field of the bead tops.
+//! - [`bead`]: a bead's top across its width (the layer's slope, bounded by the tool face's).
 //! - [`contact`]: where the nozzle's flat face may touch the material it prints on (the
 //!   contact surface `s ≤ (ρ + w/2)·tan 30°`, and a layer height into the current layer).
 //! - [`sweep`]: the [`Checker`]: poses sampled along a move (every head point moves at most
@@ -25,11 +26,15 @@
 //! Per move and part, the union of the part's boxes over the move against the material's block
 //! maxima skips parts that cannot reach anything; a translation (the pose fixed) finds the cells
 //! its frustum parts can reach once ([`Checker`]'s swept cells, from the parts' floor bounds
-//! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]); per pose only cells
-//! within the tip radius under which the part can reach the highest material are visited. The
+//! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
+//! the height field whose highest top is under the floor at the block's least distance from
+//! the tip's path; per pose only cells within the tip radius under which the part can reach the
+//! highest material are visited. [`Checker::exhaustive`] switches every bound off: the law test
+//! in `tests/collision_check.rs` compares the findings. The
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
 //! --machine`.
 
+pub mod bead;
 pub mod contact;
 pub mod material;
 pub mod solid;

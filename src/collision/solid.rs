@@ -94,6 +94,18 @@ impl Posed {
     /// at `max(s0, s_min)` and `s1`.
     pub fn floor_at(&self, x: f64, y: f64) -> f64 {
         match *self {
+            Posed::Frustum { o, .. } => {
+                let (dx, dy) = (x - o.x, y - o.y);
+                self.floor_at_distance((dx * dx + dy * dy).sqrt())
+            }
+            Posed::Box { .. } => f64::NEG_INFINITY,
+        }
+    }
+
+    /// [`Posed::floor_at`] of a vertical line at horizontal distance `d` from the tip `o` (the
+    /// frustum's bound depends on that distance only, and does not decrease with it).
+    pub fn floor_at_distance(&self, d: f64) -> f64 {
+        match *self {
             Posed::Frustum {
                 o,
                 a,
@@ -105,8 +117,6 @@ impl Posed {
                 if s0 < 0.0 {
                     return f64::NEG_INFINITY;
                 }
-                let (dx, dy) = (x - o.x, y - o.y);
-                let d = (dx * dx + dy * dy).sqrt();
                 let sin_t = (1.0 - a.z * a.z).max(0.0).sqrt();
                 let denom = sin_t + k;
                 let s_min = if denom > DEGENERATE {

@@ -22,6 +22,7 @@
 
 use glam::{DMat3, DVec3};
 
+use super::bead;
 use super::contact::ContactSurface;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
@@ -43,6 +44,9 @@ pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
 pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
+/// Most axes of a machine the check reads (the presets have 3 to 6; a pose is interpolated on
+/// the stack).
+pub const MAX_AXES: usize = 8;
 
 /// Counts of the check.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -198,6 +202,9 @@ pub struct Checker {
     layer_height: f64,
     /// Stop checking after the first finding ([`Checker::stop_at_first`]).
     stop: bool,
+    /// Check every cell under every part at every pose, without the bounds
+    /// ([`Checker::exhaustive`]).
+    exhaustive: bool,
 }
 
 impl std::fmt::Debug for Checker {
@@ -236,6 +243,7 @@ impl Checker {
             max_width: 0.0,
             layer_height: DEFAULT_LAYER_HEIGHT_MM,
             stop: false,
+            exhaustive: false,
         })
     }
 
@@ -252,6 +260,16 @@ impl Checker {
     /// it are still deposited). Off by default: every finding is kept.
     pub fn stop_at_first(&mut self, yes: bool) {
         self.stop = yes;
+    }
+
+    /// Check without the speed bounds (off by default): every part at every pose against every
+    /// material cell under its box and the bed, none skipped because a bound says it cannot
+    /// reach (the move's union box against the block maxima, the swept cells of a translation,
+    /// the radius about the tip and the block distances, the floors of [`Posed::floor_at`] and
+    /// [`ContactSurface::floor_at`]). The findings must be the same: it is the reference of the
+    /// bounds' law test (`tests/collision_check.rs`), and slow.
+    pub fn exhaustive(&mut self, yes: bool) {
+        self.exhaustive = yes;
     }
 
     /// The machine checked.
@@ -288,6 +306,17 @@ impl Checker {
         })
     }
 
+    /// The pose at `t` of the way from axes `from` to `to` (each axis linear, as the firmware
+    /// moves them; at most [`MAX_AXES`], interpolated on the stack).
+    fn pose_between(&self, from: &[f64], to: &[f64], t: f64) -> Result<Pose, MachineError> {
+        let mut buf = [0.0; MAX_AXES];
+        let axes = &mut buf[..from.len().min(MAX_AXES)];
+        for ((x, a), b) in axes.iter_mut().zip(from).zip(to) {
+            *x = a + (b - a) * t;
+        }
+        self.pose(axes)
+    }
+
     /// Upper bound of the displacement of any head point between two poses, mm.
     fn displacement(&self, a: &Pose, b: &Pose) -> f64 {
         let theta = match (&a.frame, &b.frame) {
@@ -317,18 +346,26 @@ impl Checker {
             return Ok(());
         }
         self.stats.moves += 1;
-        let at =
-            |t: f64| -> Vec<f64> { from.iter().zip(to).map(|(a, b)| a + (b - a) * t).collect() };
+        if from.len() > MAX_AXES {
+            return Err(MachineError::BadSpec {
+                machine: self.machine.name().to_string(),
+                message: format!(
+                    "the collision check reads at most {MAX_AXES} axes, this machine has {}",
+                    from.len()
+                ),
+            });
+        }
+        let pose_at = |t: f64| self.pose_between(from, to, t);
         let p0 = self.pose(from)?;
         let p1 = self.pose(to)?;
         let mut n = ((self.displacement(&p0, &p1) / SAMPLE_STEP_MM).ceil() as usize).max(1);
-        let poses = loop {
-            let mut poses = Vec::with_capacity(n + 1);
-            poses.push(p0);
-            for k in 1..n {
-                poses.push(self.pose(&at(k as f64 / n as f64))?);
-            }
-            poses.push(p1);
+        let mut poses = Vec::with_capacity(n + 1);
+        poses.push(p0);
+        for k in 1..n {
+            poses.push(pose_at(k as f64 / n as f64)?);
+        }
+        poses.push(p1);
+        loop {
             let ok = poses
                 .windows(2)
                 .all(|w| self.displacement(&w[0], &w[1]) <= SAMPLE_STEP_MM);
@@ -336,10 +373,28 @@ impl Checker {
                 if !ok {
                     self.stats.under_sampled += 1;
                 }
-                break poses;
+                break;
             }
-            n = (n * 2).min(MAX_SAMPLES);
-        };
+            let n2 = (n * 2).min(MAX_SAMPLES);
+            let mut next = Vec::with_capacity(n2 + 1);
+            if n2 == 2 * n {
+                // the poses at k/n are those at 2k/2n (the same quotient): keep them
+                for (k, p) in poses.iter().enumerate() {
+                    if k > 0 {
+                        next.push(pose_at((2 * k - 1) as f64 / n2 as f64)?);
+                    }
+                    next.push(*p);
+                }
+            } else {
+                next.push(p0);
+                for k in 1..n2 {
+                    next.push(pose_at(k as f64 / n2 as f64)?);
+                }
+                next.push(p1);
+            }
+            poses = next;
+            n = n2;
+        }
         let start = usize::from(!include_start);
         let poses = &poses[start..];
         // per part, over the whole move: can it reach the material or the bed at all? (the
@@ -356,15 +411,19 @@ impl Checker {
                     lo = lo.min(l);
                     hi = hi.max(h);
                 }
+                if self.exhaustive {
+                    return (true, true);
+                }
                 (
-                    self.material.max_over((lo.x, lo.y, hi.x, hi.y)) > lo.z + tol,
+                    self.material
+                        .any_above((lo.x, lo.y, hi.x, hi.y), lo.z + tol),
                     lo.z < self.bed.top() - tol,
                 )
             })
             .collect();
         // a translation (the pose fixed): the cells each frustum part can reach over the
         // whole move, found once
-        let fixed = p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
+        let fixed = !self.exhaustive && p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
         let swept: Vec<Option<Vec<SweptCell>>> = self
             .parts
             .iter()
@@ -408,6 +467,7 @@ impl Checker {
                             obstacle: obstacle.to_string(),
                             depth_mm: depth,
                             at,
+                            input_line: None,
                         }),
                     }
                 }
@@ -439,6 +499,7 @@ impl Checker {
                         best: &mut Option<(f64, [f64; 3], u32)>| {
             // the depth is at most h − z_in (the contact surface only takes from it)
             let floor = match contact {
+                _ if self.exhaustive => f64::NEG_INFINITY,
                 Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
                 None => solid.floor_at(x, y),
             };
@@ -479,15 +540,24 @@ impl Checker {
                 (Some(a), Some(b)) => Some(a.min(b)),
                 (a, b) => a.or(b),
             };
-            if let (Some(r), Posed::Frustum { o, .. }) = (r, solid) {
+            if let (Some(r), Posed::Frustum { o, .. }, false) = (r, solid, self.exhaustive) {
                 (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
                 (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
             }
+            // the block's region between the solid's lowest point and its top
+            let zlow = lo.z;
+            let above = if self.exhaustive {
+                f64::NEG_INFINITY
+            } else {
+                lo.z + tol
+            };
             self.material.for_cells_above(
                 (x0, y0, x1, y1),
-                lo.z + tol,
-                lo.z,
-                |c, r| solid.distance(c) > r,
+                above,
+                |c, r, top| {
+                    let c = DVec3::new(c.x, c.y, 0.5 * (zlow + top));
+                    !self.exhaustive && solid.distance(c) > r.hypot(0.5 * (top - zlow))
+                },
                 |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
             );
         }
@@ -506,7 +576,8 @@ impl Checker {
                 consider(top, low.x, low.y, 0, None, &mut best);
             } else {
                 let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
-                if let (Some(r), Posed::Frustum { o, .. }) = (solid.radius_below(top - tol), solid)
+                if let (Some(r), Posed::Frustum { o, .. }, false) =
+                    (solid.radius_below(top - tol), solid, self.exhaustive)
                 {
                     (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
                     (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
@@ -534,7 +605,9 @@ impl Checker {
     /// grows with D; over the move a cell is at least `D_min` (its distance from the tip's
     /// path) from the tip, and the tip at least as high as its lower end: the floor of the
     /// part at that lowest tip, placed at the path's point nearest the cell, bounds every
-    /// sampled pose's floor from below, so a cell under it cannot be reached.
+    /// sampled pose's floor from below, so a cell under it cannot be reached; a whole block is
+    /// skipped when its highest top is under that floor at the block's least distance from the
+    /// path (the floor grows with the distance).
     fn swept_cells(&self, part: &Part, a: &Pose, b: &Pose) -> Option<Vec<SweptCell>> {
         let tol = CONTACT_TOLERANCE_MM;
         let low_z = a.p.z.min(b.p.z);
@@ -569,12 +642,32 @@ impl Checker {
         }
         let (pa, d) = (a.p.truncate(), (b.p - a.p).truncate());
         let l2 = d.length_squared();
+        // the floor at horizontal distance D from the lowest tip (it depends on D only and
+        // grows with it): at a cell's distance from the path it bounds the part's floor there
+        // at every pose, at a block's least distance the floor of every cell of the block
+        let low_tip = DVec3::new(0.0, 0.0, low_z);
+        let low_solid = part.pose(low_tip, a.n, a.frame.as_ref());
+        let low_contact = contact(low_tip);
+        let floor_at_distance = |dist: f64| {
+            let floor = low_solid.floor_at_distance(dist);
+            match &low_contact {
+                Some(k) => floor.max(k.floor_at_distance(dist)),
+                None => floor,
+            }
+        };
         let mut cells = Vec::new();
         self.material.for_cells_above(
             (x0, y0, x1, y1),
             lo.z + tol,
-            lo.z,
-            |_, _| false,
+            |c, half_diag, top| {
+                let t = if l2 > 0.0 {
+                    ((c - pa).dot(d) / l2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let dist = ((c - (pa + d * t)).length() - half_diag).max(0.0);
+                top - floor_at_distance(dist) <= tol
+            },
             |i, j, h, bead| {
                 let c = glam::DVec2::new(centre(i), centre(j));
                 let t = if l2 > 0.0 {
@@ -582,13 +675,7 @@ impl Checker {
                 } else {
                     0.0
                 };
-                let tip = at(pa + d * t);
-                let solid = part.pose(tip, a.n, a.frame.as_ref());
-                let mut floor = solid.floor_at(c.x, c.y);
-                if let Some(k) = contact(tip) {
-                    floor = floor.max(k.floor_at(c.x, c.y));
-                }
-                if h - floor > tol {
+                if h - floor_at_distance((c - (pa + d * t)).length()) > tol {
                     cells.push(SweptCell {
                         x: c.x,
                         y: c.y,
@@ -599,6 +686,23 @@ impl Checker {
             },
         );
         Some(cells)
+    }
+
+    /// The cross slope of the bead piece from `p0` to `p1` printed with tool axis `n`, width
+    /// `w` ([`super::bead`]): the layer's, read from the material at `±w·h` beside the piece's
+    /// middle, bounded by the tool face's.
+    fn cross_slope(&self, p0: DVec3, p1: DVec3, n: DVec3, w: f64) -> f64 {
+        let Some(h) = bead::across(p1 - p0) else {
+            return 0.0;
+        };
+        let mid = (0.5 * (p0 + p1)).truncate();
+        let side = |k: f64| {
+            let q = mid + h * (k * w);
+            self.material.side_at(q.x, q.y, self.layer)
+        };
+        let z = 0.5 * (p0.z + p1.z);
+        let layer = bead::layer_slope(z, side(1.0), side(-1.0), w, self.layer_height);
+        bead::cross_slope(bead::tool_slope(n, p1 - p0, h), layer)
     }
 
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
@@ -619,11 +723,12 @@ impl Checker {
             let next = if k == pieces {
                 b
             } else {
-                let axes: Vec<f64> = from.iter().zip(to).map(|(x, y)| x + (y - x) * t).collect();
-                self.pose(&axes)?
+                self.pose_between(from, to, t)?
             };
             let n = (prev.n + next.n).normalize_or(next.n);
-            self.material.deposit(prev.p, next.p, n, width, self.layer);
+            let slope = self.cross_slope(prev.p, next.p, n, width);
+            self.material
+                .deposit(prev.p, next.p, slope, width, self.layer);
             prev = next;
         }
         Ok(())

@@ -297,6 +297,11 @@ impl Walker {
         self.checker.stop_at_first(yes);
     }
 
+    /// Check without the speed bounds ([`Checker::exhaustive`]): the bounds' reference.
+    pub fn exhaustive(&mut self, yes: bool) {
+        self.checker.exhaustive(yes);
+    }
+
     /// The checker (findings, counts, material).
     pub fn checker(&self) -> &Checker {
         &self.checker

@@ -24,7 +24,7 @@ mod report;
 
 pub use cartesian::Cartesian;
 pub use e_writer::{EWriter, E_QUANTUM};
-pub use report::{AxisReport, CollisionFinding, FeedMode, MachineReport, SwingPlace};
+pub use report::{AxisReport, CollisionFinding, FeedMode, InputLines, MachineReport, SwingPlace};
 
 /// Feed for travels, lifts and descents warpslice adds when the slicer gave none, mm/min
 /// (100 mm/s).

@@ -158,6 +158,8 @@ pub struct MachineEmitter {
     scan: (usize, usize, u64),
     /// The input line of the toolpath point being written.
     input_line: u64,
+    /// Input line of each output line, when recorded ([`MachineEmitter::with_input_lines`]).
+    input_lines: Option<crate::emit::InputLines>,
     /// The lines outside the printed region are converted ([`Emitter::converts_outside`]).
     convert_outside: bool,
     /// Outside the printed region (before [`Emitter::begin_region`], after
@@ -241,10 +243,18 @@ impl MachineEmitter {
             line_base: 0,
             scan: (0, 0, 0),
             input_line: 0,
+            input_lines: None,
             convert_outside: false,
             outside: true,
             rest_deps: None,
         })
+    }
+
+    /// Record the input line of every output line (for the collision check's findings; a run
+    /// per change of input line).
+    pub fn with_input_lines(mut self, yes: bool) -> MachineEmitter {
+        self.input_lines = yes.then(crate::emit::InputLines::default);
+        self
     }
 
     /// Use other interpolation bounds (`--interpolation`, `--interpolation-caps`).
@@ -256,6 +266,9 @@ impl MachineEmitter {
     /// The measurements so far.
     pub fn report(&self) -> MachineReport {
         let mut r = self.report.clone();
+        if let Some(m) = &self.input_lines {
+            r.input_lines = m.clone();
+        }
         let t = &self.tess;
         r.moves_in = t.moves_in as u64;
         r.moves_out = (t.moves_out as u64 + r.rotate_arounds * 2 + r.swing_lifts * 2)
@@ -735,6 +748,12 @@ impl Emitter for MachineEmitter {
     ) -> Result<(), EmitError> {
         self.start_lines(out);
         self.input_line = tp.line;
+        if self.input_lines.is_some() {
+            let next = self.next_output_line(out);
+            if let Some(m) = self.input_lines.as_mut() {
+                m.push(next, tp.line);
+            }
+        }
         if tp.travel && tp.e != 0.0 {
             let v = self.ew.advance(tp.e, relative_e);
             out.extend_from_slice(b"G1 E");

@@ -465,8 +465,13 @@ impl fmt::Display for MachineError {
             ),
             MachineError::Collision { machine, finding: c, total } => write!(
                 f,
-                "machine {machine}: output line {} (layer {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) (at least {total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
-                c.line, c.layer, c.part, c.depth_mm,
+                "machine {machine}: output line {} (layer {}; {}): the {} goes {:.3} mm into the {} at ({:.3}, {:.3}, {:.3}) (at least {total} collision{} in the file); lower the warp's tilt, move the part (--place), give the machine's real head in its JSON \"head\", or write it anyway with allow_collisions (--allow-collisions) to list every finding",
+                c.line, c.layer,
+                c.input_line.map_or_else(
+                    || "no input line: the machine G-code was checked without the slicer's file".to_string(),
+                    |l| format!("from input line {l}")
+                ),
+                c.part, c.depth_mm,
                 if c.obstacle == "bed" { "bed" } else { "printed material" },
                 c.at[0], c.at[1], c.at[2], if *total == 1 { "" } else { "s" }
             ),

@@ -89,9 +89,11 @@ impl MachineOptions {
         let bounds = self.bounds()?;
         Ok(match &self.machine {
             None => Box::new(Cartesian::new()),
-            Some(spec) => {
-                Box::new(MachineEmitter::new(spec, self.flavour, self.feed)?.with_bounds(bounds))
-            }
+            Some(spec) => Box::new(
+                MachineEmitter::new(spec, self.flavour, self.feed)?
+                    .with_bounds(bounds)
+                    .with_input_lines(self.checks_collisions()),
+            ),
         })
     }
 

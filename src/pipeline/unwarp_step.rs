@@ -151,6 +151,12 @@ fn apply_findings(
     out: &mut Vec<u8>,
     report: &mut crate::unwarp::UnwarpReport,
 ) -> Result<(), Error> {
+    let mut findings = findings;
+    if let Some(m) = report.machine.as_ref() {
+        for f in &mut findings {
+            f.input_line = m.input_lines.of(f.line);
+        }
+    }
     if !settings.output.allow_collisions {
         if let Some(e) = crate::collision::refusal(&spec.name, &findings) {
             return Err(e.into());
@@ -159,8 +165,9 @@ fn apply_findings(
     for f in &findings {
         out.extend_from_slice(
             format!(
-                "; warpslice collision: line {} layer {}: {} into {} by {:.3} mm at ({:.3}, {:.3}, {:.3})\n",
-                f.line, f.layer, f.part, f.obstacle, f.depth_mm, f.at[0], f.at[1], f.at[2]
+                "; warpslice collision: line {} layer {}: {} into {} by {:.3} mm at ({:.3}, {:.3}, {:.3}){}\n",
+                f.line, f.layer, f.part, f.obstacle, f.depth_mm, f.at[0], f.at[1], f.at[2],
+                f.input_line.map(|l| format!(" (input line {l})")).unwrap_or_default()
             )
             .as_bytes(),
         );
