@@ -22,18 +22,20 @@
 //! J̃ (Λω̇, ẗ) = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂),   qᵢ = ω × (ω × rᵢ)   (u'' = 0)
 //! ```
 //!
-//! (Λ scales the rotation so every entry of J̃ is of order 1.) So with `Ã`, `b̃` the first
-//! three rows and the last row of J̃⁻¹: `|ω| ≤ |Ã| |Δu|/Λ` (Δu = u(1) − u(0)),
-//! `|ω̇| ≤ |Ã| Ω²` and `|ẗ| ≤ |b̃| Ω² Λ` (`|(e₃·qᵢ, Nᵢ·qᵢ)| ≤ |qᵢ| ≤ Ω²|l̂ᵢ|`, Ω = sup |ω|).
+//! (Λ scales the rotation so every entry of J̃ is of order 1; Δu = u(1) − u(0).) So with `Ã`,
+//! `b̃` the first three rows and the last row of J̃⁻¹: `|ω̇| ≤ |Ã| Ω²` and `|ẗ| ≤ |b̃| Ω² Λ`
+//! (`|(e₃·qᵢ, Nᵢ·qᵢ)| ≤ |qᵢ| ≤ Ω²|l̂ᵢ|`, Ω = sup |ω|).
 //!
 //! ## J̃⁻¹ along the piece (Neumann series)
-//! J̃₀ is J̃ at the piece's start pose (K₀ = ‖J̃₀⁻¹‖_F). After a rotation by φ from it,
-//! `|Δrᵢ| ≤ φ|l̂ᵢ|`, so `‖J̃ − J̃₀‖_F ≤ √2 φ` (e₃ ⊥ Nᵢ, unit). Suppose ‖J̃⁻¹‖ ≤ 2K₀ on [0, s]:
-//! then `φ ≤ Ω_c = 2K₀|Δu|/Λ`, `e = √2 Ω_c`, and when `K₀ e < ½`,
-//! `‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ = K₀² e/(1 − K₀ e) < K₀`, so ‖J̃⁻¹‖ < 2K₀ still: by continuity it holds
-//! on the whole piece, J̃ stays invertible (the pose is a smooth function of s) and
-//! `|Ã| ≤ |Ã₀|_F + δ`, `|b̃| ≤ |b̃₀| + δ`, `Ω ≤ (|Ã₀|_F + δ)|Δu|/Λ`.
-//!
+//! J̃₀ is J̃ at the piece's start pose (K₀ = ‖J̃₀⁻¹‖_F), `x₀ = J̃₀⁻¹ (Δu, 0)` the exact start
+//! velocity (ω₀, ṫ₀). After a rotation by φ from the start pose, `|Δrᵢ| ≤ φ|l̂ᵢ|`, so
+//! `‖J̃ − J̃₀‖_F ≤ √2 φ` (e₃ ⊥ Nᵢ, unit). Suppose `‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ` on [0, s]: then
+//! `|x − x₀| ≤ δ|Δu|`, `φ ≤ Ω ≤ (|Λω₀| + δ|Δu|)/Λ`, `e = √2 Ω`, and when `K₀ e < ½` the
+//! Neumann series gives `‖J̃⁻¹ − J̃₀⁻¹‖ ≤ g(δ) = K₀² e/(1 − K₀ e)`. From δ = K₀ (g(K₀) < K₀),
+//! each step δ ← g(δ) is established on the whole piece by continuity (g increases with δ), and
+//! J̃ stays invertible there (the pose is a smooth function of s). Then `|Ã| ≤ |Ã₀|_F + δ`,
+//! `|b̃| ≤ |b̃₀| + δ` for the accelerations, and `|ṫ| ≤ |ṫ₀| + δ|Δu|` (the rails).
+
 //! ## The tip (Lemma 1)
 //! The firmware puts the machine coordinates on the chord `c(s)` of the ends'; the tip is then
 //! `F(s) = Rᵀ(c(s) − t D − b̂₀) + b̂₀`. The intended tip p(s) would be at
@@ -119,22 +121,25 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     }
     let inv = j0.inverse();
     let row = |i: usize| -> DVec4 { inv.row(i) };
-    // the velocity's right-hand side is (u₁', u₂', 0, 0): only the first two columns act on it
-    let two = |v: DVec4| v.truncate().truncate();
     let a_norm =
         (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
-    let a_vel = (two(row(0)).length_squared()
-        + two(row(1)).length_squared()
-        + two(row(2)).length_squared())
-    .sqrt();
-    let (b_norm, b_vel) = (row(3).length(), two(row(3)).length());
+    let b_norm = row(3).length();
     let k0 = a_norm.hypot(b_norm);
-    let du = ((a1[2] - a1[3]) - (a0[2] - a0[3])).hypot((a1[2] - a1[4]) - (a0[2] - a0[4]));
-    // Neumann: with ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ along the piece, φ ≤ (|Ã₀|₂ + δ)|Δu|/Λ, e = √2 φ, and then
+    let du_v = DVec4::new(
+        (a1[2] - a1[3]) - (a0[2] - a0[3]),
+        (a1[2] - a1[4]) - (a0[2] - a0[4]),
+        0.0,
+        0.0,
+    );
+    let du = du_v.length();
+    // the velocity at the start, exactly: x₀ = J̃₀⁻¹ (Δu, 0); along the piece x is within δ|Δu|
+    let x0 = inv * du_v;
+    let (w0, tdot0) = (x0.truncate().length(), x0.w.abs());
+    // Neumann: with ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ along the piece, φ ≤ (|Λω₀| + δ|Δu|)/Λ, e = √2 φ, and then
     // ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ g(δ) = K₀² e/(1 − K₀ e); starting from δ = K₀, each g(δ) < δ is
     // established by continuity and g is increasing, so a few steps tighten δ
     let g = |delta: f64| {
-        let e = core::f64::consts::SQRT_2 * (a_vel + delta) * du / lambda;
+        let e = core::f64::consts::SQRT_2 * (w0 + delta * du) / lambda;
         (k0 * e < NEUMANN_LIMIT).then(|| k0 * k0 * e / (1.0 - k0 * e))
     };
     let mut delta = k0;
@@ -145,12 +150,12 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
             None => return None,
         }
     }
-    let omega = (a_vel + delta) * du / lambda;
+    let omega = (w0 + delta * du) / lambda;
     let omega_dot = (a_norm + delta) * omega * omega;
     let t_ddot = (b_norm + delta) * omega * omega * lambda;
     if let Some([inward, outward]) = m.params().rail_travel_mm {
         // each ball moves along its rail by at most |ṫ| + Ω|l̂ᵢ| over the piece
-        let t_dot = (b_vel + delta) * du;
+        let t_dot = tdot0 + delta * du;
         let pose1 = m.bed_pose(a1).ok()?;
         for (i, li) in l.iter().enumerate() {
             let travel = t_dot + omega * li.length() + LIMIT_MARGIN_MM;
