@@ -48,6 +48,19 @@
 //! |H''| ≤ |ẗ| + (|ω̇| + Ω²) V + 2 Ω |Δp|,   V = max(|p₀ − b̂₀|, |p₁ − b̂₀|)
 //! ```
 //!
+//! or, tighter on short pieces, H''(0) computed exactly (ω₀, ẗ₀, ω̇₀ from J̃₀) plus how far each
+//! of its four terms can move: `|ẗ − ẗ₀|, Λ|ω̇ − ω̇₀| ≤ σ` (below), `|Rv − R₀v₀| ≤ ΩV + |Δp|`
+//! (ρ), `|ω − ω₀| ≤ δ|Δu|/Λ`; the smaller of the two is taken.
+//!
+//! **Accelerations at the start.** `x' = (Λω̇, ẗ) = J̃⁻¹ c`, `c = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂)`:
+//! exactly `x'₀ = J̃₀⁻¹ c₀` at the start, and along the piece
+//! `|x' − x'₀| ≤ σ = δ Ω²Λ + K₀ ((Ω + |ω₀|) δ|Δu|/Λ + |ω₀|² Ω) Λ`
+//! (`‖J̃⁻¹ − J̃₀⁻¹‖ |c|` and `K₀ |c − c₀|`, qᵢ's change from ω's and rᵢ's).
+//!
+//! **The rails.** Ball i slides along its rail at `dᵢ·(ṫ D + ω × rᵢ)`: exactly at the start,
+//! and along the piece within `δ|Δu| √(1 + |l̂ᵢ|²/Λ²) + |ω₀| Ω |l̂ᵢ|` of it; the ball stays
+//! within that (s ≤ 1) of its start slide.
+//!
 //! ## The tool axis (Lemmas 1, 3)
 //! The tool axis is the bed normal R e₃ mirrored in x and y (an isometry), `|(R e₃)''| ≤ |ω̇| + Ω²`:
 //! within `(|ω̇| + Ω²)/8` of its chord, and the slerp of the ends within `w²/8` of it
@@ -55,8 +68,8 @@
 //!
 //! ## Where the bound is not given (the piece is sampled)
 //! The piece is not given a bound when an end is within [`LIMIT_MARGIN_MM`] of an axis limit,
-//! when an end's ball is within that margin, plus its travel along the piece, of its rail's
-//! end (the intended path, within the bound of the firmware's, must solve: `inverse` checks both),
+//! when a ball comes within that margin of its rail's end (the intended path, within the bound
+//! of the firmware's, must solve: `inverse` checks both),
 //! when the tool axes leave the tilt cap ([`bound::arc_in_cap`]), or when `K₀ e ≥ ½`. The
 //! branch of Eq. 11 the forward map takes is assumed to be the smooth one along the piece (the
 //! other root is a pose about half a turn away); law 6 checks the bound against dense sampling.
@@ -67,11 +80,13 @@ use super::bound;
 use super::threez::ThreeZ;
 use super::{Machine, PieceEnd};
 
-/// How far (mm) both ends' axes and balls must stay from an axis limit or a rail end for a
-/// closed form: the intended path deviates from the firmware's by at most the bound
-/// (0.02 mm, 0.1°), which moves an axis or a ball by about 1 mm at most on a bed under
-/// 500 mm (0.1° = 1.75e-3 rad × 500 mm = 0.87 mm); five times that.
-pub const LIMIT_MARGIN_MM: f64 = 5.0;
+/// How far (mm) the firmware path's axes and balls must stay from an axis limit or a rail end
+/// for a closed form, so that the intended path (which `inverse` must solve) stays inside too.
+/// An estimate, not a proof: the intended pose differs from the firmware's by at most the bound
+/// (≤ 0.02 mm of tip, ≤ 0.1° of tool axis); 0.1° moves an axis by at most 500 mm × 1.75e-3 rad
+/// = 0.87 mm on a bed under 500 mm, and a ball along its rail by about |l̂| sin 30° × 1.75e-3 rad
+/// ≈ 0.3 mm (RatRig, at the largest tilt). Law 6 checks `inverse` at every sample.
+pub const LIMIT_MARGIN_MM: f64 = 1.0;
 
 /// The Neumann series' limit: `K₀ e` must stay below this for J̃⁻¹ to be bounded by 2K₀.
 pub const NEUMANN_LIMIT: f64 = 0.5;
@@ -134,7 +149,7 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     let du = du_v.length();
     // the velocity at the start, exactly: x₀ = J̃₀⁻¹ (Δu, 0); along the piece x is within δ|Δu|
     let x0 = inv * du_v;
-    let (w0, tdot0) = (x0.truncate().length(), x0.w.abs());
+    let w0 = x0.truncate().length();
     // Neumann: with ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ along the piece, φ ≤ (|Λω₀| + δ|Δu|)/Λ, e = √2 φ, and then
     // ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ g(δ) = K₀² e/(1 − K₀ e); starting from δ = K₀, each g(δ) < δ is
     // established by continuity and g is increasing, so a few steps tighten δ
@@ -151,26 +166,59 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
         }
     }
     let omega = (w0 + delta * du) / lambda;
-    let omega_dot = (a_norm + delta) * omega * omega;
-    let t_ddot = (b_norm + delta) * omega * omega * lambda;
+    // the acceleration x' = (Λω̇, ẗ) = J̃⁻¹ c, c = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂): at the start
+    // exactly, and along the piece within ‖J̃⁻¹ − J̃₀⁻¹‖|c| + K₀|c − c₀| of it, where
+    // |c| ≤ Ω²Λ and |c − c₀| ≤ ((Ω + |ω₀|) δ|Δu|/Λ + |ω₀|² Ω) Λ (|ω − ω₀| ≤ δ|Δu|/Λ,
+    // |Δrᵢ| ≤ φ|l̂ᵢ| ≤ Ω|l̂ᵢ|)
+    let omega0 = x0.truncate() / lambda;
+    let c0 = |r: DVec3| omega0.cross(omega0.cross(r));
+    let (q1, q2) = (c0(r[0]), c0(r[1]));
+    let acc0 = inv * -DVec4::new(q1.z, q2.z, nn[0].dot(q1), nn[1].dot(q2));
+    let w0l = w0 / lambda;
+    let spread = delta * omega * omega * lambda
+        + k0 * ((omega + w0l) * delta * du / lambda + w0l * w0l * omega) * lambda;
+    let omega_dot =
+        ((acc0.truncate().length() + spread) / lambda).min((a_norm + delta) * omega * omega);
+    let t_ddot = (acc0.w.abs() + spread).min((b_norm + delta) * omega * omega * lambda);
     if let Some([inward, outward]) = m.params().rail_travel_mm {
-        // each ball moves along its rail by at most |ṫ| + Ω|l̂ᵢ| over the piece
-        let t_dot = tdot0 + delta * du;
-        let pose1 = m.bed_pose(a1).ok()?;
+        // ball i slides along its rail at dᵢ·(ṫ D + ω × rᵢ): at the start exactly, and along the
+        // piece within δ|Δu|·√(1 + |l̂ᵢ|²/Λ²) (|x − x₀| ≤ δ|Δu|) + |ω₀| Ω |l̂ᵢ| (|Δrᵢ| ≤ φ|l̂ᵢ|)
+        // of it; over the piece (s ≤ 1) it slides at most that far from its start position
         for (i, li) in l.iter().enumerate() {
-            let travel = t_dot + omega * li.length() + LIMIT_MARGIN_MM;
-            for pose in [pose0, pose1] {
-                let now = d[0] * pose.tp + pose.rotate(*li).truncate();
-                let slide = m.slide(i, now);
-                if slide + travel > inward || -slide + travel > outward {
-                    return None;
-                }
+            let ri = pose0.rotate(*li);
+            let v0 = d[i].dot((dd * x0.w + omega0.cross(ri)).truncate());
+            let ratio = li.length() / lambda;
+            let travel = v0.abs()
+                + delta * du * (1.0 + ratio * ratio).sqrt()
+                + w0 / lambda * omega * li.length();
+            let now = d[0] * pose0.tp + ri.truncate();
+            let slide = m.slide(i, now);
+            let room = travel + LIMIT_MARGIN_MM;
+            if slide + room > inward || -slide + room > outward {
+                return None;
             }
         }
     }
     let b0 = m.ball0();
     let v = (p0 - b0).length().max((p1 - b0).length());
-    let tip = t_ddot + (omega_dot + omega * omega) * v + 2.0 * omega * (p1 - p0).length();
+    let dp = (p1 - p0).length();
+    // H'' at the start exactly, and how far it can move along the piece: |Rv − R₀v₀| ≤ ΩV + |Δp|,
+    // |ω − ω₀| ≤ δ|Δu|/Λ, |ω̇ − ω̇₀| and |ẗ − ẗ₀| within `spread` (/Λ)
+    let rv0 = pose0.rotate(p0 - b0);
+    let (omega_dot0, wdot0) = (acc0.truncate() / lambda, acc0.truncate().length() / lambda);
+    let h0 = dd * acc0.w
+        + omega_dot0.cross(rv0)
+        + omega0.cross(omega0.cross(rv0))
+        + 2.0 * omega0.cross(pose0.rotate(p1 - p0));
+    let (d_omega, rho) = (delta * du / lambda, omega * v + dp);
+    let h_moves = spread
+        + spread / lambda * v
+        + wdot0 * rho
+        + (omega + w0l) * d_omega * v
+        + w0l * w0l * rho
+        + 2.0 * (d_omega + w0l * omega) * dp;
+    let tip =
+        (h0.length() + h_moves).min(t_ddot + (omega_dot + omega * omega) * v + 2.0 * omega * dp);
     let w = bound::angle(n0, n1);
     let axis = bound::chord_deviation(omega_dot + omega * omega) + bound::chord_deviation(w * w);
     let (bp, ba) = (
