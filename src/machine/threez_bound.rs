@@ -131,7 +131,7 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     ];
     let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
     let det = j0.determinant();
-    if !(det.abs() >= MIN_DETERMINANT) {
+    if det.is_nan() || det.abs() < MIN_DETERMINANT {
         return None;
     }
     let inv = j0.inverse();
