@@ -70,6 +70,7 @@ fn closed_form_bounds_are_given_where_proven() {
         "rotbot",
         "fullcontrol-prusa-b",
         "open5x-ab",
+        "ratrig-vcore3-3z",
     ] {
         let m = preset(name)
             .and_then(|s| s.build())
@@ -119,6 +120,7 @@ fn variants_obey_the_laws() {
         r#"{"name":"lathe-offset","kind":"lathe-a","axis_y_mm":10,"axis_z_mm":60}"#,
         r#"{"name":"lathe-y","kind":"lathe-a","axis_y_mm":-5,"axis_z_mm":40,"with_y":true}"#,
         r#"{"name":"three-z-small","kind":"three-z","balls_xy":[[0,0],[200,0],[100,180]],"ball_z_mm":-20,"slot_angles_deg":[30,150,-90],"max_tilt_deg":20,"build_volume_mm":[200,180,100]}"#,
+        r#"{"name":"three-z-skew","kind":"three-z","balls_xy":[[0,0],[250,20],[120,220]],"ball_z_mm":-30,"slot_angles_deg":[10,170,-80],"max_tilt_deg":25,"build_volume_mm":[220,200,120],"rail_travel_mm":[60,20]}"#,
     ] {
         check(spec(json).as_ref());
     }

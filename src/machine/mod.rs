@@ -67,6 +67,7 @@ pub mod spec;
 pub mod speed;
 pub mod tessellate;
 pub mod threez;
+pub mod threez_bound;
 pub mod travel;
 pub mod view;
 

@@ -194,6 +194,84 @@ impl ThreeZ {
         })
     }
 
+    /// The bed's pose for axes (x, y, z₀, z₁, z₂) (seed 001 §3.2, Eqs. 16–22): the rotations
+    /// R₁, R₂, R_θ' and the slide t' of ball 0 along its rail; [`Machine::forward`] applies
+    /// it (Eq. 23). Depends on z₀ − z₁ and z₀ − z₂ only.
+    pub(super) fn bed_pose(&self, axes: &[f64]) -> Result<BedPose, MachineError> {
+        self.axis_set.check_count(5, axes)?;
+        let (x, y, z0, z1, z2) = (axes[0], axes[1], axes[2], axes[3], axes[4]);
+        let fail = |what: &str| {
+            self.axis_set.unreachable(
+                DVec3::new(x, y, z0),
+                DVec3::Z,
+                format!("the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"),
+            )
+        };
+        // Eqs. 16–19: rotation of v about a so that its z becomes zt.
+        let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
+            let va = v.dot(a);
+            solve_trig(v.z - a.z * va, a.cross(v).z, a.z * va - zt)
+        };
+        let (l1, l2) = (self.l[1], self.l[2]);
+        let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
+        let th1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
+        // each angle's sine and cosine once (the same bits as `rotate` each time)
+        let t1 = Turn::new(a1, th1);
+        let r1l1 = t1.apply(l1);
+        let a2 = r1l1.normalize();
+        let r1l2 = t1.apply(l2);
+        let th2 = solve_rot(r1l2, a2, z0 - z2).ok_or_else(|| fail("R2"))?;
+        let t2 = Turn::new(a2, th2);
+        // Eqs. 20–22.
+        let (tp, thp) = ThreeZ::solve_triangle(
+            t2.apply(r1l1).truncate(),
+            t2.apply(r1l2).truncate(),
+            self.d[0],
+            self.nrm[1],
+            self.nrm[2],
+            self.k[1],
+            self.k[2],
+        )
+        .ok_or_else(|| fail("the balls cannot reach their rails"))?;
+        Ok(BedPose {
+            t1,
+            t2,
+            t1_back: Turn::new(a1, -th1),
+            t2_back: Turn::new(a2, -th2),
+            thp,
+            tp,
+        })
+    }
+
+    /// How far ball `i`, at `now` (xy, relative to b̂₀'s planar position), has slid along its
+    /// rail from its planar position, signed towards the centroid of the balls (inward), mm.
+    pub(super) fn slide(&self, i: usize, now: DVec2) -> f64 {
+        let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
+        let into = if self.d[i].dot((centroid - self.l[i]).truncate()) >= 0.0 {
+            self.d[i]
+        } else {
+            -self.d[i]
+        };
+        into.dot(now - self.l[i].truncate())
+    }
+
+    /// Ball offsets l̂ᵢ = b̂ᵢ − b̂₀ (bed space, z = 0), mm.
+    pub(super) fn ball_offsets(&self) -> [DVec3; 3] {
+        self.l
+    }
+    /// Rail directions dᵢ (xy) and the rail-plane normals nᵢ = e₃ × dᵢ.
+    pub(super) fn rails(&self) -> ([DVec2; 3], [DVec2; 3]) {
+        (self.d, self.nrm)
+    }
+    /// b̂₀ (bed space), mm.
+    pub(super) fn ball0(&self) -> DVec3 {
+        self.b_hat[0]
+    }
+    /// The machine's parameters.
+    pub(super) fn params(&self) -> &ThreeZParams {
+        &self.params
+    }
+
     /// Solve the 2-D rigid-triangle problem (Eqs. 8–11 / 21–22): ball offsets `l1, l2` (xy),
     /// ball-0 line direction `d0`, rail normals `n1, n2`, offsets `k1, k2` → (t, θ).
     fn solve_triangle(
@@ -217,6 +295,31 @@ impl ThreeZ {
         }
         let t = -(c1 * num::cos(theta) + s1 * num::sin(theta) + k1) / dn1;
         Some((t, theta))
+    }
+}
+
+/// The bed's pose (seed 001 §3.2): bed space → world is `R = R_{θ'} R₂ R₁`, ball 0 at
+/// `b̂₀ + t' d₀` ([`ThreeZ::bed_pose`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct BedPose {
+    t1: Turn,
+    t2: Turn,
+    t1_back: Turn,
+    t2_back: Turn,
+    /// θ' (radians).
+    thp: f64,
+    /// t' (mm).
+    pub(super) tp: f64,
+}
+
+impl BedPose {
+    /// `R v`: a bed-space vector in the world.
+    pub(super) fn rotate(&self, v: DVec3) -> DVec3 {
+        rot_z(self.t2.apply(self.t1.apply(v)), self.thp)
+    }
+    /// The bed normal in the world, `n' = R e₃`.
+    pub(super) fn bed_normal(&self) -> DVec3 {
+        self.rotate(DVec3::Z)
     }
 }
 
@@ -326,15 +429,9 @@ impl Machine for ThreeZ {
         if let Some([inward, outward]) = self.params.rail_travel_mm {
             // Ball i is at b₀ʷ + Mᵀ R_θ l̂ᵢ (xy); planar it is at l̂ᵢ. Its slide along the rail,
             // signed towards the centroid of the balls, must stay within the rail.
-            let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
             for i in 0..3 {
                 let now = DVec2::new(b0w.x, b0w.y) + rot(self.l[i]).truncate();
-                let into = if self.d[i].dot((centroid - self.l[i]).truncate()) >= 0.0 {
-                    self.d[i]
-                } else {
-                    -self.d[i]
-                };
-                let slide = into.dot(now - self.l[i].truncate());
+                let slide = self.slide(i, now);
                 if slide > inward + crate::tolerance::LENGTH_EPSILON
                     || -slide > outward + crate::tolerance::LENGTH_EPSILON
                 {
@@ -350,49 +447,24 @@ impl Machine for ThreeZ {
         self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        self.axis_set.check_count(5, axes)?;
-        let (x, y, z0, z1, z2) = (axes[0], axes[1], axes[2], axes[3], axes[4]);
-        let fail = |what: &str| {
-            self.axis_set.unreachable(
-                DVec3::new(x, y, z0),
-                DVec3::Z,
-                format!("the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"),
-            )
-        };
-        // Eqs. 16–19: rotation of v about a so that its z becomes zt.
-        let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
-            let va = v.dot(a);
-            solve_trig(v.z - a.z * va, a.cross(v).z, a.z * va - zt)
-        };
-        let (l1, l2) = (self.l[1], self.l[2]);
-        let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
-        let th1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
-        // each angle's sine and cosine once (the same bits as `rotate` each time)
-        let t1 = Turn::new(a1, th1);
-        let r1l1 = t1.apply(l1);
-        let a2 = r1l1.normalize();
-        let r1l2 = t1.apply(l2);
-        let th2 = solve_rot(r1l2, a2, z0 - z2).ok_or_else(|| fail("R2"))?;
-        let t2 = Turn::new(a2, th2);
-        let (t2_back, t1_back) = (Turn::new(a2, -th2), Turn::new(a1, -th1));
-        let r21t = |v: DVec3| t1_back.apply(t2_back.apply(v));
-        // Eqs. 20–22.
-        let (tp, thp) = ThreeZ::solve_triangle(
-            t2.apply(r1l1).truncate(),
-            t2.apply(r1l2).truncate(),
-            self.d[0],
-            self.nrm[1],
-            self.nrm[2],
-            self.k[1],
-            self.k[2],
-        )
-        .ok_or_else(|| fail("the balls cannot reach their rails"))?;
+        let pose = self.bed_pose(axes)?;
+        let (x, y, z0) = (axes[0], axes[1], axes[2]);
+        let r21t = |v: DVec3| pose.t1_back.apply(pose.t2_back.apply(v));
         // Eq. 23.
-        let b0 = self.d[0] * tp;
+        let b0 = self.d[0] * pose.tp;
         let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
-        let p = r21t(rot_z(v, -thp)) + self.b_hat[0];
-        let np = rot_z(t2.apply(t1.apply(DVec3::Z)), thp);
+        let p = r21t(rot_z(v, -pose.thp)) + self.b_hat[0];
+        let np = pose.bed_normal();
         Ok((p, DVec3::new(-np.x, -np.y, np.z)))
+    }
+    /// The bed's pose for the Z motor heights, [`ThreeZ::bed_pose`]: its 3Z closed-form bound
+    /// ([`super::threez_bound`]).
+    fn interpolation_bound(
+        &self,
+        from: super::PieceEnd,
+        to: super::PieceEnd,
+    ) -> Option<(f64, f64)> {
+        super::threez_bound::bound(self, from, to)
     }
     /// The head does not turn about its tool axis in the machine: its x axis is the machine's
     /// +X ([`super::head::fixed_head_frame`]).

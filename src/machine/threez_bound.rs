@@ -1,0 +1,229 @@
+//! The closed-form interpolation bound of the triple-Z bed ([`super::threez::ThreeZ`],
+//! issue 13): the firmware moves X, Y, Z₀, Z₁, Z₂ linearly while the bed's pose is a nonlinear
+//! function of the three motor heights (seed 001 §3.2). The bound is the second derivative of
+//! the forward map along the piece (Lemma 1 of [`super::bound`]), from the rigid-body equations
+//! of the bed on its rails.
+//!
+//! ## The bed as a rigid body (seed 001 §3, Eqs. 1–3, 16–23)
+//! Bed space → world is the rotation `R` (R = R_{θ'} R₂ R₁); ball 0 is at `b̂₀ + t D` (D = (d₀, 0),
+//! its rail direction, t the paper's t'), ball i at `b̂₀ + t D + rᵢ`, `rᵢ = R l̂ᵢ`,
+//! `l̂ᵢ = b̂ᵢ − b̂₀` (horizontal in bed space). The pose (R, t) depends on the motor differences
+//! `uᵢ = z₀ − zᵢ` (i = 1, 2) alone: `(rᵢ)_z = uᵢ` (Eqs. 16–17) and ball i stays in its vertical
+//! rail plane, `Nᵢ·(t D + rᵢ) + kᵢ = 0`, `Nᵢ = (nᵢ, 0)` (Eq. 3; ball 0 moves along D, inside
+//! its plane). The machine coordinates of a bed point p̂ are
+//! `q = R (p̂ − b̂₀) + b̂₀ + t D` (Eq. 23 solved for (x, y, z₀)).
+//!
+//! ## Velocities and accelerations (s is the piece's parameter, u linear in s)
+//! With ω the angular velocity (`rᵢ' = ω × rᵢ`), differentiating the four constraints:
+//!
+//! ```text
+//! ω·(rᵢ × e₃) = uᵢ',   ω·(rᵢ × Nᵢ) + ṫ (Nᵢ·D) = 0            (i = 1, 2)
+//! J̃ (Λω, ṫ) = (u₁', u₂', 0, 0),   J̃ = [ (rᵢ × e₃)ᵀ/Λ  0 ; (rᵢ × Nᵢ)ᵀ/Λ  Nᵢ·D ],   Λ = √(|l̂₁|² + |l̂₂|²)
+//! J̃ (Λω̇, ẗ) = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂),   qᵢ = ω × (ω × rᵢ)   (u'' = 0)
+//! ```
+//!
+//! (Λ scales the rotation so every entry of J̃ is of order 1; Δu = u(1) − u(0).) So with `Ã`,
+//! `b̃` the first three rows and the last row of J̃⁻¹: `|ω̇| ≤ |Ã| Ω²` and `|ẗ| ≤ |b̃| Ω² Λ`
+//! (`|(e₃·qᵢ, Nᵢ·qᵢ)| ≤ |qᵢ| ≤ Ω²|l̂ᵢ|`, Ω = sup |ω|).
+//!
+//! ## J̃⁻¹ along the piece (Neumann series)
+//! J̃₀ is J̃ at the piece's start pose (K₀ = ‖J̃₀⁻¹‖_F), `x₀ = J̃₀⁻¹ (Δu, 0)` the exact start
+//! velocity (ω₀, ṫ₀). After a rotation by φ from the start pose, `|Δrᵢ| ≤ φ|l̂ᵢ|`, so
+//! `‖J̃ − J̃₀‖_F ≤ √2 φ` (e₃ ⊥ Nᵢ, unit). Suppose `‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ` on [0, s]: then
+//! `|x − x₀| ≤ δ|Δu|`, `φ ≤ Ω ≤ (|Λω₀| + δ|Δu|)/Λ`, `e = √2 Ω`, and when `K₀ e < ½` the
+//! Neumann series gives `‖J̃⁻¹ − J̃₀⁻¹‖ ≤ g(δ) = K₀² e/(1 − K₀ e)`. From δ = K₀ (g(K₀) < K₀),
+//! each step δ ← g(δ) is established on the whole piece by continuity (g increases with δ), and
+//! J̃ stays invertible there (the pose is a smooth function of s). Then `|Ã| ≤ |Ã₀|_F + δ`,
+//! `|b̃| ≤ |b̃₀| + δ` for the accelerations, and `|ṫ| ≤ |ṫ₀| + δ|Δu|` (the rails).
+
+//! ## The tip (Lemma 1)
+//! The firmware puts the machine coordinates on the chord `c(s)` of the ends'; the tip is then
+//! `F(s) = Rᵀ(c(s) − t D − b̂₀) + b̂₀`. The intended tip p(s) would be at
+//! `H(s) = R (p(s) − b̂₀) + b̂₀ + t D` (the same pose), so `|F(s) − p(s)| = |c(s) − H(s)|`, and
+//! `H(0) = c(0)`, `H(1) = c(1)` (the ends are exact): the error is H's deviation from its chord,
+//! at most `max|H''|/8` with
+//!
+//! ```text
+//! H'' = ẗ D + ω̇ × R v + ω × (ω × R v) + 2 ω × R Δp,   v = p(s) − b̂₀,  Δp = p₁ − p₀
+//! |H''| ≤ |ẗ| + (|ω̇| + Ω²) V + 2 Ω |Δp|,   V = max(|p₀ − b̂₀|, |p₁ − b̂₀|)
+//! ```
+//!
+//! or, tighter on short pieces, H''(0) computed exactly (ω₀, ẗ₀, ω̇₀ from J̃₀) plus how far each
+//! of its four terms can move: `|ẗ − ẗ₀|, Λ|ω̇ − ω̇₀| ≤ σ` (below), `|Rv − R₀v₀| ≤ ΩV + |Δp|`
+//! (ρ), `|ω − ω₀| ≤ δ|Δu|/Λ`; the smaller of the two is taken.
+//!
+//! **Accelerations at the start.** `x' = (Λω̇, ẗ) = J̃⁻¹ c`, `c = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂)`:
+//! exactly `x'₀ = J̃₀⁻¹ c₀` at the start, and along the piece
+//! `|x' − x'₀| ≤ σ = δ Ω²Λ + K₀ ((Ω + |ω₀|) δ|Δu|/Λ + |ω₀|² Ω) Λ`
+//! (`‖J̃⁻¹ − J̃₀⁻¹‖ |c|` and `K₀ |c − c₀|`, qᵢ's change from ω's and rᵢ's).
+//!
+//! **The rails.** Ball i slides along its rail at `dᵢ·(ṫ D + ω × rᵢ)`: exactly at the start,
+//! and along the piece within `δ|Δu| √(1 + |l̂ᵢ|²/Λ²) + |ω₀| Ω |l̂ᵢ|` of it; the ball stays
+//! within that (s ≤ 1) of its start slide.
+//!
+//! ## The tool axis (Lemmas 1, 3)
+//! The tool axis is the bed normal R e₃ mirrored in x and y (an isometry), `|(R e₃)''| ≤ |ω̇| + Ω²`:
+//! within `(|ω̇| + Ω²)/8` of its chord, and the slerp of the ends within `w²/8` of it
+//! (w = ∠(n₀, n₁)); the angle is `2 asin(chord/2)` ([`bound::angle_of_chord`]).
+//!
+//! ## Where the bound is not given (the piece is sampled)
+//! The piece is not given a bound when an end is within [`LIMIT_MARGIN_MM`] of an axis limit,
+//! when a ball comes within that margin of its rail's end (the intended path, within the bound
+//! of the firmware's, must solve: `inverse` checks both),
+//! when the tool axes leave the tilt cap ([`bound::arc_in_cap`]), or when `K₀ e ≥ ½`. The
+//! branch of Eq. 11 the forward map takes is assumed to be the smooth one along the piece (the
+//! other root is a pose about half a turn away); law 6 checks the bound against dense sampling.
+
+use glam::{DMat4, DVec3, DVec4};
+
+use super::bound;
+use super::threez::ThreeZ;
+use super::{Machine, PieceEnd};
+
+/// How far (mm) the firmware path's axes and balls must stay from an axis limit or a rail end
+/// for a closed form, so that the intended path (which `inverse` must solve) stays inside too.
+/// An estimate, not a proof: the intended pose differs from the firmware's by at most the bound
+/// (≤ 0.02 mm of tip, ≤ 0.1° of tool axis); 0.1° moves an axis by at most 500 mm × 1.75e-3 rad
+/// = 0.87 mm on a bed under 500 mm, and a ball along its rail by about |l̂| sin 30° × 1.75e-3 rad
+/// ≈ 0.3 mm (RatRig, at the largest tilt). Law 6 checks `inverse` at every sample.
+pub const LIMIT_MARGIN_MM: f64 = 1.0;
+
+/// The Neumann series' limit: `K₀ e` must stay below this for J̃⁻¹ to be bounded by 2K₀.
+pub const NEUMANN_LIMIT: f64 = 0.5;
+
+/// Steps of the Neumann bound's fixed-point iteration (module documentation).
+pub const NEUMANN_STEPS: usize = 4;
+
+/// Smallest |det J̃₀| for which J̃₀ is inverted (a bed pose near a singular one: sample).
+pub const MIN_DETERMINANT: f64 = 1e-9;
+
+/// The 3Z bound of the piece `from` → `to` (module documentation), or `None`.
+pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
+    let ((a0, p0, n0), (a1, p1, n1)) = (from, to);
+    if !bound::usable(from, to, 5)
+        || !bound::arc_in_cap(
+            n0,
+            n1,
+            DVec3::Z,
+            m.params().max_tilt_deg + super::LIMIT_SLACK_DEG,
+        )
+    {
+        return None;
+    }
+    let inside = m.limits().iter().zip(a0.iter().zip(a1)).all(|(l, (x, y))| {
+        x.min(*y) - LIMIT_MARGIN_MM >= l.min && x.max(*y) + LIMIT_MARGIN_MM <= l.max
+    });
+    if !inside {
+        return None;
+    }
+    let pose0 = m.bed_pose(a0).ok()?;
+    let l = m.ball_offsets();
+    let (d, nrm) = m.rails();
+    let lambda = (l[1].length_squared() + l[2].length_squared()).sqrt();
+    let dd = d[0].extend(0.0);
+    let r = [pose0.rotate(l[1]), pose0.rotate(l[2])];
+    let nn = [nrm[1].extend(0.0), nrm[2].extend(0.0)];
+    let rows = [
+        (r[0].cross(DVec3::Z) / lambda).extend(0.0),
+        (r[1].cross(DVec3::Z) / lambda).extend(0.0),
+        (r[0].cross(nn[0]) / lambda).extend(nn[0].dot(dd)),
+        (r[1].cross(nn[1]) / lambda).extend(nn[1].dot(dd)),
+    ];
+    let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+    let det = j0.determinant();
+    if det.is_nan() || det.abs() < MIN_DETERMINANT {
+        return None;
+    }
+    let inv = j0.inverse();
+    let row = |i: usize| -> DVec4 { inv.row(i) };
+    let a_norm =
+        (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
+    let b_norm = row(3).length();
+    let k0 = a_norm.hypot(b_norm);
+    let du_v = DVec4::new(
+        (a1[2] - a1[3]) - (a0[2] - a0[3]),
+        (a1[2] - a1[4]) - (a0[2] - a0[4]),
+        0.0,
+        0.0,
+    );
+    let du = du_v.length();
+    // the velocity at the start, exactly: x₀ = J̃₀⁻¹ (Δu, 0); along the piece x is within δ|Δu|
+    let x0 = inv * du_v;
+    let w0 = x0.truncate().length();
+    // Neumann: with ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ δ along the piece, φ ≤ (|Λω₀| + δ|Δu|)/Λ, e = √2 φ, and then
+    // ‖J̃⁻¹ − J̃₀⁻¹‖ ≤ g(δ) = K₀² e/(1 − K₀ e); starting from δ = K₀, each g(δ) < δ is
+    // established by continuity and g is increasing, so a few steps tighten δ
+    let g = |delta: f64| {
+        let e = core::f64::consts::SQRT_2 * (w0 + delta * du) / lambda;
+        (k0 * e < NEUMANN_LIMIT).then(|| k0 * k0 * e / (1.0 - k0 * e))
+    };
+    let mut delta = k0;
+    for _ in 0..NEUMANN_STEPS {
+        match g(delta) {
+            Some(next) if next <= delta => delta = next,
+            Some(_) => break,
+            None => return None,
+        }
+    }
+    let omega = (w0 + delta * du) / lambda;
+    // the acceleration x' = (Λω̇, ẗ) = J̃⁻¹ c, c = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂): at the start
+    // exactly, and along the piece within ‖J̃⁻¹ − J̃₀⁻¹‖|c| + K₀|c − c₀| of it, where
+    // |c| ≤ Ω²Λ and |c − c₀| ≤ ((Ω + |ω₀|) δ|Δu|/Λ + |ω₀|² Ω) Λ (|ω − ω₀| ≤ δ|Δu|/Λ,
+    // |Δrᵢ| ≤ φ|l̂ᵢ| ≤ Ω|l̂ᵢ|)
+    let omega0 = x0.truncate() / lambda;
+    let c0 = |r: DVec3| omega0.cross(omega0.cross(r));
+    let (q1, q2) = (c0(r[0]), c0(r[1]));
+    let acc0 = inv * -DVec4::new(q1.z, q2.z, nn[0].dot(q1), nn[1].dot(q2));
+    let w0l = w0 / lambda;
+    let spread = delta * omega * omega * lambda
+        + k0 * ((omega + w0l) * delta * du / lambda + w0l * w0l * omega) * lambda;
+    let omega_dot =
+        ((acc0.truncate().length() + spread) / lambda).min((a_norm + delta) * omega * omega);
+    let t_ddot = (acc0.w.abs() + spread).min((b_norm + delta) * omega * omega * lambda);
+    if let Some([inward, outward]) = m.params().rail_travel_mm {
+        // ball i slides along its rail at dᵢ·(ṫ D + ω × rᵢ): at the start exactly, and along the
+        // piece within δ|Δu|·√(1 + |l̂ᵢ|²/Λ²) (|x − x₀| ≤ δ|Δu|) + |ω₀| Ω |l̂ᵢ| (|Δrᵢ| ≤ φ|l̂ᵢ|)
+        // of it; over the piece (s ≤ 1) it slides at most that far from its start position
+        for (i, li) in l.iter().enumerate() {
+            let ri = pose0.rotate(*li);
+            let v0 = d[i].dot((dd * x0.w + omega0.cross(ri)).truncate());
+            let ratio = li.length() / lambda;
+            let travel = v0.abs()
+                + delta * du * (1.0 + ratio * ratio).sqrt()
+                + w0 / lambda * omega * li.length();
+            let now = d[0] * pose0.tp + ri.truncate();
+            let slide = m.slide(i, now);
+            let room = travel + LIMIT_MARGIN_MM;
+            if slide + room > inward || -slide + room > outward {
+                return None;
+            }
+        }
+    }
+    let b0 = m.ball0();
+    let v = (p0 - b0).length().max((p1 - b0).length());
+    let dp = (p1 - p0).length();
+    // H'' at the start exactly, and how far it can move along the piece: |Rv − R₀v₀| ≤ ΩV + |Δp|,
+    // |ω − ω₀| ≤ δ|Δu|/Λ, |ω̇ − ω̇₀| and |ẗ − ẗ₀| within `spread` (/Λ)
+    let rv0 = pose0.rotate(p0 - b0);
+    let (omega_dot0, wdot0) = (acc0.truncate() / lambda, acc0.truncate().length() / lambda);
+    let h0 = dd * acc0.w
+        + omega_dot0.cross(rv0)
+        + omega0.cross(omega0.cross(rv0))
+        + 2.0 * omega0.cross(pose0.rotate(p1 - p0));
+    let (d_omega, rho) = (delta * du / lambda, omega * v + dp);
+    let h_moves = spread
+        + spread / lambda * v
+        + wdot0 * rho
+        + (omega + w0l) * d_omega * v
+        + w0l * w0l * rho
+        + 2.0 * (d_omega + w0l * omega) * dp;
+    let tip =
+        (h0.length() + h_moves).min(t_ddot + (omega_dot + omega * omega) * v + 2.0 * omega * dp);
+    let w = bound::angle(n0, n1);
+    let axis = bound::chord_deviation(omega_dot + omega * omega) + bound::chord_deviation(w * w);
+    let (bp, ba) = (
+        bound::chord_deviation(tip) + bound::ROUND_TRIP_SLACK_MM,
+        bound::angle_of_chord(axis) + bound::ROUND_TRIP_SLACK_DEG,
+    );
+    (bp.is_finite() && ba.is_finite()).then_some((bp, ba))
+}
