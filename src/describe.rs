@@ -57,6 +57,7 @@ pub fn error_codes() -> Vec<ErrorCode> {
     for list in [
         crate::mesh::ERROR_CODES,
         crate::warp::ERROR_CODES,
+        crate::planar::ERROR_CODES,
         crate::job::ERROR_CODES,
         crate::gcode::ERROR_CODES,
         crate::register::ERROR_CODES,

@@ -1,0 +1,425 @@
+//! The built-in planar slicer (issue 14), checked against oracles written from the meshes and
+//! the settings' documented formulas, not from the slicer's code: a small G-code walker of
+//! its own (`G1`, `M82`/`M83`, `G92`, `;Z:`, `;TYPE:`), the cube's and cylinder's geometry by
+//! hand, the layer grid `z_k = first_layer_height + k·layer_height`.
+
+use glam::DVec3;
+use warpslice::mesh::Mesh;
+use warpslice::planar::{slice, Settings, Sliced};
+
+/// One extruding move of the walked file.
+#[derive(Clone, Debug)]
+struct Extrusion {
+    layer_z: f64,
+    role: String,
+    from: [f64; 2],
+    to: [f64; 2],
+}
+
+/// What the walker read: every extrusion, every `;Z:` and the net E.
+#[derive(Default, Debug)]
+struct Walk {
+    zs: Vec<f64>,
+    extrusions: Vec<Extrusion>,
+    net_e: f64,
+}
+
+/// Walk planar G-code: absolute XY, E relative after M83 or absolute after M82, `G92 E`.
+fn walk(gcode: &str) -> Walk {
+    let mut w = Walk::default();
+    let (mut x, mut y, mut e_abs) = (0.0, 0.0, 0.0);
+    let mut relative = true;
+    let mut role = String::new();
+    for line in gcode.lines() {
+        if let Some(z) = line.strip_prefix(";Z:") {
+            w.zs.push(z.parse().unwrap());
+            continue;
+        }
+        if let Some(t) = line.strip_prefix(";TYPE:") {
+            role = t.to_string();
+            continue;
+        }
+        let code = line.split(';').next().unwrap().trim();
+        let mut words = code.split_whitespace();
+        let Some(cmd) = words.next() else { continue };
+        let word = |l: char| {
+            code.split_whitespace()
+                .skip(1)
+                .find(|t| t.starts_with(l))
+                .map(|t| t[1..].parse::<f64>().unwrap())
+        };
+        match cmd {
+            "M83" => relative = true,
+            "M82" => relative = false,
+            "G92" => {
+                if let Some(v) = word('E') {
+                    e_abs = v;
+                }
+            }
+            "G1" | "G0" => {
+                let (nx, ny) = (word('X').unwrap_or(x), word('Y').unwrap_or(y));
+                let de = match word('E') {
+                    Some(v) if relative => v,
+                    Some(v) => {
+                        let d = v - e_abs;
+                        e_abs = v;
+                        d
+                    }
+                    None => 0.0,
+                };
+                w.net_e += de;
+                let moved = nx != x || ny != y;
+                if de > 0.0 && moved {
+                    w.extrusions.push(Extrusion {
+                        layer_z: *w.zs.last().unwrap_or(&0.0),
+                        role: role.clone(),
+                        from: [x, y],
+                        to: [nx, ny],
+                    });
+                }
+                (x, y) = (nx, ny);
+            }
+            _ => {}
+        }
+    }
+    w
+}
+
+fn settings(sets: &[&str]) -> Settings {
+    let mut s = Settings::default();
+    for a in sets {
+        s.set(a).unwrap();
+    }
+    s
+}
+
+fn sliced(mesh: &Mesh, s: &Settings) -> Sliced {
+    slice(mesh, s, "test").unwrap()
+}
+
+/// Filament cross-section of 1.75 mm filament, mm².
+fn filament_area(d: f64) -> f64 {
+    std::f64::consts::PI * d * d / 4.0
+}
+
+/// The distance from `p` to the segment `a–b`.
+fn seg_dist(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 == 0.0 {
+        0.0
+    } else {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    };
+    ((p[0] - a[0] - t * dx).powi(2) + (p[1] - a[1] - t * dy).powi(2)).sqrt()
+}
+
+/// A 20 mm cube on z = 0 centred on the z axis, by hand: 8 corners, 12 triangles, outward.
+fn cube20() -> Mesh {
+    box_with_rows(20.0, &[])
+}
+
+/// A square prism of side `a` from z = 0 to z = a whose side walls have a vertex row at every
+/// height in `rows` (0 < row < a), closed and outward-facing.
+fn box_with_rows(a: f64, rows: &[f64]) -> Mesh {
+    let h = a / 2.0;
+    let corners = [[-h, -h], [h, -h], [h, h], [-h, h]]; // counter-clockwise from above
+    let mut zs = vec![0.0];
+    zs.extend_from_slice(rows);
+    zs.push(a);
+    let mut vertices = Vec::new();
+    for &z in &zs {
+        for c in corners {
+            vertices.push(DVec3::new(c[0], c[1], z));
+        }
+    }
+    let v = |row: usize, c: usize| (row * 4 + c % 4) as u32;
+    let mut triangles = Vec::new();
+    for r in 0..zs.len() - 1 {
+        for c in 0..4 {
+            // outward: counter-clockwise seen from outside
+            triangles.push([v(r, c), v(r, c + 1), v(r + 1, c + 1)]);
+            triangles.push([v(r, c), v(r + 1, c + 1), v(r + 1, c)]);
+        }
+    }
+    let top = zs.len() - 1;
+    triangles.push([v(0, 0), v(0, 2), v(0, 1)]);
+    triangles.push([v(0, 0), v(0, 3), v(0, 2)]);
+    triangles.push([v(top, 0), v(top, 1), v(top, 2)]);
+    triangles.push([v(top, 0), v(top, 2), v(top, 3)]);
+    Mesh {
+        vertices,
+        triangles,
+    }
+}
+
+#[test]
+fn cube_has_one_layer_per_grid_step_and_every_z_on_the_grid() {
+    let s = Settings::default();
+    let out = sliced(&cube20(), &s);
+    let w = walk(&out.gcode);
+    // layers whose mid-height cut is inside the 20 mm cube: z_k = 0.2 + 0.2·k ≤ 20
+    assert_eq!(w.zs.len(), 100, "layer count");
+    assert_eq!(out.report.layers, 100);
+    for (k, z) in w.zs.iter().enumerate() {
+        let grid = 0.2 * (k + 1) as f64;
+        assert!(
+            (z - grid).abs() < 1e-9,
+            "layer {k}: ;Z:{z} is not on the grid ({grid})"
+        );
+    }
+}
+
+#[test]
+fn cube_external_perimeter_lies_within_a_line_width_of_the_side_and_covers_it() {
+    let s = Settings::default();
+    let width = s.extrusion_width;
+    let w = walk(&sliced(&cube20(), &s).gcode);
+    let outer: Vec<&Extrusion> = w
+        .extrusions
+        .iter()
+        .filter(|x| x.role == "External perimeter")
+        .collect();
+    assert!(!outer.is_empty());
+    // every external-perimeter point is inside the 20 mm square, at most a line width from its side
+    for x in &outer {
+        for p in [x.from, x.to] {
+            let inset = 10.0 - p[0].abs().max(p[1].abs());
+            assert!(
+                (0.0..=width).contains(&inset),
+                "external perimeter point {p:?} at z {} is {inset} mm inside the side",
+                x.layer_z
+            );
+        }
+    }
+    // every sample of the side surface (each layer, every 0.5 mm round the square) has an
+    // external-perimeter line within one line width on its layer
+    for &z in &w.zs {
+        let layer: Vec<&&Extrusion> = outer.iter().filter(|x| x.layer_z == z).collect();
+        for i in 0..160 {
+            let t = -10.0 + 0.5 * (i % 40) as f64;
+            let p = match i / 40 {
+                0 => [t, -10.0],
+                1 => [10.0, t],
+                2 => [-t, 10.0],
+                _ => [-10.0, -t],
+            };
+            let d = layer
+                .iter()
+                .map(|x| seg_dist(p, x.from, x.to))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d <= width,
+                "side point {p:?} at z {z}: nearest outer wall {d} mm"
+            );
+        }
+    }
+}
+
+#[test]
+fn cube_prints_every_perimeter_on_every_layer() {
+    // 2 perimeters: each layer's perimeter lines are two closed squares of sides
+    // 20 − w and 20 − w − 2s (s = w − h(1 − π/4)), so their lengths add up to 4·(40 − 2w − 2s)
+    let s = Settings::default();
+    let (w_, h) = (s.extrusion_width, s.layer_height);
+    let sp = w_ - h * (1.0 - std::f64::consts::FRAC_PI_4);
+    let expected = 4.0 * (20.0 - w_) + 4.0 * (20.0 - w_ - 2.0 * sp);
+    let w = walk(&sliced(&cube20(), &s).gcode);
+    for &z in &w.zs {
+        let len: f64 = w
+            .extrusions
+            .iter()
+            .filter(|x| x.layer_z == z && x.role.ends_with("erimeter"))
+            .map(|x| ((x.to[0] - x.from[0]).powi(2) + (x.to[1] - x.from[1]).powi(2)).sqrt())
+            .sum();
+        assert!(
+            (len - expected).abs() < 0.01,
+            "z {z}: perimeters {len} mm long, expected {expected}"
+        );
+    }
+}
+
+#[test]
+fn solid_cube_extrudes_its_volume_within_5_percent() {
+    let s = settings(&["fill_density=100", "skirts=0"]);
+    let out = sliced(&cube20(), &s);
+    let w = walk(&out.gcode);
+    let volume = w.net_e * filament_area(1.75);
+    eprintln!("solid cube: {volume:.1} mm³ extruded for 8000 mm³");
+    assert!(
+        (volume - 8000.0).abs() <= 0.05 * 8000.0,
+        "extruded {volume} mm³ for the 8000 mm³ cube"
+    );
+    // the report's own figure agrees with the file
+    assert!((out.report.volume_mm3 - volume).abs() < 0.01 * volume);
+}
+
+#[test]
+fn absolute_e_gives_the_same_filament_as_relative_e() {
+    let rel = walk(&sliced(&cube20(), &settings(&["skirts=0"])).gcode);
+    let abs = walk(
+        &sliced(
+            &cube20(),
+            &settings(&["skirts=0", "use_relative_e_distances=false"]),
+        )
+        .gcode,
+    );
+    // each relative E word is rounded to 5 decimals (±5e-6 mm); the absolute file rounds once
+    let bound = 5e-6 * rel.extrusions.len() as f64;
+    assert!(
+        (rel.net_e - abs.net_e).abs() <= bound,
+        "{} vs {}",
+        rel.net_e,
+        abs.net_e
+    );
+}
+
+#[test]
+fn solid_cylinder_extrudes_its_volume_within_5_percent_and_walls_follow_its_side() {
+    let (r, height, n) = (10.0, 10.0, 96u32);
+    let mesh = warpslice::shapes::cylinder(r, height, n);
+    let s = settings(&["fill_density=100", "skirts=0"]);
+    let out = sliced(&mesh, &s);
+    let w = walk(&out.gcode);
+    // the n-gon's area × height
+    let area = 0.5 * n as f64 * r * r * (2.0 * std::f64::consts::PI / n as f64).sin();
+    let volume = w.net_e * filament_area(1.75);
+    eprintln!(
+        "solid cylinder: {volume:.1} mm³ extruded for {:.1} mm³",
+        area * height
+    );
+    assert!(
+        (volume - area * height).abs() <= 0.05 * area * height,
+        "extruded {volume} mm³, the cylinder holds {}",
+        area * height
+    );
+    assert_eq!(w.zs.len(), 50);
+    // external perimeter within a line width inside the faceted side: the n-gon's inscribed
+    // radius r·cos(π/n) and its corner radius r bound the side
+    let inscribed = r * (std::f64::consts::PI / n as f64).cos();
+    for x in w
+        .extrusions
+        .iter()
+        .filter(|x| x.role == "External perimeter")
+    {
+        let rho = (x.to[0].powi(2) + x.to[1].powi(2)).sqrt();
+        assert!(
+            rho <= r && rho >= inscribed - s.extrusion_width,
+            "external perimeter at radius {rho}"
+        );
+    }
+}
+
+#[test]
+fn a_mesh_with_a_missing_triangle_is_repaired_and_reported() {
+    // the cube subdivided as the pipeline does (edges ≤ 1 mm), one side triangle at mid-height
+    // removed: the cuts through it leave open chains with a gap of at most 1 mm
+    let opts = warpslice::mesh::SubdivideOptions {
+        max_edge: 1.0,
+        ..Default::default()
+    };
+    let (mut mesh, _) = warpslice::mesh::subdivide(&cube20(), &opts, &|p| p);
+    let side = mesh
+        .triangles
+        .iter()
+        .position(|t| {
+            let p: Vec<DVec3> = t.iter().map(|&i| mesh.vertices[i as usize]).collect();
+            let zs = p.iter().map(|p| p.z);
+            p.iter().all(|p| p.x == 10.0)
+                && zs.clone().fold(f64::INFINITY, f64::min) < 10.1
+                && zs.fold(f64::NEG_INFINITY, f64::max) > 10.1
+        })
+        .unwrap();
+    mesh.triangles.remove(side);
+    let s = settings(&["fill_density=100", "skirts=0"]);
+    let out = sliced(&mesh, &s);
+    assert!(out.report.repaired_loops >= 1, "{:?}", out.report);
+    assert_eq!(out.report.dropped_chains, 0, "{:?}", out.report);
+    let w = walk(&out.gcode);
+    assert_eq!(w.zs.len(), 100);
+    let volume = w.net_e * filament_area(1.75);
+    assert!(
+        (volume - 8000.0).abs() <= 0.05 * 8000.0,
+        "extruded {volume} mm³"
+    );
+}
+
+#[test]
+fn a_vertex_row_exactly_on_every_cut_plane_slices_whole() {
+    // cut planes at mid-layer: z_k − h/2 = 0.1 + 0.2·k; give the side walls a vertex row on
+    // each of them (computed as the documented grid, first 0.2 mm, then 0.2 mm)
+    let rows: Vec<f64> = (0..100).map(|k| 0.2 + 0.2 * k as f64 - 0.1).collect();
+    let mesh = box_with_rows(20.0, &rows);
+    let s = settings(&["fill_density=100", "skirts=0"]);
+    let out = sliced(&mesh, &s);
+    assert_eq!(out.report.dropped_chains, 0);
+    assert_eq!(out.report.repaired_loops, 0);
+    let w = walk(&out.gcode);
+    assert_eq!(w.zs.len(), 100);
+    for &z in &w.zs {
+        assert!(
+            w.extrusions
+                .iter()
+                .any(|x| x.layer_z == z && x.role == "External perimeter"),
+            "no wall at z {z}"
+        );
+    }
+    let volume = w.net_e * filament_area(1.75);
+    assert!(
+        (volume - 8000.0).abs() <= 0.05 * 8000.0,
+        "extruded {volume} mm³"
+    );
+}
+
+#[test]
+fn infill_alternates_between_plus_and_minus_45_degrees() {
+    let w = walk(&sliced(&cube20(), &Settings::default()).gcode);
+    for (k, &z) in w.zs.iter().enumerate() {
+        for x in w
+            .extrusions
+            .iter()
+            .filter(|x| x.layer_z == z && x.role.contains("infill"))
+        {
+            let (dx, dy) = (x.to[0] - x.from[0], x.to[1] - x.from[1]);
+            // 45° lines have dx = dy, −45° lines dx = −dy (3-decimal rounding: 2e-3)
+            let off = if k % 2 == 0 { dx - dy } else { dx + dy };
+            assert!(off.abs() < 2e-3, "layer {k}: infill line ({dx}, {dy})");
+        }
+    }
+}
+
+#[test]
+fn top_and_bottom_layers_are_solid_and_the_middle_sparse() {
+    let s = Settings::default(); // 5 top, 4 bottom solid layers, 20 % infill
+    let w = walk(&sliced(&cube20(), &s).gcode);
+    for (k, &z) in w.zs.iter().enumerate() {
+        let roles: std::collections::BTreeSet<&str> = w
+            .extrusions
+            .iter()
+            .filter(|x| x.layer_z == z && x.role.contains("infill"))
+            .map(|x| x.role.as_str())
+            .collect();
+        let expect: &[&str] = match k {
+            0..=3 => &["Solid infill"],
+            99 => &["Top solid infill"],
+            95..=98 => &["Solid infill"],
+            _ => &["Internal infill"],
+        };
+        assert_eq!(roles.into_iter().collect::<Vec<_>>(), expect, "layer {k}");
+    }
+}
+
+#[test]
+fn unknown_and_out_of_range_settings_are_named_errors() {
+    use warpslice::error::Coded;
+    let e = Settings::from_json(r#"{"fill_densty": 50}"#).unwrap_err();
+    assert_eq!(e.code(), "planar.settings-json");
+    assert!(e.to_string().contains("fill_densty"), "{e}");
+    let e = Settings::default().set("fill_densty=50").unwrap_err();
+    assert_eq!(e.code(), "planar.settings-json");
+    let e = Settings::default().set("fill_density=150").unwrap_err();
+    assert_eq!(e.code(), "planar.setting");
+    assert!(e.to_string().contains("fill_density = 150"), "{e}");
+    let s = Settings::from_json(r#"{"fill_density": 100, "perimeters": 3}"#).unwrap();
+    assert_eq!((s.fill_density, s.perimeters), (100.0, 3));
+}
