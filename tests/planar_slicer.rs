@@ -85,8 +85,13 @@ fn walk(gcode: &str) -> Walk {
     w
 }
 
+/// The defaults with the part's footprint centred on the origin (where the oracles below
+/// put it), then `sets`.
 fn settings(sets: &[&str]) -> Settings {
-    let mut s = Settings::default();
+    let mut s = Settings {
+        center: [0.0, 0.0],
+        ..Settings::default()
+    };
     for a in sets {
         s.set(a).unwrap();
     }
@@ -155,7 +160,7 @@ fn box_with_rows(a: f64, rows: &[f64]) -> Mesh {
 
 #[test]
 fn cube_has_one_layer_per_grid_step_and_every_z_on_the_grid() {
-    let s = Settings::default();
+    let s = settings(&[]);
     let out = sliced(&cube20(), &s);
     let w = walk(&out.gcode);
     // layers whose mid-height cut is inside the 20 mm cube: z_k = 0.2 + 0.2·k ≤ 20
@@ -172,7 +177,7 @@ fn cube_has_one_layer_per_grid_step_and_every_z_on_the_grid() {
 
 #[test]
 fn cube_external_perimeter_lies_within_a_line_width_of_the_side_and_covers_it() {
-    let s = Settings::default();
+    let s = settings(&[]);
     let width = s.extrusion_width;
     let w = walk(&sliced(&cube20(), &s).gcode);
     let outer: Vec<&Extrusion> = w
@@ -220,7 +225,7 @@ fn cube_external_perimeter_lies_within_a_line_width_of_the_side_and_covers_it() 
 fn cube_prints_every_perimeter_on_every_layer() {
     // 2 perimeters: each layer's perimeter lines are two closed squares of sides
     // 20 − w and 20 − w − 2s (s = w − h(1 − π/4)), so their lengths add up to 4·(40 − 2w − 2s)
-    let s = Settings::default();
+    let s = settings(&[]);
     let (w_, h) = (s.extrusion_width, s.layer_height);
     let sp = w_ - h * (1.0 - std::f64::consts::FRAC_PI_4);
     let expected = 4.0 * (20.0 - w_) + 4.0 * (20.0 - w_ - 2.0 * sp);
@@ -373,7 +378,7 @@ fn a_vertex_row_exactly_on_every_cut_plane_slices_whole() {
 
 #[test]
 fn infill_alternates_between_plus_and_minus_45_degrees() {
-    let w = walk(&sliced(&cube20(), &Settings::default()).gcode);
+    let w = walk(&sliced(&cube20(), &settings(&[])).gcode);
     for (k, &z) in w.zs.iter().enumerate() {
         for x in w
             .extrusions
@@ -390,7 +395,7 @@ fn infill_alternates_between_plus_and_minus_45_degrees() {
 
 #[test]
 fn top_and_bottom_layers_are_solid_and_the_middle_sparse() {
-    let s = Settings::default(); // 5 top, 4 bottom solid layers, 20 % infill
+    let s = settings(&[]); // 5 top, 4 bottom solid layers, 20 % infill
     let w = walk(&sliced(&cube20(), &s).gcode);
     for (k, &z) in w.zs.iter().enumerate() {
         let roles: std::collections::BTreeSet<&str> = w
@@ -422,4 +427,21 @@ fn unknown_and_out_of_range_settings_are_named_errors() {
     assert!(e.to_string().contains("fill_density = 150"), "{e}");
     let s = Settings::from_json(r#"{"fill_density": 100, "perimeters": 3}"#).unwrap();
     assert_eq!((s.fill_density, s.perimeters), (100.0, 3));
+}
+
+#[test]
+fn the_default_places_the_footprint_centre_on_the_bed_centre() {
+    // the cube spans x, y ∈ [−10, 10]; placed at (100, 100) its walls lie in [90, 110]
+    let out = sliced(&cube20(), &Settings::default());
+    assert_eq!(out.report.shift, [100.0, 100.0]);
+    let w = walk(&out.gcode);
+    for x in w.extrusions.iter().filter(|x| x.role != "Skirt") {
+        for p in [x.from, x.to] {
+            assert!(
+                (90.0..=110.0).contains(&p[0]) && (90.0..=110.0).contains(&p[1]),
+                "{} point {p:?} off the centred cube",
+                x.role
+            );
+        }
+    }
 }

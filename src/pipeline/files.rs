@@ -6,6 +6,7 @@
 //!   ([`super::unwarp_stream`]: memory bounded whatever the file's size).
 //! - [`run`]: warp, slice with a real slicer ([`crate::slicer`]), unwarp; the intermediate files
 //!   sit next to the output ([`RunFiles`]).
+//! - [`run_builtin`]: the same with the built-in slicer ([`crate::planar`]).
 //!
 //! The caller sees each step through [`Observer`] (the CLI prints reports and a progress bar);
 //! every I/O error names its file.
@@ -30,6 +31,9 @@ pub trait Observer {
     fn warped(&mut self, _model: &Path, _out: &WarpOutput, _stl: &Path, _job: &Path) {}
     /// The slicer wrote `gcode`.
     fn sliced(&mut self, _stl: &Path, _gcode: &Path, _report: &SliceReport) {}
+    /// The built-in slicer wrote `gcode`.
+    fn sliced_builtin(&mut self, _stl: &Path, _gcode: &Path, _report: &crate::planar::SliceReport) {
+    }
     /// The unwarp wrote `output`.
     fn unwarped(&mut self, _report: &UnwarpReport, _output: &Path) {}
 }
@@ -184,6 +188,35 @@ pub fn run(
     observer.finish();
     let report = sliced?;
     observer.sliced(&files.warped, &files.sliced, &report);
+    unwarp_file(
+        &files.sliced,
+        &w.job,
+        settings,
+        Some(&files.warped),
+        output,
+        observer,
+    )
+}
+
+/// Warp `model`, slice the warped STL with the built-in slicer (`settings`; its layer heights
+/// must be the warp's, [`super::slice_builtin`]), unwarp into `output`. The planar G-code is
+/// written where the real slicers' goes ([`RunFiles::sliced`]).
+pub fn run_builtin(
+    model: &Path,
+    warp: &WarpOptions,
+    slicer: &crate::planar::Settings,
+    settings: &UnwarpSettings,
+    output: &Path,
+    observer: &mut dyn Observer,
+) -> Result<UnwarpReport, Error> {
+    let files = RunFiles::next_to(output);
+    let w = warp_file(model, warp, &files.warped, observer)?;
+    observer.start("slicing", 0);
+    let sliced = super::slice_builtin(&w.stl, &w.job, slicer);
+    observer.finish();
+    let sliced = sliced?;
+    std::fs::write(&files.sliced, &sliced.gcode).map_err(io(&files.sliced))?;
+    observer.sliced_builtin(&files.warped, &files.sliced, &sliced.report);
     unwarp_file(
         &files.sliced,
         &w.job,

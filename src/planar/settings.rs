@@ -56,6 +56,11 @@ pub struct Settings {
     pub retract_speed: f64,
     /// Print the external perimeter before the inner ones (default: after).
     pub external_perimeters_first: bool,
+    /// Where the centre of the mesh's XY bounding box goes on the bed, mm (PrusaSlicer's
+    /// `--center`; the default is the centre of the 200 × 200 mm bed PrusaSlicer and Slic3r
+    /// centre parts on, so the built-in slicer's G-code is placed like theirs and a machine's
+    /// travel limits see the same part position).
+    pub center: [f64; 2],
     /// Relative E (`M83`, default) or absolute E (`M82`, reset by `G92 E0` at every layer).
     pub use_relative_e_distances: bool,
 }
@@ -85,6 +90,7 @@ impl Default for Settings {
             retract_length: 0.8,
             retract_speed: 35.0,
             external_perimeters_first: false,
+            center: [100.0, 100.0],
             use_relative_e_distances: true,
         }
     }
@@ -94,16 +100,33 @@ impl Default for Settings {
 /// squeezed out of the nozzle's flat face (PrusaSlicer warns above about 2×).
 pub const MAX_WIDTH_PER_NOZZLE: f64 = 2.5;
 
+/// Largest |x| or |y| of `center`, mm (no bed reaches 10 m; the same bound as `--place`,
+/// [`crate::tolerance::MAX_PLACEMENT_MM`]).
+pub const MAX_CENTER: f64 = crate::tolerance::MAX_PLACEMENT_MM;
+
 impl Settings {
     /// Settings from a JSON object (keys left out keep their defaults). Unknown keys and
-    /// wrong types are [`PlanarError::SettingsJson`] with serde's line and column; values
-    /// out of range are [`PlanarError::Setting`].
+    /// wrong types are [`PlanarError::SettingsJson`] with serde's message; values out of range
+    /// are [`PlanarError::Setting`].
     pub fn from_json(text: &str) -> Result<Settings, PlanarError> {
-        let s: Settings = serde_json::from_str(text).map_err(|e| PlanarError::SettingsJson {
-            message: e.to_string(),
-        })?;
-        s.validate()?;
+        let mut s = Settings::default();
+        s.apply_json(text)?;
         Ok(s)
+    }
+
+    /// Overwrite the keys a JSON object names (`--slicer-settings FILE`); the others keep
+    /// their values.
+    pub fn apply_json(&mut self, text: &str) -> Result<(), PlanarError> {
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| PlanarError::SettingsJson {
+                message: e.to_string(),
+            })?;
+        let serde_json::Value::Object(given) = value else {
+            return Err(PlanarError::SettingsJson {
+                message: "the settings must be a JSON object of key: value pairs".to_string(),
+            });
+        };
+        self.merge(given, "")
     }
 
     /// Set one value from `key=value` text (`--set fill_density=100`): the value is read as
@@ -123,23 +146,27 @@ impl Settings {
                 value: value.to_string(),
                 allowed: "a number or true/false",
             })?;
+        let mut given = serde_json::Map::new();
+        given.insert(key.to_string(), parsed);
+        self.merge(given, &format!("--set {assignment}: "))
+    }
+
+    /// Overwrite the `given` keys through serde (unknown keys and wrong types refused by
+    /// `deny_unknown_fields`), then validate; `self` is unchanged on error.
+    fn merge(
+        &mut self,
+        given: serde_json::Map<String, serde_json::Value>,
+        context: &str,
+    ) -> Result<(), PlanarError> {
         let Ok(serde_json::Value::Object(mut map)) = serde_json::to_value(&*self) else {
             return Err(PlanarError::SettingsJson {
                 message: "the settings could not be written as JSON".to_string(),
             });
         };
-        if !map.contains_key(key) {
-            return Err(PlanarError::SettingsJson {
-                message: format!(
-                    "unknown setting `{key}` in --set {assignment}: one of {}",
-                    map.keys().cloned().collect::<Vec<_>>().join(", ")
-                ),
-            });
-        }
-        map.insert(key.to_string(), parsed);
+        map.extend(given);
         let s: Settings = serde_json::from_value(serde_json::Value::Object(map)).map_err(|e| {
             PlanarError::SettingsJson {
-                message: format!("--set {assignment}: {e}"),
+                message: format!("{context}{e}"),
             }
         })?;
         s.validate()?;
@@ -189,6 +216,13 @@ impl Settings {
                 self.fill_density,
                 "a percentage from 0 to 100",
             ));
+        }
+        if let Some(c) = self
+            .center
+            .iter()
+            .find(|c| !c.is_finite() || c.abs() > MAX_CENTER)
+        {
+            return Err(bad("center", *c, "two finite numbers within ±10000 mm"));
         }
         if !self.fill_angle.is_finite() {
             return Err(bad(
