@@ -445,3 +445,134 @@ fn the_default_places_the_footprint_centre_on_the_bed_centre() {
         }
     }
 }
+
+/// The CLI's `run` with the built-in slicer, on files (native only).
+#[cfg(not(target_arch = "wasm32"))]
+mod cli {
+    use std::path::{Path, PathBuf};
+    use std::process::Command;
+
+    fn dir(name: &str) -> PathBuf {
+        let d =
+            std::env::temp_dir().join(format!("warpslice-planar-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn warpslice(args: &[&str]) -> (bool, String, String) {
+        let out = Command::new(env!("CARGO_BIN_EXE_warpslice"))
+            .args(args)
+            .output()
+            .expect("run warpslice");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    }
+
+    fn cube(d: &Path) -> String {
+        let stl = d.join("cube.stl").display().to_string();
+        let (ok, _, err) = warpslice(&["example", "cube", "-o", &stl]);
+        assert!(ok, "{err}");
+        stl
+    }
+
+    /// Extruding G1 lines of a file (an `E` word after a coordinate word).
+    fn extrusions(path: &Path) -> usize {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with("G1 ") && l.contains(" E") && l.contains(" X"))
+            .count()
+    }
+
+    const CONIC: [&str; 6] = ["--warp", "conic", "--angle", "30", "--direction", "outward"];
+
+    #[test]
+    fn run_without_a_slicer_uses_the_builtin_and_unwarps_a_conic_cube_to_3_axis() {
+        let d = dir("three-axis");
+        let stl = cube(&d);
+        let out = d.join("cube.gcode");
+        let kept = d.join("kept.gcode");
+        let mut args = vec!["run", stl.as_str()];
+        args.extend(CONIC);
+        let (o, k) = (out.display().to_string(), kept.display().to_string());
+        args.extend(["-o", o.as_str(), "--keep-sliced", k.as_str()]);
+        let (ok, stdout, err) = warpslice(&args);
+        assert!(ok, "{stdout}\n{err}");
+        assert!(stdout.contains("built-in slicer"), "{stdout}");
+        assert!(extrusions(&out) > 1000, "the unwarped file prints");
+        // the kept planar file is the one the unwarp read, its job beside it
+        let sliced = d.join("cube.sliced.gcode");
+        assert_eq!(
+            std::fs::read(&kept).unwrap(),
+            std::fs::read(&sliced).unwrap()
+        );
+        let job = std::fs::read_to_string(d.join("kept.gcode.job.json")).unwrap();
+        let warped_job = std::fs::read_to_string(d.join("cube.warped.job.json")).unwrap();
+        assert_eq!(job, warped_job);
+        // the planar file's layers are the warp's: ;Z: on the 0.2 mm grid
+        for z in std::fs::read_to_string(&kept)
+            .unwrap()
+            .lines()
+            .filter_map(|l| l.strip_prefix(";Z:"))
+        {
+            let z: f64 = z.parse().unwrap();
+            let k = (z / 0.2).round();
+            assert!(
+                k >= 1.0 && (z - 0.2 * k).abs() < 1e-9,
+                ";Z:{z} off the grid"
+            );
+        }
+    }
+
+    #[test]
+    fn run_builtin_writes_machine_gcode_for_a_5_axis_preset() {
+        let d = dir("machine");
+        let stl = cube(&d);
+        let out = d.join("cube-pax.gcode");
+        let o = out.display().to_string();
+        let mut args = vec!["run", stl.as_str(), "--slicer", "builtin"];
+        args.extend(CONIC);
+        args.extend(["--machine", "pax-5axis", "-o", o.as_str()]);
+        let (ok, stdout, err) = warpslice(&args);
+        assert!(ok, "{stdout}\n{err}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        // a 5-axis head's file names its rotary axes on the tilted layers
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with("G1 ") && l.contains(" A")),
+            "no A axis move in the machine file"
+        );
+        assert!(extrusions(&out) > 1000);
+    }
+
+    #[test]
+    fn run_builtin_refuses_unknown_settings_and_other_layer_heights_by_name() {
+        let d = dir("refuse");
+        let stl = cube(&d);
+        let o = d.join("x.gcode").display().to_string();
+        let run = |extra: &[&str]| {
+            let mut args = vec!["run", stl.as_str()];
+            args.extend(CONIC);
+            args.extend(extra);
+            args.extend(["-o", o.as_str()]);
+            warpslice(&args)
+        };
+        let (ok, _, err) = run(&["--set", "fill_densty=50"]);
+        assert!(!ok && err.contains("fill_densty"), "{err}");
+        let (ok, _, err) = run(&["--set", "layer_height=0.3"]);
+        assert!(!ok && err.contains("--layer-height"), "{err}");
+        let file = d.join("s.json");
+        std::fs::write(&file, r#"{"perimeters": 3, "brim": 5}"#).unwrap();
+        let f = file.display().to_string();
+        let (ok, _, err) = run(&["--slicer-settings", &f]);
+        assert!(
+            !ok && err.contains("s.json") && err.contains("brim"),
+            "{err}"
+        );
+        let (ok, _, err) = run(&["--slicer", "prusaslicer", "--set", "perimeters=3"]);
+        assert!(!ok && err.contains("built-in"), "{err}");
+    }
+}
