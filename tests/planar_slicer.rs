@@ -446,6 +446,41 @@ fn the_default_places_the_footprint_centre_on_the_bed_centre() {
     }
 }
 
+#[test]
+fn describe_lists_every_setting_with_its_default_and_each_is_settable() {
+    let d = warpslice::describe::describe().unwrap();
+    let json = serde_json::to_value(&d).unwrap();
+    let listed = json["slicer_settings"]
+        .as_object()
+        .expect("slicer_settings");
+    assert_eq!(
+        serde_json::to_value(Settings::default()).unwrap(),
+        json["slicer_settings"]
+    );
+    for (key, value) in listed {
+        let mut s = Settings::default();
+        s.set(&format!("{key}={value}"))
+            .unwrap_or_else(|e| panic!("--set {key}={value}: {e}"));
+        assert_eq!(s, Settings::default(), "{key}");
+    }
+    assert!(listed.contains_key("fill_density") && listed.contains_key("perimeters"));
+}
+
+#[test]
+fn the_settings_page_documents_every_key() {
+    let page = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/builtin-slicer.md"),
+    )
+    .unwrap();
+    let keys = serde_json::to_value(Settings::default()).unwrap();
+    for key in keys.as_object().unwrap().keys() {
+        assert!(
+            page.contains(&format!("| `{key}` |")),
+            "docs/builtin-slicer.md has no row for {key}"
+        );
+    }
+}
+
 /// The CLI's `run` with the built-in slicer, on files (native only).
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
