@@ -19,7 +19,7 @@ pub const MIN_INFILL_LINE: f64 = 0.01;
 
 /// Lines `[from, to]` filling `region` at `angle_deg` with centre-to-centre distance `pitch`.
 pub fn rectilinear(region: &Region, angle_deg: f64, pitch: f64) -> Vec<[[f64; 2]; 2]> {
-    if region.is_empty() || !(pitch > 0.0) {
+    if region.is_empty() || pitch.is_nan() || pitch <= 0.0 {
         return Vec::new();
     }
     let (sin, cos) = angle_deg.to_radians().sin_cos();

@@ -152,10 +152,7 @@ fn chain(segments: &[([Key; 2], [[f64; 2]; 2])]) -> Section {
 fn close_open(mut open: Vec<Contour>, out: &mut Section) {
     let dist = |p: [f64; 2], q: [f64; 2]| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
     while let Some(mut chain) = open.pop() {
-        loop {
-            let (Some(&end), Some(&start)) = (chain.last(), chain.first()) else {
-                break;
-            };
+        while let (Some(&end), Some(&start)) = (chain.last(), chain.first()) {
             let own = dist(end, start);
             let other = open
                 .iter()
