@@ -3,6 +3,15 @@
 //! its own (`G1`, `M82`/`M83`, `G92`, `;Z:`, `;TYPE:`), the cube's and cylinder's geometry by
 //! hand, the layer grid `z_k = first_layer_height + k·layer_height`.
 
+#[cfg(not(target_arch = "wasm32"))]
+#[path = "common/cli_part.rs"]
+#[allow(dead_code)]
+mod cli_part;
+#[cfg(not(target_arch = "wasm32"))]
+#[path = "common/synthetic.rs"]
+#[allow(dead_code)]
+mod synthetic;
+
 use glam::DVec3;
 use warpslice::mesh::Mesh;
 use warpslice::planar::{slice, Settings, Sliced};
@@ -105,6 +114,15 @@ fn sliced(mesh: &Mesh, s: &Settings) -> Sliced {
 /// Filament cross-section of 1.75 mm filament, mm².
 fn filament_area(d: f64) -> f64 {
     std::f64::consts::PI * d * d / 4.0
+}
+
+/// The file's net E × the filament's cross-section is the 20 mm cube's 8000 mm³ within ±5 %.
+fn assert_holds_the_cube(w: &Walk) {
+    let volume = w.net_e * filament_area(1.75);
+    assert!(
+        (volume - 8000.0).abs() <= 0.05 * 8000.0,
+        "extruded {volume} mm³ for the 8000 mm³ cube"
+    );
 }
 
 /// The distance from `p` to the segment `a–b`.
@@ -342,11 +360,7 @@ fn a_mesh_with_a_missing_triangle_is_repaired_and_reported() {
     assert_eq!(out.report.dropped_chains, 0, "{:?}", out.report);
     let w = walk(&out.gcode);
     assert_eq!(w.zs.len(), 100);
-    let volume = w.net_e * filament_area(1.75);
-    assert!(
-        (volume - 8000.0).abs() <= 0.05 * 8000.0,
-        "extruded {volume} mm³"
-    );
+    assert_holds_the_cube(&w);
 }
 
 #[test]
@@ -369,11 +383,7 @@ fn a_vertex_row_exactly_on_every_cut_plane_slices_whole() {
             "no wall at z {z}"
         );
     }
-    let volume = w.net_e * filament_area(1.75);
-    assert!(
-        (volume - 8000.0).abs() <= 0.05 * 8000.0,
-        "extruded {volume} mm³"
-    );
+    assert_holds_the_cube(&w);
 }
 
 #[test]
@@ -485,7 +495,6 @@ fn the_settings_page_documents_every_key() {
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
     use std::path::{Path, PathBuf};
-    use std::process::Command;
 
     fn dir(name: &str) -> PathBuf {
         let d =
@@ -495,10 +504,7 @@ mod cli {
     }
 
     fn warpslice(args: &[&str]) -> (bool, String, String) {
-        let out = Command::new(env!("CARGO_BIN_EXE_warpslice"))
-            .args(args)
-            .output()
-            .expect("run warpslice");
+        let out = super::cli_part::run(args);
         (
             out.status.success(),
             String::from_utf8_lossy(&out.stdout).into_owned(),

@@ -519,10 +519,10 @@ mod cli {
                         &set,
                         matches!(e_mode, EModeArg::Relative),
                     )?;
-                    files::run_builtin(
+                    files::run_with(
                         &model,
                         &warp.options,
-                        &s,
+                        files::SliceWith::Builtin(&s),
                         &unwarp.settings,
                         &output,
                         &mut Steps { bar: None },
