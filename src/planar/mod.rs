@@ -7,7 +7,8 @@
 //! Layer k (0-based) spans `[z_k − h_k, z_k]` above the mesh's lowest point, with
 //! `z_k = first_layer_height + k·layer_height`; it is cut at mid-height `z_k − h_k/2`:
 //! 1. [`section`]: triangle–plane cuts chained into closed loops (open chains repaired or
-//!    dropped and counted), united by the nonzero rule ([`region::union_loops`]);
+//!    dropped and counted), simplified to [`region::RESOLUTION`], united by the nonzero rule
+//!    ([`region::union_loops`]);
 //! 2. [`walls`]: `perimeters` loops by inward offsetting; the region left inside;
 //! 3. [`skins`]: top/bottom solid regions by comparing the layer with the
 //!    `top_solid_layers` above and `bottom_solid_layers` below;
@@ -241,7 +242,12 @@ pub fn slice(mesh: &Mesh, settings: &Settings, header: &str) -> Result<Sliced, P
         let sec = section::section(mesh, cut);
         report.repaired_loops += sec.repaired;
         report.dropped_chains += sec.dropped;
-        slices.push(region::union_loops(&sec.loops));
+        let loops: Vec<region::Contour> = sec
+            .loops
+            .iter()
+            .map(|l| region::simplify_closed(l, region::RESOLUTION))
+            .collect();
+        slices.push(region::union_loops(&loops));
         heights.push((z, h));
     }
     report.layers = slices.len();

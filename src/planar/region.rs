@@ -84,3 +84,52 @@ pub fn contour_area(c: &[[f64; 2]]) -> f64 {
 pub fn area(region: &Region) -> f64 {
     region.iter().flatten().map(|c| contour_area(c)).sum()
 }
+
+/// Largest distance a simplified contour may leave its section's points, mm: PrusaSlicer's
+/// `gcode_resolution` default (0.0125 mm). The cuts of a subdivided mesh have a vertex every
+/// triangle (≤ 1 mm apart, many collinear); a printer cannot show detail below this, and the
+/// offsets, skins and G-code then work on a few points per feature instead of thousands.
+pub const RESOLUTION: f64 = 0.0125;
+
+/// `c` with the points Douglas–Peucker drops at tolerance `tol` removed (closed: split at the
+/// first point and the point farthest from it, each half simplified as an open chain).
+pub fn simplify_closed(c: &[[f64; 2]], tol: f64) -> Contour {
+    let n = c.len();
+    if n < 4 {
+        return c.to_vec();
+    }
+    let d2 = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let far = (1..n)
+        .max_by(|&i, &j| d2(c[0], c[i]).total_cmp(&d2(c[0], c[j])))
+        .unwrap_or(n / 2);
+    let mut keep = vec![false; n + 1];
+    keep[0] = true;
+    keep[far] = true;
+    let ring: Vec<[f64; 2]> = c.iter().copied().chain(std::iter::once(c[0])).collect();
+    let mut stack = vec![(0usize, far), (far, n)];
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let (p, q) = (ring[a], ring[b]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        let len = (dx * dx + dy * dy).sqrt();
+        let dist = |r: [f64; 2]| {
+            if len == 0.0 {
+                d2(p, r).sqrt()
+            } else {
+                ((r[0] - p[0]) * dy - (r[1] - p[1]) * dx).abs() / len
+            }
+        };
+        let (i, d) = (a + 1..b)
+            .map(|i| (i, dist(ring[i])))
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+            .unwrap_or((a, 0.0));
+        if d > tol {
+            keep[i] = true;
+            stack.push((a, i));
+            stack.push((i, b));
+        }
+    }
+    (0..n).filter(|&i| keep[i]).map(|i| c[i]).collect()
+}
