@@ -457,6 +457,44 @@ fn the_default_places_the_footprint_centre_on_the_bed_centre() {
 }
 
 #[test]
+fn simplified_contours_stay_within_the_resolution_of_every_section_point() {
+    use warpslice::planar::region::{simplify_closed, RESOLUTION};
+    // a circle of radius 10 sampled every 0.01 rad, with a notch, and a square with collinear
+    // points every 0.1 mm
+    let mut circle: Vec<[f64; 2]> = (0..628)
+        .map(|i| {
+            let a = i as f64 * 0.01;
+            let r = if (100..110).contains(&i) { 9.0 } else { 10.0 };
+            [r * a.cos(), r * a.sin()]
+        })
+        .collect();
+    let square: Vec<[f64; 2]> = (0..800)
+        .map(|i| {
+            let t = (i % 200) as f64 * 0.1 - 10.0;
+            match i / 200 {
+                0 => [t, -10.0],
+                1 => [10.0, t],
+                2 => [-t, 10.0],
+                _ => [-10.0, -t],
+            }
+        })
+        .collect();
+    assert_eq!(simplify_closed(&square, RESOLUTION).len(), 4);
+    let simple = simplify_closed(&circle, RESOLUTION);
+    assert!(
+        simple.len() < circle.len() / 3,
+        "{} points kept",
+        simple.len()
+    );
+    for p in circle.drain(..) {
+        let d = (0..simple.len())
+            .map(|i| seg_dist(p, simple[i], simple[(i + 1) % simple.len()]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(d <= RESOLUTION + 1e-12, "point {p:?} is {d} mm off");
+    }
+}
+
+#[test]
 fn describe_lists_every_setting_with_its_default_and_each_is_settable() {
     let d = warpslice::describe::describe().unwrap();
     let json = serde_json::to_value(&d).unwrap();
