@@ -435,6 +435,15 @@ fn unknown_and_out_of_range_settings_are_named_errors() {
     let e = Settings::default().set("fill_density=150").unwrap_err();
     assert_eq!(e.code(), "planar.setting");
     assert!(e.to_string().contains("fill_density = 150"), "{e}");
+    for (bad, allowed) in [
+        ("layer_height=0", "a positive number"),
+        ("skirt_distance=-1", "a number ≥ 0"),
+    ] {
+        let e = Settings::default().set(bad).unwrap_err();
+        assert_eq!(e.code(), "planar.setting");
+        assert!(e.to_string().contains(allowed), "{bad}: {e}");
+    }
+    Settings::default().set("skirt_distance=0").unwrap();
     let s = Settings::from_json(r#"{"fill_density": 100, "perimeters": 3}"#).unwrap();
     assert_eq!((s.fill_density, s.perimeters), (100.0, 3));
 }

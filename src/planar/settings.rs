@@ -181,33 +181,32 @@ impl Settings {
             value: value.to_string(),
             allowed,
         };
-        let positive = [
-            ("layer_height", self.layer_height),
-            ("first_layer_height", self.first_layer_height),
-            ("extrusion_width", self.extrusion_width),
-            ("nozzle_diameter", self.nozzle_diameter),
-            ("filament_diameter", self.filament_diameter),
-            ("perimeter_speed", self.perimeter_speed),
-            ("infill_speed", self.infill_speed),
-            ("travel_speed", self.travel_speed),
-            ("first_layer_speed", self.first_layer_speed),
-            ("retract_speed", self.retract_speed),
+        // (key, value, whether 0 is allowed)
+        let bounded_below = [
+            ("layer_height", self.layer_height, false),
+            ("first_layer_height", self.first_layer_height, false),
+            ("extrusion_width", self.extrusion_width, false),
+            ("nozzle_diameter", self.nozzle_diameter, false),
+            ("filament_diameter", self.filament_diameter, false),
+            ("perimeter_speed", self.perimeter_speed, false),
+            ("infill_speed", self.infill_speed, false),
+            ("travel_speed", self.travel_speed, false),
+            ("first_layer_speed", self.first_layer_speed, false),
+            ("retract_speed", self.retract_speed, false),
+            ("skirt_distance", self.skirt_distance, true),
+            ("brim_width", self.brim_width, true),
+            ("temperature", self.temperature, true),
+            ("bed_temperature", self.bed_temperature, true),
+            ("retract_length", self.retract_length, true),
         ];
-        for (k, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(bad(k, v, "a positive number"));
-            }
-        }
-        let non_negative = [
-            ("skirt_distance", self.skirt_distance),
-            ("brim_width", self.brim_width),
-            ("temperature", self.temperature),
-            ("bed_temperature", self.bed_temperature),
-            ("retract_length", self.retract_length),
-        ];
-        for (k, v) in non_negative {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(bad(k, v, "a number ≥ 0"));
+        for (k, v, zero_ok) in bounded_below {
+            if !v.is_finite() || v < 0.0 || (v == 0.0 && !zero_ok) {
+                let allowed = if zero_ok {
+                    "a number ≥ 0"
+                } else {
+                    "a positive number"
+                };
+                return Err(bad(k, v, allowed));
             }
         }
         if !(self.fill_density.is_finite() && (0.0..=100.0).contains(&self.fill_density)) {
