@@ -49,6 +49,9 @@ pub struct Description {
     pub features: Vec<&'static str>,
     /// Every error code.
     pub errors: Vec<ErrorCode>,
+    /// The built-in slicer's settings with their defaults (keys: PrusaSlicer's option names;
+    /// `docs/builtin-slicer.md` says what each means).
+    pub slicer_settings: crate::planar::Settings,
 }
 
 /// Every error code of every area.
@@ -57,6 +60,7 @@ pub fn error_codes() -> Vec<ErrorCode> {
     for list in [
         crate::mesh::ERROR_CODES,
         crate::warp::ERROR_CODES,
+        crate::planar::ERROR_CODES,
         crate::job::ERROR_CODES,
         crate::gcode::ERROR_CODES,
         crate::register::ERROR_CODES,
@@ -129,6 +133,7 @@ pub fn describe() -> Result<Description, MachineError> {
         machines,
         features: Feature::ALL.iter().map(|f| f.name()).collect(),
         errors: error_codes(),
+        slicer_settings: crate::planar::Settings::default(),
     })
 }
 

@@ -19,7 +19,7 @@
 //! ```text
 //! 1  error num schema tolerance
 //! 2  mesh
-//! 3  shapes warp
+//! 3  shapes warp planar
 //! 4  anchor job toolpath
 //! 5  gcode surfaces
 //! 6  register
@@ -69,6 +69,7 @@ pub mod job;
 pub mod machine;
 pub mod mesh;
 pub mod pipeline;
+pub mod planar;
 pub mod register;
 pub mod shapes;
 #[cfg(not(target_arch = "wasm32"))]

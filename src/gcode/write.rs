@@ -85,7 +85,7 @@ fn push_scaled(out: &mut Vec<u8>, n: i64, decimals: u32) {
     let mut frac = a % p;
     if frac != 0 {
         let mut d = decimals;
-        while frac % 10 == 0 {
+        while frac.is_multiple_of(10) {
             frac /= 10;
             d -= 1;
         }

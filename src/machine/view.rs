@@ -17,7 +17,7 @@ pub const FRAME_STRIDE: usize = 12;
 /// `points`: 6 numbers per point (p, n). Returns [`FRAME_STRIDE`] numbers per point (see the
 /// module documentation). An unreachable point is an error naming its index.
 pub fn head_frames(machine: &dyn Machine, points: &[f64]) -> Result<Vec<f64>, MachineError> {
-    if points.len() % 6 != 0 {
+    if !points.len().is_multiple_of(6) {
         return Err(MachineError::BadCsv {
             line: points.len() / 6 + 1,
             message: format!(

@@ -200,7 +200,7 @@ fn binary_size_error(bytes: &[u8]) -> MeshError {
     };
     let expected = binary_len(count);
     let body = actual - BINARY_PREFIX_BYTES as u64;
-    if actual < expected && body % BINARY_FACET_BYTES as u64 != 0 {
+    if actual < expected && !body.is_multiple_of(BINARY_FACET_BYTES as u64) {
         MeshError::Truncated {
             expected_bytes: expected,
             actual_bytes: actual,
@@ -323,7 +323,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<(Mesh, MeshReport), MeshError> {
     if let Some(n) = count {
         let expected = binary_len(n);
         let extra = actual.saturating_sub(expected);
-        if n > 0 && extra > 0 && extra % BINARY_FACET_BYTES as u64 != 0 {
+        if n > 0 && extra > 0 && !extra.is_multiple_of(BINARY_FACET_BYTES as u64) {
             let mut w = solid_header_note(binary_format);
             w.push(format!(
                 "{extra} bytes after the last of the header's {n} binary facets were ignored (data appended by another program; PrusaSlicer and other slicers refuse such a file — the warped STL warpslice writes has none)"

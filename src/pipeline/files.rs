@@ -6,6 +6,7 @@
 //!   ([`super::unwarp_stream`]: memory bounded whatever the file's size).
 //! - [`run`]: warp, slice with a real slicer ([`crate::slicer`]), unwarp; the intermediate files
 //!   sit next to the output ([`RunFiles`]).
+//! - [`run_with`]: the same with a real slicer or the built-in one ([`crate::planar`]).
 //!
 //! The caller sees each step through [`Observer`] (the CLI prints reports and a progress bar);
 //! every I/O error names its file.
@@ -30,6 +31,9 @@ pub trait Observer {
     fn warped(&mut self, _model: &Path, _out: &WarpOutput, _stl: &Path, _job: &Path) {}
     /// The slicer wrote `gcode`.
     fn sliced(&mut self, _stl: &Path, _gcode: &Path, _report: &SliceReport) {}
+    /// The built-in slicer wrote `gcode`.
+    fn sliced_builtin(&mut self, _stl: &Path, _gcode: &Path, _report: &crate::planar::SliceReport) {
+    }
     /// The unwarp wrote `output`.
     fn unwarped(&mut self, _report: &UnwarpReport, _output: &Path) {}
 }
@@ -163,8 +167,24 @@ impl RunFiles {
     }
 }
 
-/// Warp `model`, slice the warped STL with `slice` (its layer height is the warp's), unwarp
-/// into `output`.
+/// Which planar slicer [`run_with`] slices the warped STL with.
+#[derive(Clone, Copy, Debug)]
+pub enum SliceWith<'a> {
+    /// A real slicer installed here ([`crate::slicer`]); its layer height is set to the warp's.
+    Real(&'a SliceOptions),
+    /// The built-in slicer ([`crate::planar`]); its layer heights must be the warp's
+    /// ([`super::slice_builtin`]).
+    Builtin(&'a crate::planar::Settings),
+}
+
+/// What [`run_with`]'s slicer reported.
+enum Sliced {
+    Real(SliceReport),
+    Builtin(crate::planar::SliceReport),
+}
+
+/// Warp `model`, slice the warped STL with the real slicer `slice` (its layer height is the
+/// warp's), unwarp into `output`.
 pub fn run(
     model: &Path,
     warp: &WarpOptions,
@@ -173,17 +193,49 @@ pub fn run(
     output: &Path,
     observer: &mut dyn Observer,
 ) -> Result<UnwarpReport, Error> {
+    run_with(
+        model,
+        warp,
+        SliceWith::Real(slice),
+        settings,
+        output,
+        observer,
+    )
+}
+
+/// Warp `model`, slice the warped STL with `slice` into [`RunFiles::sliced`], unwarp into
+/// `output`.
+pub fn run_with(
+    model: &Path,
+    warp: &WarpOptions,
+    slice: SliceWith<'_>,
+    settings: &UnwarpSettings,
+    output: &Path,
+    observer: &mut dyn Observer,
+) -> Result<UnwarpReport, Error> {
     let files = RunFiles::next_to(output);
     let w = warp_file(model, warp, &files.warped, observer)?;
-    let slice = SliceOptions {
-        layer_height: warp.layer_height,
-        ..slice.clone()
-    };
     observer.start("slicing", 0);
-    let sliced = crate::slicer::slice(&files.warped, &files.sliced, &slice);
+    let sliced = match slice {
+        SliceWith::Real(opts) => {
+            let opts = SliceOptions {
+                layer_height: warp.layer_height,
+                ..opts.clone()
+            };
+            crate::slicer::slice(&files.warped, &files.sliced, &opts)
+                .map(Sliced::Real)
+                .map_err(Error::from)
+        }
+        SliceWith::Builtin(s) => super::slice_builtin(&w.stl, &w.job, s).and_then(|out| {
+            std::fs::write(&files.sliced, &out.gcode).map_err(io(&files.sliced))?;
+            Ok(Sliced::Builtin(out.report))
+        }),
+    };
     observer.finish();
-    let report = sliced?;
-    observer.sliced(&files.warped, &files.sliced, &report);
+    match sliced? {
+        Sliced::Real(r) => observer.sliced(&files.warped, &files.sliced, &r),
+        Sliced::Builtin(r) => observer.sliced_builtin(&files.warped, &files.sliced, &r),
+    }
     unwarp_file(
         &files.sliced,
         &w.job,

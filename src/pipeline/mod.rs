@@ -11,11 +11,13 @@ use crate::job::JobError;
 use crate::mesh::MeshError;
 use crate::warp::WarpError;
 
+mod builtin_step;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod files;
 mod unwarp_step;
 mod warp_step;
 
+pub use builtin_step::slice_builtin;
 pub use unwarp_step::{
     unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl, warped_mesh,
     UnwarpSettings, STREAM_CHUNK,
@@ -43,6 +45,8 @@ pub enum Error {
     Unwarp(crate::unwarp::UnwarpError),
     /// The machine cannot be set up (`--machine`, `--flavour`).
     Machine(crate::machine::MachineError),
+    /// The built-in slicer's settings are invalid, or it found nothing to print.
+    Planar(crate::planar::PlanarError),
     /// The planar slicer failed (`warpslice run`).
     #[cfg(not(target_arch = "wasm32"))]
     Slicer(crate::slicer::SlicerError),
@@ -75,6 +79,7 @@ impl std::fmt::Display for Error {
             Error::Register(e) => e.fmt(f),
             Error::Unwarp(e) => e.fmt(f),
             Error::Machine(e) => e.fmt(f),
+            Error::Planar(e) => e.fmt(f),
             Error::Io { what, message } => write!(f, "{what}: {message}"),
             #[cfg(not(target_arch = "wasm32"))]
             Error::Slicer(e) => e.fmt(f),
@@ -97,6 +102,7 @@ impl std::error::Error for Error {
             Error::Register(e) => Some(e),
             Error::Unwarp(e) => Some(e),
             Error::Machine(e) => Some(e),
+            Error::Planar(e) => Some(e),
             #[cfg(not(target_arch = "wasm32"))]
             Error::Slicer(e) => Some(e),
             Error::Option { .. } | Error::Io { .. } => None,
@@ -114,6 +120,7 @@ impl Coded for Error {
             Error::Register(e) => e.code(),
             Error::Unwarp(e) => e.code(),
             Error::Machine(e) => e.code(),
+            Error::Planar(e) => e.code(),
             #[cfg(not(target_arch = "wasm32"))]
             Error::Slicer(e) => e.code(),
             Error::Option { .. } => "options.invalid",
@@ -145,6 +152,6 @@ macro_rules! from_error {
 }
 from_error!(MeshError => Mesh, WarpError => Warp, JobError => Job, crate::gcode::GcodeError => Gcode,
     crate::register::RegisterError => Register, crate::unwarp::UnwarpError => Unwarp,
-    crate::machine::MachineError => Machine);
+    crate::machine::MachineError => Machine, crate::planar::PlanarError => Planar);
 #[cfg(not(target_arch = "wasm32"))]
 from_error!(crate::slicer::SlicerError => Slicer);

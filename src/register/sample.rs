@@ -51,7 +51,7 @@ impl Sample {
 
     /// Keep an object extrusion of `layer` at height `z` from `a` to `b` (G-code XY).
     pub fn push(&mut self, layer: u32, z: f64, a: DVec2, b: DVec2, line: u64) {
-        if layer % self.stride != 0 {
+        if !layer.is_multiple_of(self.stride) {
             return;
         }
         match self.layers.last_mut() {

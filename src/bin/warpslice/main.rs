@@ -11,6 +11,8 @@ fn main() -> std::process::ExitCode {
 #[cfg(not(target_arch = "wasm32"))]
 mod args;
 #[cfg(not(target_arch = "wasm32"))]
+mod builtin;
+#[cfg(not(target_arch = "wasm32"))]
 mod calibrate;
 #[cfg(not(target_arch = "wasm32"))]
 mod out;
@@ -77,11 +79,26 @@ mod cli {
             #[arg(long)]
             config_out: Option<PathBuf>,
         },
-        /// Warp, slice with a real slicer installed here, and unwarp: the main job in one command.
+        /// Warp, slice (the built-in slicer, or a real slicer installed here), and unwarp: the
+        /// main job in one command.
         Run {
             model: PathBuf,
-            #[arg(long)]
+            /// builtin (warpslice's own planar slicer, nothing to install), prusaslicer,
+            /// slic3r or curaengine.
+            #[arg(long, default_value = "builtin")]
             slicer: String,
+            /// builtin: a JSON file of slicer settings (PrusaSlicer's option names,
+            /// docs/builtin-slicer.md); keys left out keep their defaults.
+            #[arg(long, value_name = "FILE.json")]
+            slicer_settings: Option<PathBuf>,
+            /// builtin: one slicer setting, after --slicer-settings (repeatable), e.g.
+            /// --set fill_density=100.
+            #[arg(long = "set", value_name = "KEY=VALUE")]
+            set: Vec<String>,
+            /// Also keep the planar G-code of the warped STL as FILE, with its job beside it as
+            /// FILE.job.json, so any checker can compare the two.
+            #[arg(long, value_name = "FILE")]
+            keep_sliced: Option<PathBuf>,
             /// Relative (M83) or absolute (M82) E in the slicer's G-code.
             #[arg(long, value_enum, default_value_t = EModeArg::Relative)]
             e_mode: EModeArg,
@@ -195,6 +212,15 @@ mod cli {
                 report.slicer,
                 gcode.display()
             );
+        }
+
+        fn sliced_builtin(
+            &mut self,
+            stl: &Path,
+            gcode: &Path,
+            report: &warpslice::planar::SliceReport,
+        ) {
+            crate::builtin::print_report(stl, gcode, report);
         }
 
         fn unwarped(&mut self, report: &UnwarpReport, output: &Path) {
@@ -477,6 +503,9 @@ mod cli {
             Command::Run {
                 model,
                 slicer,
+                slicer_settings,
+                set,
+                keep_sliced,
                 e_mode,
                 warp,
                 unwarp,
@@ -484,6 +513,31 @@ mod cli {
                 config_out,
             } => {
                 let config = firmware_config(&unwarp.settings, config_out.as_deref())?;
+                if slicer.trim().eq_ignore_ascii_case("builtin") {
+                    let s = crate::builtin::settings(
+                        warp.options.layer_height,
+                        slicer_settings.as_deref(),
+                        &set,
+                        matches!(e_mode, EModeArg::Relative),
+                    )?;
+                    files::run_with(
+                        &model,
+                        &warp.options,
+                        files::SliceWith::Builtin(&s),
+                        &unwarp.settings,
+                        &output,
+                        &mut Steps { bar: None },
+                    )
+                    .map_err(|e| e.to_string())?;
+                    crate::builtin::keep_sliced(&output, keep_sliced.as_deref())?;
+                    write_config(config)?;
+                    return Ok(ExitCode::SUCCESS);
+                }
+                if slicer_settings.is_some() || !set.is_empty() {
+                    return Err(format!(
+                        "--slicer-settings and --set are the built-in slicer's; {slicer} takes its own settings"
+                    ));
+                }
                 let kind: warpslice::slicer::SlicerKind = slicer
                     .parse()
                     .map_err(|e: warpslice::slicer::SlicerError| e.to_string())?;
@@ -505,6 +559,7 @@ mod cli {
                     &mut Steps { bar: None },
                 )
                 .map_err(|e| e.to_string())?;
+                crate::builtin::keep_sliced(&output, keep_sliced.as_deref())?;
                 write_config(config)?;
             }
             Command::Kinematics { direction, machine } => {

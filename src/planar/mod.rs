@@ -1,0 +1,386 @@
+//! The built-in planar slicer: a mesh → ordinary planar G-code, so the whole STL → machine
+//! G-code path runs with nothing else installed (issue 14). It writes what the real slicers
+//! write and the unwarp reads (`;LAYER_CHANGE`, `;Z:`, `;TYPE:`, M83/M82, retractions), so
+//! nothing downstream has a special case.
+//!
+//! # Per layer
+//! Layer k (0-based) spans `[z_k − h_k, z_k]` above the mesh's lowest point, with
+//! `z_k = first_layer_height + k·layer_height`; it is cut at mid-height `z_k − h_k/2`:
+//! 1. [`section`]: triangle–plane cuts chained into closed loops (open chains repaired or
+//!    dropped and counted), simplified to [`region::RESOLUTION`], united by the nonzero rule
+//!    ([`region::union_loops`]);
+//! 2. [`walls`]: `perimeters` loops by inward offsetting; the region left inside;
+//! 3. [`skins`]: top/bottom solid regions by comparing the layer with the
+//!    `top_solid_layers` above and `bottom_solid_layers` below;
+//! 4. [`infill`]: rectilinear lines, solid at the line spacing, sparse at
+//!    spacing / (`fill_density`/100), at `fill_angle` on even layers and +90° on odd ones
+//!    (45°/−45° by default);
+//! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel;
+//!    [`gcode_out`]: the G-code.
+//!
+//! The mesh is moved in X and Y so that the centre of its bounding box is at `center` (the bed
+//! centre, as PrusaSlicer and Slic3r place parts; the shift is in [`SliceReport::shift`] and the
+//! pipeline's registration finds it exactly); in Z the layers count from its lowest point.
+//!
+//! # Polygon crate: `i_overlay` 9.1 (MIT OR Apache-2.0)
+//! Measured 2026-11-27 on this machine (release build, median of 200 runs, a 1000-vertex
+//! star-shaped polygon of radius 20 mm, inward offset 0.4 mm; and its difference with a
+//! 1000-vertex polygon overlapping it):
+//!
+//! | crate | offset | difference | pure Rust, builds for wasm32-unknown-unknown | licence |
+//! |---|---|---|---|---|
+//! | `i_overlay` 9.1 (bevel / mitre joins) | 2.1 ms / 4.2 ms | 0.45 ms | yes | MIT OR Apache-2.0 |
+//! | `geo` 0.33 (`Buffer`, `BooleanOps`: `i_overlay` inside) | 2.1–2.5 ms | 0.36 ms | yes | MIT OR Apache-2.0 |
+//! | `clipper2-rust` 1.2 (port of Clipper2) | 1.6–1.9 ms | 0.23 ms | yes | BSL-1.0 |
+//! | `clipper2` 0.6, `geo-clipper` 0.9 | — | — | no: C++ Clipper via `cc` | MIT/Apache, ISC |
+//!
+//! `i_overlay` is chosen: the same licence as this crate, the engine `geo` itself uses (well
+//! kept, one small dependency tree: `i_float`, `i_shape`, `i_tree`, `i_key_sort`), robust
+//! integer snapping inside a float API, nonzero fill, and offsets with mitre joins; `geo`
+//! would add its whole dependency tree for the same engine, and `clipper2-rust` (about 1.5×
+//! faster here, a young machine-made port under another licence) is the fallback if the
+//! bench's 5 s budget (issue 14) needs it. The timings are from a machine shared with other
+//! jobs (± 30 %). It needs Rust 1.88 (`rust-version` in Cargo.toml).
+
+pub mod gcode_out;
+pub mod infill;
+pub mod order;
+pub mod region;
+pub mod section;
+pub mod settings;
+pub mod skins;
+pub mod walls;
+
+pub use settings::Settings;
+
+use crate::mesh::Mesh;
+use region::{offset, Region};
+
+/// What a printed line is, with PrusaSlicer's `;TYPE:` label.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Role {
+    /// Perimeter 0 of an island.
+    ExternalPerimeter,
+    /// Perimeters 1… of an island.
+    Perimeter,
+    /// Sparse infill.
+    InternalInfill,
+    /// Solid infill inside the part and on bottom surfaces.
+    SolidInfill,
+    /// Solid infill open to the air above.
+    TopSolidInfill,
+    /// Loops around the first layer, apart from it.
+    Skirt,
+    /// Loops around the first layer, touching it.
+    Brim,
+}
+
+impl Role {
+    /// PrusaSlicer's `;TYPE:` label.
+    pub fn label(self) -> &'static str {
+        match self {
+            Role::ExternalPerimeter => "External perimeter",
+            Role::Perimeter => "Perimeter",
+            Role::InternalInfill => "Internal infill",
+            Role::SolidInfill => "Solid infill",
+            Role::TopSolidInfill => "Top solid infill",
+            Role::Skirt => "Skirt",
+            Role::Brim => "Brim",
+        }
+    }
+}
+
+/// One printed line: a closed loop or an open polyline, mm in the mesh's XY.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Path {
+    /// What it is.
+    pub role: Role,
+    /// Its points; a closed loop does not repeat its first point until [`order`] readies it.
+    pub points: Vec<[f64; 2]>,
+    /// Whether it is a closed loop.
+    pub closed: bool,
+}
+
+/// What the slicer did and had to repair.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct SliceReport {
+    /// Layers written.
+    pub layers: usize,
+    /// How far the mesh was moved in X and Y to centre it on `center`, mm.
+    pub shift: [f64; 2],
+    /// Open chains of the cuts closed across a gap (the mesh has open edges).
+    pub repaired_loops: usize,
+    /// Open chains of the cuts that could not be closed and were left out.
+    pub dropped_chains: usize,
+    /// Islands too thin for one perimeter (not printed).
+    pub thin_islands: usize,
+    /// Filament fed by extrusions, mm.
+    pub filament_mm: f64,
+    /// Extruded volume, mm³ (filament × its cross-section).
+    pub volume_mm3: f64,
+    /// Retractions written.
+    pub retractions: usize,
+}
+
+/// The G-code and its report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sliced {
+    /// The planar G-code.
+    pub gcode: String,
+    /// What was done.
+    pub report: SliceReport,
+}
+
+/// An error of the built-in slicer.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum PlanarError {
+    /// A setting's value is out of range.
+    Setting {
+        /// The setting's key.
+        key: String,
+        /// The value given.
+        value: String,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// The settings JSON does not parse, or names an unknown key.
+    SettingsJson {
+        /// serde's message (with line and column) or the unknown key.
+        message: String,
+    },
+    /// The settings' layer heights differ from the warp's (`warpslice run`).
+    LayerHeight {
+        /// `layer_height` or `first_layer_height`.
+        key: &'static str,
+        /// The settings' value, mm.
+        value: f64,
+        /// The warp's layer height, mm.
+        warp: f64,
+    },
+    /// No layer of the mesh has anything to print.
+    NothingToPrint {
+        /// Layers cut.
+        layers: usize,
+    },
+}
+
+impl std::fmt::Display for PlanarError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PlanarError::Setting {
+                key,
+                value,
+                allowed,
+            } => write!(
+                f,
+                "slicer setting {key} = {value} is not allowed: {allowed}"
+            ),
+            PlanarError::SettingsJson { message } => write!(
+                f,
+                "slicer settings: {message} (keys are PrusaSlicer's option names; `warpslice run --help` lists them)"
+            ),
+            PlanarError::LayerHeight { key, value, warp } => write!(
+                f,
+                "slicer setting {key} = {value} mm differs from the warp's layer height {warp} mm: the warped layers are {warp} mm apart; give --layer-height {value} instead, or leave {key} out"
+            ),
+            PlanarError::NothingToPrint { layers } => write!(
+                f,
+                "the built-in slicer found nothing to print in {layers} layers: the mesh has no closed cross-section (is it a surface without volume?)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for PlanarError {}
+
+crate::error_codes!(PlanarError, ERROR_CODES, "planar" {
+    Setting => "planar.setting", "a built-in slicer setting out of range";
+    SettingsJson => "planar.settings-json", "the slicer settings JSON does not parse or names an unknown key";
+    LayerHeight => "planar.layer-height", "slicer layer heights that differ from the warp's";
+    NothingToPrint => "planar.empty", "the mesh has no cross-section to print";
+} wraps {});
+
+/// Top of layer `k` above the mesh's lowest point, mm (`first + k·h`, by multiplication so
+/// that every `;Z:` is on the grid however many layers there are).
+pub fn layer_top(s: &Settings, k: usize) -> f64 {
+    s.first_layer_height + k as f64 * s.layer_height
+}
+
+/// Slice `mesh` with `settings`; `header` goes into the file's first comment lines.
+pub fn slice(mesh: &Mesh, settings: &Settings, header: &str) -> Result<Sliced, PlanarError> {
+    settings.validate()?;
+    let s = settings;
+    let bbox = mesh.bbox();
+    let centre = bbox.center();
+    let shift = glam::DVec3::new(s.center[0] - centre.x, s.center[1] - centre.y, 0.0);
+    let mut placed = mesh.clone();
+    placed.translate(shift);
+    let mesh = &placed;
+    let bbox = mesh.bbox();
+    let (base, top) = (bbox.min.z, bbox.max.z);
+    let mut report = SliceReport {
+        shift: [shift.x, shift.y],
+        ..SliceReport::default()
+    };
+
+    // 1. cross-sections
+    let mut slices: Vec<Region> = Vec::new();
+    let mut heights: Vec<(f64, f64)> = Vec::new(); // (top z above the bed, layer height)
+    for k in 0.. {
+        let h = if k == 0 {
+            s.first_layer_height
+        } else {
+            s.layer_height
+        };
+        let z = layer_top(s, k);
+        let cut = base + z - h / 2.0;
+        if cut >= top {
+            break;
+        }
+        let sec = section::section(mesh, cut);
+        report.repaired_loops += sec.repaired;
+        report.dropped_chains += sec.dropped;
+        let loops: Vec<region::Contour> = sec
+            .loops
+            .iter()
+            .map(|l| region::simplify_closed(l, region::RESOLUTION))
+            .collect();
+        slices.push(region::union_loops(&loops));
+        heights.push((z, h));
+    }
+    report.layers = slices.len();
+    if slices.iter().all(|r| r.is_empty()) {
+        return Err(PlanarError::NothingToPrint {
+            layers: slices.len(),
+        });
+    }
+
+    // 2.–5. per layer
+    let settings_json = serde_json::to_string(s).unwrap_or_default();
+    let mut w = gcode_out::Writer::new(
+        s,
+        &format!("{header}\nwarpslice built-in planar slicer, settings: {settings_json}"),
+    );
+    let mut at = [bbox.min.x, bbox.min.y];
+    for (k, slice) in slices.iter().enumerate() {
+        let (z, h) = heights[k];
+        let sp = s.spacing(h);
+        let walls = walls::walls(slice, s.perimeters, s.extrusion_width, sp);
+        report.thin_islands += walls.thin;
+        let sk = skins::skins(
+            &slices,
+            &walls.inner,
+            k,
+            s.top_solid_layers,
+            s.bottom_solid_layers,
+        );
+        w.layer(z, h);
+        let first = k == 0;
+        let speed = |v: f64| if first { s.first_layer_speed } else { v };
+        if first {
+            for p in order::nearest_neighbour(first_layer_extras(slice, s, h), &mut at) {
+                w.path(&p, h, speed(s.perimeter_speed));
+            }
+        }
+        for group in perimeter_groups(&walls, s.external_perimeters_first) {
+            for p in order::nearest_neighbour(group, &mut at) {
+                w.path(&p, h, speed(s.perimeter_speed));
+            }
+        }
+        let angle = s.fill_angle + if k % 2 == 1 { 90.0 } else { 0.0 };
+        let fills = [
+            (Role::SolidInfill, &sk.solid, sp),
+            (Role::TopSolidInfill, &sk.top, sp),
+            (
+                Role::InternalInfill,
+                &sk.sparse,
+                if s.fill_density > 0.0 {
+                    sp / (s.fill_density / 100.0)
+                } else {
+                    0.0
+                },
+            ),
+        ];
+        for (role, region, pitch) in fills {
+            let lines: Vec<Path> = infill::rectilinear(region, angle, pitch)
+                .into_iter()
+                .map(|l| Path {
+                    role,
+                    points: l.to_vec(),
+                    closed: false,
+                })
+                .collect();
+            for p in order::nearest_neighbour(lines, &mut at) {
+                w.path(&p, h, speed(s.infill_speed));
+            }
+        }
+    }
+    report.filament_mm = w.filament_mm;
+    report.volume_mm3 = w.filament_mm * s.filament_area();
+    report.retractions = w.retractions;
+    Ok(Sliced {
+        gcode: w.finish(),
+        report,
+    })
+}
+
+/// Perimeter loops in print order groups: inner ones first (innermost first) and the external
+/// one last, or the reverse with `external_first`.
+fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>> {
+    let levels = walls.islands.iter().map(Vec::len).max().unwrap_or(0);
+    let mut groups: Vec<Vec<Path>> = (0..levels)
+        .map(|i| {
+            let role = if i == 0 {
+                Role::ExternalPerimeter
+            } else {
+                Role::Perimeter
+            };
+            walls
+                .islands
+                .iter()
+                .filter_map(|isl| isl.get(i))
+                .flatten()
+                .map(|c| order::loop_path(role, c.clone()))
+                .collect()
+        })
+        .collect();
+    if !external_first {
+        groups.reverse();
+    }
+    groups
+}
+
+/// Brim loops (outward from the first layer, `brim_width` wide) and skirt loops
+/// (`skirt_distance` beyond the first layer and brim), outer contours only.
+fn first_layer_extras(first: &Region, s: &Settings, h: f64) -> Vec<Path> {
+    let (wd, sp) = (s.extrusion_width, s.spacing(h));
+    let mut paths = Vec::new();
+    let brim_loops = (s.brim_width / sp).ceil() as usize;
+    for j in 0..brim_loops {
+        let ring = offset(first, wd / 2.0 + j as f64 * sp);
+        paths.extend(
+            ring.iter()
+                .filter_map(|shape| shape.first())
+                .map(|outer| order::loop_path(Role::Brim, outer.clone())),
+        );
+    }
+    // the brim's outer edge, from the part's
+    let brim_edge = match brim_loops {
+        0 => 0.0,
+        n => wd + (n - 1) as f64 * sp,
+    };
+    for j in 0..s.skirts as usize {
+        let ring = offset(
+            first,
+            brim_edge + s.skirt_distance + wd / 2.0 + j as f64 * sp,
+        );
+        paths.extend(
+            ring.iter()
+                .filter_map(|shape| shape.first())
+                .map(|outer| order::loop_path(Role::Skirt, outer.clone())),
+        );
+    }
+    paths
+}

@@ -1,0 +1,51 @@
+//! Perimeters by inward offsetting, and the region left inside them for infill.
+//!
+//! With extrusion width w, layer height h and line spacing `s = w − h·(1 − π/4)`
+//! ([`super::Settings::spacing`], PrusaSlicer's `Flow::spacing`), perimeter i (0: external) of
+//! an island runs along the island's boundary offset inward by
+//! `d_i = w/2 + i·s`: the external line's outer edge lies on the mesh's surface, each next line
+//! touches the one outside it. Each perimeter fills a band `s` wide around its line, so the
+//! infill region is the island offset inward by `d_{N−1} + s/2 = (w − s)/2 + N·s`, and the
+//! lines side by side fill the layer's area
+//! (`Σ length·s·h` = area·h, the solid check's volume model).
+//!
+//! An island too thin for its external perimeter (the inward offset by w/2 is empty) gets no
+//! wall and is counted in [`Walls::thin`].
+
+use super::region::{offset, Contour, Region};
+
+/// The perimeters and the infill region of one layer.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Walls {
+    /// Per island: `perimeters[i]` are the closed lines of perimeter i (0: external).
+    pub islands: Vec<Vec<Vec<Contour>>>,
+    /// What is left inside the innermost perimeters, for skins and infill.
+    pub inner: Region,
+    /// Islands that fit no external perimeter (nothing printed for them).
+    pub thin: usize,
+}
+
+/// Perimeters of `region` (a layer's union) for `perimeters` walls of width `w` and spacing `s`.
+pub fn walls(region: &Region, perimeters: u32, w: f64, s: f64) -> Walls {
+    let mut out = Walls::default();
+    for shape in region {
+        let island: Region = vec![shape.clone()];
+        let mut lines = Vec::new();
+        for i in 0..perimeters {
+            let d = w / 2.0 + f64::from(i) * s;
+            let ring = offset(&island, -d);
+            if ring.is_empty() {
+                break;
+            }
+            lines.push(ring.into_iter().flatten().collect::<Vec<Contour>>());
+        }
+        if perimeters > 0 && lines.is_empty() {
+            out.thin += 1;
+            continue;
+        }
+        let inner = offset(&island, -((w - s) / 2.0 + f64::from(perimeters) * s));
+        out.inner.extend(inner);
+        out.islands.push(lines);
+    }
+    out
+}
