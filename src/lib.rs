@@ -20,7 +20,7 @@
 //! 1  error num schema tolerance
 //! 2  mesh
 //! 3  shapes warp
-//! 4  anchor job toolpath
+//! 4  anchor job overhang toolpath
 //! 5  gcode surfaces
 //! 6  register
 //! 7  emit
@@ -68,6 +68,7 @@ pub mod gcode;
 pub mod job;
 pub mod machine;
 pub mod mesh;
+pub mod overhang;
 pub mod pipeline;
 pub mod register;
 pub mod shapes;
