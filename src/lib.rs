@@ -28,8 +28,9 @@
 //! 9  machine
 //! 10 calibrate slicer collision
 //! 11 pipeline check
-//! 12 describe
-//! 13 wasm
+//! 12 suggest
+//! 13 describe
+//! 14 wasm
 //! ```
 //!
 //! `emit` (the [`emit::Emitter`] trait, E writing, the 3-axis emitter) sits below both `unwarp`
@@ -74,6 +75,7 @@ pub mod register;
 pub mod shapes;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod slicer;
+pub mod suggest;
 pub mod surfaces;
 pub mod toolpath;
 pub mod unwarp;

@@ -82,7 +82,7 @@ impl Facets {
     /// (all others are left out, the vertices kept): a facet with m·n < −cos θ has
     /// ∠(m, −z) ≤ ∠(m, −n) + ∠(n, z) < θ + τ, so facets with ∠(m, −z) ≥ θ + τ never count.
     /// The area, percent and tilt of [`Facets::measure`] on the subset equal those on the whole
-    /// (the surface is kept).
+    /// (the surface is kept); the subset is ordered most downward (smallest m_z) first.
     pub fn that_can_overhang(&self, angle_deg: f64, max_tilt_deg: f64) -> Facets {
         let reach = crate::num::rad((angle_deg + max_tilt_deg).min(180.0));
         let cos_reach = crate::num::cos(reach);
@@ -91,11 +91,18 @@ impl Facets {
             surface_mm2: self.surface_mm2,
             ..Facets::default()
         };
-        for i in 0..self.areas.len() {
+        // most downward first: a search's cutoff ([`Facets::area_up_to`]) is passed soonest
+        let mut order: Vec<usize> = (0..self.areas.len())
             // ∠(m, −z) < reach ⇔ −m_z > cos(reach)
-            if self.on_bed[i] || self.areas[i] <= 0.0 || !(-self.normals[i].z > cos_reach) {
-                continue;
-            }
+            .filter(|&i| !self.on_bed[i] && self.areas[i] > 0.0 && -self.normals[i].z > cos_reach)
+            .collect();
+        order.sort_by(|&a, &b| {
+            self.normals[a]
+                .z
+                .total_cmp(&self.normals[b].z)
+                .then(a.cmp(&b))
+        });
+        for i in order {
             f.centroids.push(self.centroids[i]);
             f.normals.push(self.normals[i]);
             f.areas.push(self.areas[i]);
@@ -104,38 +111,69 @@ impl Facets {
         f
     }
 
+    /// Every `k`-th facet (k ≥ 1), its area multiplied by k: a stratified sample whose
+    /// overhang area estimates the whole's (the surface and vertices are kept).
+    pub fn every_kth(&self, k: usize) -> Facets {
+        let k = k.max(1);
+        let pick = |v: &Vec<_>| -> Vec<_> { v.iter().step_by(k).copied().collect() };
+        Facets {
+            centroids: pick(&self.centroids),
+            normals: pick(&self.normals),
+            areas: self.areas.iter().step_by(k).map(|a| a * k as f64).collect(),
+            on_bed: self.on_bed.iter().step_by(k).copied().collect(),
+            vertices: self.vertices.clone(),
+            surface_mm2: self.surface_mm2,
+        }
+    }
+
     /// The overhang flag of every facet under `warp` (`None`: planar) and the printable
     /// angle θ = `angle_deg`.
     pub fn flags(&self, warp: Option<&dyn Warp>, angle_deg: f64) -> Vec<bool> {
         let limit = -crate::num::cos(crate::num::rad(angle_deg));
         (0..self.areas.len())
-            .map(|i| {
-                let n = tool_axis(warp, self.centroids[i]);
-                !self.on_bed[i] && self.normals[i].dot(n) < limit
-            })
+            .map(|i| self.overhangs(i, warp, limit))
             .collect()
+    }
+
+    /// Whether facet `i` overhangs under `warp`: m·n(c) < `limit` (= −cos θ), not on the bed.
+    fn overhangs(&self, i: usize, warp: Option<&dyn Warp>, limit: f64) -> bool {
+        !self.on_bed[i] && self.normals[i].dot(tool_axis(warp, self.centroids[i])) < limit
+    }
+
+    /// The overhang area (mm²) and the number of overhang facets under `warp` (`None`:
+    /// planar) and the printable angle θ = `angle_deg`.
+    pub fn area(&self, warp: Option<&dyn Warp>, angle_deg: f64) -> (f64, usize) {
+        self.area_up_to(warp, angle_deg, f64::INFINITY)
+            .unwrap_or((f64::INFINITY, 0))
+    }
+
+    /// [`Facets::area`], or `None` as soon as the area passes `cutoff` (mm²): a search that
+    /// only needs to know whether a warp beats one it has stops there.
+    pub fn area_up_to(
+        &self,
+        warp: Option<&dyn Warp>,
+        angle_deg: f64,
+        cutoff: f64,
+    ) -> Option<(f64, usize)> {
+        let limit = -crate::num::cos(crate::num::rad(angle_deg));
+        let mut area = 0.0;
+        let mut count = 0;
+        for i in 0..self.areas.len() {
+            if self.overhangs(i, warp, limit) {
+                area += self.areas[i];
+                count += 1;
+                if area > cutoff {
+                    return None;
+                }
+            }
+        }
+        Some((area, count))
     }
 
     /// The overhang area, its share of the surface and the largest tilt under `warp`
     /// (`None`: planar) and the printable angle θ = `angle_deg`.
     pub fn measure(&self, warp: Option<&dyn Warp>, angle_deg: f64) -> OverhangMeasure {
-        let limit = -crate::num::cos(crate::num::rad(angle_deg));
-        let mut area = 0.0;
-        let mut count = 0;
-        let mut min_cos_tilt: f64 = 1.0;
-        for i in 0..self.areas.len() {
-            let n = tool_axis(warp, self.centroids[i]);
-            min_cos_tilt = min_cos_tilt.min(n.z);
-            if !self.on_bed[i] && self.normals[i].dot(n) < limit {
-                area += self.areas[i];
-                count += 1;
-            }
-        }
-        if warp.is_some() {
-            for &v in &self.vertices {
-                min_cos_tilt = min_cos_tilt.min(tool_axis(warp, v).z);
-            }
-        }
+        let (area, count) = self.area(warp, angle_deg);
         OverhangMeasure {
             area_mm2: area,
             surface_mm2: self.surface_mm2,
@@ -145,7 +183,7 @@ impl Facets {
                 0.0
             },
             facets: count,
-            largest_tilt_deg: crate::num::deg(crate::num::acos(min_cos_tilt.clamp(-1.0, 1.0))),
+            largest_tilt_deg: warp.map_or(0.0, |w| self.largest_tilt_deg(w)),
         }
     }
 
