@@ -4,7 +4,8 @@
 //! - the local build direction at a model-frame point p is the warp's tool axis
 //!   n(p) = ∇T_z / |∇T_z| (planar: n = +z);
 //! - a facet with outward unit normal m and centroid c is an **overhang** when
-//!   m·n(c) < −cos θ, θ the printable overhang angle (default [`DEFAULT_OVERHANG_ANGLE_DEG`]),
+//!   m·n(c) < −cos θ (by more than [`AT_THE_ANGLE`], the rounding of a facet at exactly θ),
+//!   θ the printable overhang angle (default [`DEFAULT_OVERHANG_ANGLE_DEG`]),
 //!   unless it lies on the bed: all three vertices within [`BED_TOLERANCE_MM`] of z = 0;
 //! - the **overhang area** of a warp is the summed area of its overhang facets, taken on the
 //!   input mesh in the model frame (not the subdivided one);
@@ -25,6 +26,11 @@ use crate::warp::Warp;
 /// z = 0, mm (model frame): half a 0.1 mm first layer, so a bottom the STL writes at
 /// z = 1e-6 still counts, and a face one layer up does not.
 pub const BED_TOLERANCE_MM: f64 = 0.05;
+
+/// A facet leaning exactly θ (m·n = −cos θ: a flat underside under a 45° cone at θ = 45°) is
+/// printable; this bounds the rounding of m·n (a few 1e-16 from tan, cos and the
+/// normalisations) so such a facet does not flip with the last bit.
+pub const AT_THE_ANGLE: f64 = 1e-9;
 
 /// The printable overhang angle θ used when none is given, degrees from the vertical: a
 /// facet whose normal leans more than 45° below the layer plane (m·n < −cos 45°) overhangs.
@@ -135,9 +141,11 @@ impl Facets {
             .collect()
     }
 
-    /// Whether facet `i` overhangs under `warp`: m·n(c) < `limit` (= −cos θ), not on the bed.
+    /// Whether facet `i` overhangs under `warp`: m·n(c) < `limit` (= −cos θ) by more than
+    /// [`AT_THE_ANGLE`], not on the bed.
     fn overhangs(&self, i: usize, warp: Option<&dyn Warp>, limit: f64) -> bool {
-        !self.on_bed[i] && self.normals[i].dot(tool_axis(warp, self.centroids[i])) < limit
+        !self.on_bed[i]
+            && self.normals[i].dot(tool_axis(warp, self.centroids[i])) < limit - AT_THE_ANGLE
     }
 
     /// The overhang area (mm²) and the number of overhang facets under `warp` (`None`:
