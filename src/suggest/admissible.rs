@@ -15,8 +15,8 @@
 //!    give a kink (a cone's apex, a roof's crease) is a point the machine's pole rule handles:
 //!    it is not held against a fixed-tilt nozzle;
 //! 4. every layer is sliceable (the anchor rule, [`crate::anchor`]): the warped part's first
-//!    layer holds [`MIN_FIRST_LAYER_AREA`] of it, or the anchor slab (the footprint's convex
-//!    hull) does.
+//!    layer holds [`MIN_FIRST_LAYER_AREA`] of it, or the anchor slab can be put under it (the
+//!    footprint's convex hull has an area: not a part drawn in one vertical plane).
 
 use glam::DVec3;
 
@@ -127,7 +127,7 @@ impl std::fmt::Display for Inadmissible {
             ),
             Inadmissible::NotSliceable { first_layer_mm2 } => write!(
                 f,
-                "the warped part's first layer holds {first_layer_mm2:.2} mm² and its footprint is too small for an anchor"
+                "the warped part's first layer holds {first_layer_mm2:.2} mm² and its footprint has no area for an anchor slab (a part in one vertical plane)"
             ),
         }
     }
@@ -223,7 +223,7 @@ fn tilt_deg(n: DVec3) -> f64 {
 
 /// Rule 4.
 fn sliceable(warp: &dyn Warp, model: &Model, layer_height: f64) -> Result<(), Inadmissible> {
-    if model.hull_area_mm2 >= MIN_FIRST_LAYER_AREA {
+    if model.hull_area_mm2 > 0.0 {
         return Ok(()); // the anchor slab gives the first layer when the part does not
     }
     let warped = Mesh {

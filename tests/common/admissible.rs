@@ -11,8 +11,8 @@
 //! - monotonicity is ∂T_z/∂z > 0 by central differences at every sample (x, y) at its own z
 //!   and at the middle of the blend, where w′ peaks;
 //! - the anchor rule (README "The anchor"): the anchor slab, the convex hull of the part's
-//!   footprint, covers at least 25 mm² (it holds the quadrilateral of the footprint's extreme
-//!   points), or the warped first layer does.
+//!   footprint, can be put under the part (it has an area: it holds the quadrilateral of the
+//!   footprint's extreme points), or the warped first layer covers 25 mm².
 
 use glam::DVec3;
 use warpslice::mesh::Mesh;
@@ -274,7 +274,7 @@ pub fn check(flags: &str, mesh: &Mesh, limits: &Limits, layer_height: f64) -> Re
             })
             .sum::<f64>()
             .abs();
-    if footprint < MIN_FIRST_LAYER_MM2 {
+    if !(footprint > 0.0) {
         let w: Vec<DVec3> = mesh
             .vertices
             .iter()
