@@ -15,14 +15,14 @@
 //!    give a kink (a cone's apex, a roof's crease) is a point the machine's pole rule handles:
 //!    it is not held against a fixed-tilt nozzle;
 //! 4. every layer is sliceable (the anchor rule, [`crate::anchor`]): the warped part's first
-//!    layer holds [`MIN_FIRST_LAYER_AREA`] of it, or the anchor slab can be put under it (the
+//!    layer holds [`anchor::MIN_FIRST_LAYER_AREA`] of it, or the anchor slab can be put under it (the
 //!    footprint's convex hull has an area: not a part drawn in one vertical plane).
 
 use glam::DVec3;
 
 use super::family::Family;
 use super::model::Model;
-use crate::anchor::{self, MIN_FIRST_LAYER_AREA};
+use crate::anchor;
 use crate::machine::{Capabilities, Machine, MachineError, MachineSpec, LIMIT_SLACK_DEG};
 use crate::mesh::Mesh;
 use crate::num;

@@ -107,8 +107,8 @@ impl Point {
     /// The point with its coordinates rounded to their resolution.
     pub fn rounded(mut self) -> Point {
         let r = resolution(self.family);
-        for k in 0..3 {
-            self.x[k] = round_to(self.x[k], r[k]);
+        for (x, step) in self.x.iter_mut().zip(r) {
+            *x = round_to(*x, step);
         }
         if self.family == Family::Belt {
             self.x[1] = self.x[1].rem_euclid(360.0);
@@ -147,7 +147,7 @@ impl Point {
                 }
             }
             Family::Curved => {
-                if !(p.x[0] > 0.0) {
+                if p.x[0].is_nan() || p.x[0] <= 0.0 {
                     return None;
                 }
                 WarpSpec::Curved {

@@ -284,13 +284,13 @@ impl<'a> Search<'a> {
             // sweep the coordinates, moving at once to any neighbour that improves
             loop {
                 let mut moved = false;
-                for k in 0..3 {
-                    if steps[k] == 0.0 {
+                for (k, &step) in steps.iter().enumerate() {
+                    if step == 0.0 {
                         continue;
                     }
                     for sign in [-1.0, 1.0] {
                         let mut p = best.point;
-                        p.x[k] += sign * steps[k];
+                        p.x[k] += sign * step;
                         let bar = best.area_mm2 + AREA_TIE_MM2;
                         if let Some(s) = self.eval(p, bar) {
                             if self.improves(&s, &best) {

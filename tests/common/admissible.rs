@@ -205,7 +205,7 @@ pub fn check(flags: &str, mesh: &Mesh, limits: &Limits, layer_height: f64) -> Re
         for z in heights {
             let q = DVec3::new(p.x, p.y, z);
             let dz = t.grad(q).z;
-            if !(dz > 0.0) {
+            if dz.is_nan() || dz <= 0.0 {
                 return Err(format!("{flags}: ∂T_z/∂z = {dz} ≤ 0 at {q}"));
             }
         }
@@ -274,7 +274,7 @@ pub fn check(flags: &str, mesh: &Mesh, limits: &Limits, layer_height: f64) -> Re
             })
             .sum::<f64>()
             .abs();
-    if !(footprint > 0.0) {
+    if footprint.is_nan() || footprint <= 0.0 {
         let w: Vec<DVec3> = mesh
             .vertices
             .iter()
