@@ -108,7 +108,7 @@ pub(crate) fn add(cmd: Command, p: &Param, warps: &[&str]) -> Command {
 }
 
 /// The value given for `p`, else its default, as JSON (`None`: left out, optional).
-pub(crate) fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
+fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
     let given = match p.ty {
         ParamType::Number => m.get_one::<f64>(id(p)).map(|v| Value::from(*v)),
         ParamType::Pair => m
@@ -127,7 +127,7 @@ pub(crate) fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
 }
 
 /// Put `v` at the (dotted) key `key` of `obj`.
-pub(crate) fn insert(obj: &mut Map<String, Value>, key: &str, v: Value) {
+fn insert(obj: &mut Map<String, Value>, key: &str, v: Value) {
     match key.split_once('.') {
         Some((head, rest)) => {
             let inner = obj
@@ -356,16 +356,24 @@ impl clap::Args for CheckArgs {
     }
 }
 
+/// The options object the flags of `params` give (each left out takes its default), read by
+/// the core's serde type `T`.
+pub(crate) fn options_of<'a, T: serde::de::DeserializeOwned>(
+    m: &ArgMatches,
+    params: impl Iterator<Item = &'a Param>,
+) -> Result<T, clap::Error> {
+    let mut obj = Map::new();
+    for p in params {
+        if let Some(v) = value(m, p) {
+            insert(&mut obj, p.key, v);
+        }
+    }
+    serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))
+}
+
 impl clap::FromArgMatches for CheckArgs {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
-        let mut obj = Map::new();
-        for p in warpslice::check::options::PARAMS {
-            if let Some(v) = value(m, p) {
-                insert(&mut obj, p.key, v);
-            }
-        }
-        let options =
-            serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
+        let options = options_of(m, warpslice::check::options::PARAMS.iter())?;
         Ok(CheckArgs { options })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {

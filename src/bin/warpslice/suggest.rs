@@ -4,14 +4,13 @@
 use std::path::Path;
 
 use clap::{ArgMatches, Command};
-use serde_json::{Map, Value};
 use warpslice::pipeline::WarpOptions;
 use warpslice::schema::Param;
 use warpslice::suggest::{self, Model, SuggestOptions, SuggestReport};
 
 use crate::args::machine_spec;
 use crate::out::{put, say};
-use crate::schema_args::{add, insert, invalid, value};
+use crate::schema_args::{add, options_of};
 
 /// Which of `suggest::PARAMS` a command takes.
 pub mod which {
@@ -50,15 +49,9 @@ impl<const WHICH: u8> clap::Args for SuggestArgs<WHICH> {
 
 impl<const WHICH: u8> clap::FromArgMatches for SuggestArgs<WHICH> {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
-        let mut obj = Map::new();
-        for p in params(WHICH) {
-            if let Some(v) = value(m, p) {
-                insert(&mut obj, p.key, v);
-            }
-        }
-        let options: SuggestOptions =
-            serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
-        Ok(SuggestArgs { options })
+        Ok(SuggestArgs {
+            options: options_of(m, params(WHICH))?,
+        })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
         *self = Self::from_arg_matches(m)?;
