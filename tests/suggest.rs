@@ -147,6 +147,7 @@ fn brute_force(model: &Model, limits: &Limits, bound_deg: f64, theta: f64) -> (f
 fn every_suggestion_is_admissible_and_the_best_is_near_the_brute_force_minimum() {
     let theta = 45.0;
     let mut rows = Vec::new();
+    let mut failures = Vec::new();
     for (name, model) in models() {
         let planar = model.facets.measure(None, theta).area_mm2;
         for preset in PRESETS {
@@ -186,19 +187,21 @@ fn every_suggestion_is_admissible_and_the_best_is_near_the_brute_force_minimum()
                 "{name} on {preset}: planar {planar:.2}, best {best:.2} ({}), brute force {brute:.2} ({brute_flags})",
                 r.suggestions.first().map_or("planar", |s| s.flags.as_str())
             ));
-            assert!(
-                best <= brute * (1.0 + BRUTE_SLACK) + AREA_EPS,
-                "{}",
-                rows.last().unwrap()
-            );
-            if brute < planar - AREA_EPS {
-                assert!(best < planar - AREA_EPS, "{}", rows.last().unwrap());
+            if best > brute * (1.0 + BRUTE_SLACK) + AREA_EPS {
+                failures.push(format!(
+                    "over the brute force + 5 %: {}",
+                    rows.last().unwrap()
+                ));
+            }
+            if brute < planar - AREA_EPS && best >= planar - AREA_EPS {
+                failures.push(format!("not below planar: {}", rows.last().unwrap()));
             }
         }
     }
     for r in rows {
         println!("{r}");
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

@@ -13,7 +13,7 @@ use std::cmp::Ordering;
 use std::collections::BTreeMap;
 
 use super::admissible::{admissible, MachineLimits};
-use super::family::{flags, Family, Point};
+use super::family::{flags, resolution, Family, Point};
 use super::model::Model;
 use crate::machine::LIMIT_SLACK_DEG;
 use crate::overhang::Facets;
@@ -38,7 +38,7 @@ pub const TILT_GAIN_DEG: f64 = 0.05;
 /// Most facets the coarse grid's area estimate sums.
 pub const ROUGH_FACETS: usize = 20_000;
 /// Grid points of each family × direction the pattern search starts from.
-pub const STARTS_PER_GROUP: usize = 1;
+pub const STARTS_PER_GROUP: usize = 2;
 /// Areas within this of each other tie (then the smaller tilt ranks first), mm²; also the
 /// slack of the pattern search's cutoff.
 pub const AREA_TIE_MM2: f64 = 1e-6;
@@ -47,6 +47,16 @@ pub const HALVINGS: usize = 4;
 /// The base-blend variant of a refined warp starts its pattern search at this halving (it
 /// starts near the warp it varies).
 pub const BASE_FIRST_HALVING: usize = 2;
+
+/// No step below its coordinate's resolution (a smaller one rounds back to the same warp: on
+/// a model a few mm wide, wx/8 can be).
+fn floor_at_resolution(steps: &mut [f64; 3], family: Family) {
+    for (s, r) in steps.iter_mut().zip(resolution(family)) {
+        if *s != 0.0 {
+            *s = s.max(r);
+        }
+    }
+}
 
 /// One measured, admissible (at the coarse samples) candidate.
 #[derive(Clone, Debug)]
@@ -272,14 +282,16 @@ impl<'a> Search<'a> {
     }
 
     /// Improve `start` by coordinate steps (sweeping the coordinates and moving to each
-    /// neighbour that [improves](Search::improves), else halving the steps, up to [`HALVINGS`]
-    /// times), the steps halved `first_halving` times to begin with.
+    /// neighbour that [improves](Search::improves), then trying two coordinates at once, else
+    /// halving the steps, up to [`HALVINGS`] times), the steps halved `first_halving` times to
+    /// begin with.
     pub fn refine(&mut self, start: Scored, first_halving: usize) -> Scored {
         let mut best = start;
         let mut steps = self.steps(best.point.family);
         for s in &mut steps {
             *s /= (1u32 << first_halving) as f64;
         }
+        floor_at_resolution(&mut steps, best.point.family);
         for _ in first_halving..=HALVINGS {
             // sweep the coordinates, moving at once to any neighbour that improves
             loop {
@@ -300,6 +312,10 @@ impl<'a> Search<'a> {
                         }
                     }
                 }
+                // no single coordinate helps: try two at once (a cone's angle with its centre)
+                if !moved {
+                    moved = self.diagonal_move(&mut best, &steps);
+                }
                 if !moved {
                     break;
                 }
@@ -307,8 +323,34 @@ impl<'a> Search<'a> {
             for s in &mut steps {
                 *s /= 2.0;
             }
+            floor_at_resolution(&mut steps, best.point.family);
         }
         best
+    }
+
+    /// Move `best` to the first improving neighbour that changes two coordinates by their
+    /// steps at once; whether one did.
+    fn diagonal_move(&mut self, best: &mut Scored, steps: &[f64; 3]) -> bool {
+        for i in 0..3 {
+            for j in i + 1..3 {
+                if steps[i] == 0.0 || steps[j] == 0.0 {
+                    continue;
+                }
+                for (si, sj) in [(-1.0, -1.0), (-1.0, 1.0), (1.0, -1.0), (1.0, 1.0)] {
+                    let mut p = best.point;
+                    p.x[i] += si * steps[i];
+                    p.x[j] += sj * steps[j];
+                    let bar = best.area_mm2 + AREA_TIE_MM2;
+                    if let Some(s) = self.eval(p, bar) {
+                        if self.improves(&s, best) {
+                            *best = s;
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+        false
     }
 
     /// Whether the pattern search moves from `best` to `s`: at least `min_gain` less overhang,
