@@ -25,20 +25,26 @@ pub const MIN_FIRST_LAYER_AREA: f64 = 25.0;
 
 /// Whether the warped part (T-space) needs an anchor when sliced with `layer_height`.
 pub fn needs_anchor(warped: &Mesh, layer_height: f64) -> bool {
+    let area = first_layer_area(warped, layer_height);
+    area < MIN_FIRST_LAYER_AREA || area.is_nan()
+}
+
+/// The XY area (mm²) of the warped part's triangles lying within half a layer of its lowest
+/// point: what the slicer's first layer holds of it.
+pub fn first_layer_area(warped: &Mesh, layer_height: f64) -> f64 {
     let zmin = warped
         .vertices
         .iter()
         .map(|v| v.z)
         .fold(f64::INFINITY, f64::min);
     let limit = zmin + 0.5 * layer_height;
-    let area: f64 = warped
+    warped
         .triangles
         .iter()
         .map(|t| t.map(|i| warped.vertices[i as usize]))
         .filter(|[a, b, c]| a.z <= limit && b.z <= limit && c.z <= limit)
         .map(|[a, b, c]| 0.5 * (b - a).truncate().perp_dot((c - a).truncate()).abs())
-        .sum();
-    area < MIN_FIRST_LAYER_AREA || area.is_nan()
+        .sum()
 }
 
 /// Convex hull (counter-clockwise, no repeated first point) of 2-D points (Andrew's monotone

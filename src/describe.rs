@@ -43,6 +43,9 @@ pub struct Description {
     pub unwarp_options: Vec<Param>,
     /// The parameters of `warpslice check` besides the file and the machine.
     pub check_options: &'static [Param],
+    /// The parameters of `warpslice suggest` besides the model and the machine (`overhangs`
+    /// takes the first, the overhang angle).
+    pub suggest_options: &'static [Param],
     /// Every shipped machine preset.
     pub machines: Vec<MachineInfo>,
     /// Feature names; the index is the feature number in the preview's toolpath buffer.
@@ -69,6 +72,7 @@ pub fn error_codes() -> Vec<ErrorCode> {
         crate::calibrate::ERROR_CODES,
         crate::pipeline::ERROR_CODES,
         crate::check::ERROR_CODES,
+        crate::suggest::ERROR_CODES,
     ] {
         v.extend_from_slice(list);
     }
@@ -130,6 +134,7 @@ pub fn describe() -> Result<Description, MachineError> {
         warp_options: crate::pipeline::WARP_OPTION_PARAMS,
         unwarp_options,
         check_options: crate::check::options::PARAMS,
+        suggest_options: crate::suggest::PARAMS,
         machines,
         features: Feature::ALL.iter().map(|f| f.name()).collect(),
         errors: error_codes(),

@@ -20,7 +20,7 @@
 //! 1  error num schema tolerance
 //! 2  mesh
 //! 3  shapes warp planar
-//! 4  anchor job toolpath
+//! 4  anchor job overhang toolpath
 //! 5  gcode surfaces
 //! 6  register
 //! 7  emit
@@ -28,8 +28,9 @@
 //! 9  machine
 //! 10 calibrate slicer collision
 //! 11 pipeline check
-//! 12 describe
-//! 13 wasm
+//! 12 suggest
+//! 13 describe
+//! 14 wasm
 //! ```
 //!
 //! `emit` (the [`emit::Emitter`] trait, E writing, the 3-axis emitter) sits below both `unwarp`
@@ -68,12 +69,14 @@ pub mod gcode;
 pub mod job;
 pub mod machine;
 pub mod mesh;
+pub mod overhang;
 pub mod pipeline;
 pub mod planar;
 pub mod register;
 pub mod shapes;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod slicer;
+pub mod suggest;
 pub mod surfaces;
 pub mod toolpath;
 pub mod unwarp;

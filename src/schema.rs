@@ -15,6 +15,8 @@ pub enum ParamType {
     Number,
     /// One of [`Param::choices`].
     Choice,
+    /// One or more of [`Param::choices`], comma-separated (`conic,belt`).
+    Choices,
     /// On or off.
     Bool,
     /// Two numbers `a,b`.
@@ -177,4 +179,18 @@ pub struct WarpInfo {
     pub base: bool,
     /// Its parameters (keys of the warp spec object).
     pub params: &'static [Param],
+}
+
+/// A count given as a JSON number: a whole, non-negative number (`1000` or `1000.0`, as a
+/// form or the CLI's number flags write it); `key` names it in the error.
+pub fn count<'de, D: serde::Deserializer<'de>>(d: D, key: &str) -> Result<usize, D::Error> {
+    use serde::Deserialize;
+    let v = f64::deserialize(d)?;
+    if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
+        Ok(v as usize)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "{key} is {v}: it must be a whole number ≥ 0"
+        )))
+    }
 }

@@ -562,3 +562,33 @@ pub fn firmware_config(options_json: &str) -> Result<JsValue, JsValue> {
 pub fn describe() -> Result<String, JsValue> {
     crate::describe::describe_json().map_err(js)
 }
+
+/// `overhangs(stl, warpOptionsJson, overhangAngle)` → the overhang report with per-facet
+/// 0/1 flags (`suggest::OverhangReport`): planar, and under the warp of the options JSON (the
+/// shape `warp` takes; `""` for planar only).
+#[wasm_bindgen]
+pub fn overhangs(stl: &[u8], options_json: &str, overhang_angle: f64) -> Result<JsValue, JsValue> {
+    let model = crate::suggest::model_of(stl).map_err(js)?;
+    let warp = match options_json.trim() {
+        "" => None,
+        text => Some(WarpOptions::from_json(text).map_err(js)?.warp),
+    };
+    let r = crate::suggest::overhangs(&model, warp.as_ref(), overhang_angle, true).map_err(js)?;
+    to_js(&r)
+}
+
+/// `suggest(stl, machine, optionsJson)` → the ranked admissible warps
+/// (`suggest::SuggestReport`; `suggestions[i].warp` is the `warp` options' `warp` object).
+/// `machine`: a preset name or a machine JSON object; `optionsJson`: `suggest::SuggestOptions`
+/// (`""`: the defaults).
+#[wasm_bindgen]
+pub fn suggest(stl: &[u8], machine: &str, options_json: &str) -> Result<JsValue, JsValue> {
+    let model = crate::suggest::model_of(stl).map_err(js)?;
+    let spec = crate::machine::MachineSpec::from_name_or_json(machine).map_err(js)?;
+    let options: crate::suggest::SuggestOptions = match options_json.trim() {
+        "" => Default::default(),
+        text => parse("suggest options", text)?,
+    };
+    let r = crate::suggest::suggest(&model, &spec, &options).map_err(js)?;
+    to_js(&r)
+}

@@ -184,3 +184,130 @@ fn every_check_parameter_is_a_flag_of_check_with_its_default() {
         );
     }
 }
+
+/// The flags of `suggest`, `overhangs` and `warp --suggested` are the core's `suggest::PARAMS`
+/// (`describe().suggest_options`), each with its default.
+#[test]
+fn every_suggest_parameter_is_a_flag_of_suggest_with_its_default() {
+    let d = warpslice::describe::describe().unwrap();
+    assert!(!d.suggest_options.is_empty());
+    let (ok, suggest_help, _) = cli(&["suggest", "--help"]);
+    assert!(ok);
+    let (ok, overhangs_help, _) = cli(&["overhangs", "--help"]);
+    assert!(ok);
+    let (ok, warp_help, _) = cli(&["warp", "--help"]);
+    assert!(ok);
+    for p in d.suggest_options {
+        let mut helps = vec![&suggest_help];
+        if p.key == "overhang_angle" {
+            helps.extend([&overhangs_help, &warp_help]);
+        }
+        if p.key == "families" {
+            helps.push(&warp_help);
+        }
+        for h in helps {
+            let text = h
+                .split(&format!("{} ", p.flag))
+                .nth(1)
+                .and_then(|rest| rest.split("\n      --").next())
+                .unwrap_or_else(|| panic!("{} missing from:\n{h}", p.flag));
+            if let Some(t) = default_text(p) {
+                assert!(
+                    text.contains(&format!("[default: {t}]")),
+                    "{}: {text}",
+                    p.flag
+                );
+            }
+        }
+    }
+    for flag in ["--machine", "--json"] {
+        assert!(line_of(&suggest_help, flag).is_some(), "{flag}");
+    }
+    for flag in ["--suggested", "--machine"] {
+        assert!(line_of(&warp_help, flag).is_some(), "{flag}");
+    }
+}
+
+/// `suggest --json` is an array, best first, of objects with `flags` and
+/// `overhang_area_mm2`; `warp --suggested 1` writes the job of the first one's warp, and
+/// `warp` with its flags writes the same warp.
+#[test]
+fn suggest_json_lists_flags_that_warp_accepts_and_suggested_applies_them() {
+    let dir = std::env::temp_dir().join(format!("warpslice-cli-suggest-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let stl = dir.join("part.stl");
+    let s = stl.to_str().unwrap();
+    assert!(cli(&["example", "overhang", "-o", s]).0);
+    let (ok, out, err) = cli(&[
+        "suggest",
+        s,
+        "--machine",
+        "pax-5axis",
+        "--top",
+        "3",
+        "--json",
+    ]);
+    assert!(ok, "{err}");
+    let list: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let list = list.as_array().expect("an array");
+    assert!(!list.is_empty() && list.len() <= 3, "{out}");
+    let areas: Vec<f64> = list
+        .iter()
+        .map(|e| e["overhang_area_mm2"].as_f64().expect("overhang_area_mm2"))
+        .collect();
+    assert!(
+        areas.windows(2).all(|w| w[0] <= w[1]),
+        "not best first: {areas:?}"
+    );
+    let flags = list[0]["flags"].as_str().expect("flags").to_string();
+    let by_n = dir.join("by-n.stl");
+    let (ok, _, err) = cli(&[
+        "warp",
+        s,
+        "--suggested",
+        "1",
+        "--machine",
+        "pax-5axis",
+        "-o",
+        by_n.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let by_flags = dir.join("by-flags.stl");
+    let mut args = vec!["warp", s];
+    args.extend(flags.split_whitespace());
+    args.extend(["-o", by_flags.to_str().unwrap()]);
+    let (ok, _, err) = cli(&args);
+    assert!(ok, "{flags}: {err}");
+    let job = |p: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p.with_extension("job.json")).unwrap())
+            .unwrap()
+    };
+    assert_eq!(job(&by_n)["warp"], job(&by_flags)["warp"], "{flags}");
+    assert_eq!(job(&by_n)["warp"]["spec"], list[0]["warp"]["spec"]);
+    // out of the list: a named error
+    let (ok, _, err) = cli(&[
+        "warp",
+        s,
+        "--suggested",
+        "99",
+        "--machine",
+        "pax-5axis",
+        "-o",
+        by_n.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("--suggested 99"), "{err}");
+    // `overhangs --json` has a flag per facet, planar and warped
+    let mut args = vec!["overhangs", s, "--json"];
+    args.extend(flags.split_whitespace());
+    let (ok, out, err) = cli(&args);
+    assert!(ok, "{err}");
+    let r: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let n = r["triangles"].as_u64().unwrap() as usize;
+    assert_eq!(r["planar_facets"].as_array().unwrap().len(), n);
+    assert_eq!(r["warped_facets"].as_array().unwrap().len(), n);
+    assert!(
+        (r["warped"]["area_mm2"].as_f64().unwrap() - areas[0]).abs() < 1e-9,
+        "{out}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -55,14 +55,7 @@ pub const PARAMS: &[Param] = &[
         .help("check reach and axis speeds only, not the head's collisions with the print and the bed (the costly part on a large file)"),
 ];
 
-/// A count given as a JSON number: a whole, non-negative number (`1000` or `1000.0`).
+/// `max_findings`: a count ([`crate::schema::count`]).
 fn count<'de, D: serde::Deserializer<'de>>(d: D) -> Result<usize, D::Error> {
-    let v = f64::deserialize(d)?;
-    if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
-        Ok(v as usize)
-    } else {
-        Err(serde::de::Error::custom(format!(
-            "max_findings is {v}: it must be a whole number ≥ 0"
-        )))
-    }
+    crate::schema::count(d, "max_findings")
 }

@@ -2,6 +2,7 @@
 //! and the checks a–e of the core issue.
 #![allow(dead_code)]
 
+pub mod admissible;
 pub mod check;
 pub mod closed;
 pub mod collide;

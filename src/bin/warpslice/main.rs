@@ -18,6 +18,8 @@ mod calibrate;
 mod out;
 #[cfg(not(target_arch = "wasm32"))]
 mod schema_args;
+#[cfg(not(target_arch = "wasm32"))]
+mod suggest;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
@@ -51,10 +53,45 @@ mod cli {
             /// The model.
             model: PathBuf,
             #[command(flatten)]
-            warp: WarpArgs,
+            warp: WarpArgs<true>,
+            /// Instead of --warp: entry N (1 = best) of `warpslice suggest` for --machine (the
+            /// same deterministic search, run again).
+            #[arg(long, value_name = "N", requires = "machine", conflicts_with = "warp")]
+            suggested: Option<usize>,
+            /// With --suggested: a preset or a machine JSON file (docs/machines.md).
+            #[arg(long, value_name = "PRESET|FILE.json", requires = "suggested")]
+            machine: Option<String>,
+            #[command(flatten)]
+            suggest: crate::suggest::SuggestArgs<{ crate::suggest::which::SUGGESTED }>,
             /// The warped STL to write (the job goes next to it as .job.json).
             #[arg(short, long)]
             output: PathBuf,
+        },
+        /// How much of a model overhangs, planar and under a warp (issue 15's measure).
+        Overhangs {
+            /// The model.
+            model: PathBuf,
+            #[command(flatten)]
+            warp: WarpArgs<true>,
+            #[command(flatten)]
+            angle: crate::suggest::SuggestArgs<{ crate::suggest::which::ANGLE }>,
+            /// Print the report as JSON, with per-facet flags (0/1, the input's facet order).
+            #[arg(long)]
+            json: bool,
+        },
+        /// Rank the admissible warps of the seed families that leave the least overhang on a
+        /// machine.
+        Suggest {
+            /// The model.
+            model: PathBuf,
+            /// A preset or a machine JSON file (docs/machines.md).
+            #[arg(long, value_name = "PRESET|FILE.json")]
+            machine: String,
+            #[command(flatten)]
+            suggest: crate::suggest::SuggestArgs<{ crate::suggest::which::ALL }>,
+            /// Print the suggestions as a JSON array, best first.
+            #[arg(long)]
+            json: bool,
         },
         /// Map a planar slicer's G-code of the warped STL back to the real part.
         Unwarp {
@@ -455,11 +492,46 @@ mod cli {
             Command::Warp {
                 model,
                 warp,
+                suggested,
+                machine,
+                suggest,
                 output,
             } => {
-                files::warp_file(&model, &warp.options, &output, &mut Steps { bar: None })
+                let options =
+                    match suggested {
+                        Some(n) => crate::suggest::suggested(
+                            &model,
+                            machine.as_deref(),
+                            n,
+                            &suggest.options,
+                            warp.options,
+                        )?,
+                        None if warp.given => warp.options,
+                        None => return Err(
+                            "give --warp (and its parameters) or --suggested N --machine PRESET"
+                                .into(),
+                        ),
+                    };
+                files::warp_file(&model, &options, &output, &mut Steps { bar: None })
                     .map_err(|e| files::in_file(&model, &e))?;
             }
+            Command::Overhangs {
+                model,
+                warp,
+                angle,
+                json,
+            } => crate::suggest::overhangs(
+                &model,
+                warp.given.then_some(&warp.options),
+                angle.options.overhang_angle,
+                json,
+            )?,
+            Command::Suggest {
+                model,
+                machine,
+                suggest,
+                json,
+            } => crate::suggest::suggest(&model, &machine, &suggest.options, json)?,
             Command::Unwarp {
                 gcode,
                 job,

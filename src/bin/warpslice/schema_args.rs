@@ -89,12 +89,17 @@ fn arg(p: &Param, warps: &[&str]) -> Arg {
             .allow_hyphen_values(true)
             .value_name("X,Y,Z"),
         ParamType::Choice => a.value_parser(PossibleValuesParser::new(p.choices.iter().copied())),
+        ParamType::Choices => a
+            .value_parser(PossibleValuesParser::new(p.choices.iter().copied()))
+            .value_delimiter(',')
+            .action(ArgAction::Append)
+            .value_name("A,B,…"),
         ParamType::Bool => a.action(ArgAction::SetTrue),
     }
 }
 
 /// Add `p` unless the command already has the flag (`--tolerance` of `run` serves both steps).
-fn add(cmd: Command, p: &Param, warps: &[&str]) -> Command {
+pub(crate) fn add(cmd: Command, p: &Param, warps: &[&str]) -> Command {
     if cmd.get_arguments().any(|a| a.get_id() == id(p)) {
         cmd
     } else {
@@ -113,6 +118,9 @@ fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
             .get_one::<[f64; 3]>(id(p))
             .map(|v| Value::from(v.to_vec())),
         ParamType::Choice => m.get_one::<String>(id(p)).map(|v| Value::from(v.as_str())),
+        ParamType::Choices => m
+            .get_many::<String>(id(p))
+            .map(|v| Value::from(v.map(String::as_str).collect::<Vec<_>>())),
         ParamType::Bool => m.get_flag(id(p)).then_some(Value::Bool(true)),
     };
     given.or_else(|| p.default.to_json())
@@ -135,24 +143,28 @@ fn insert(obj: &mut Map<String, Value>, key: &str, v: Value) {
     }
 }
 
-fn invalid(message: String) -> clap::Error {
+pub(crate) fn invalid(message: String) -> clap::Error {
     clap::Error::raw(clap::error::ErrorKind::ValueValidation, message + "\n")
 }
 
-/// `--warp` and every warp's parameters, and the warp step's options.
+/// `--warp` and every warp's parameters, and the warp step's options. With `OPTIONAL`
+/// (`overhangs`, `warp --suggested N`) `--warp` may be left out: `given` is then false and
+/// `options.warp` holds the first warp's defaults, for the caller to replace.
 #[derive(Debug)]
-pub struct WarpArgs {
+pub struct WarpArgs<const OPTIONAL: bool = false> {
     /// The options the flags ask for.
     pub options: WarpOptions,
+    /// Whether `--warp` was given.
+    pub given: bool,
 }
 
-impl clap::Args for WarpArgs {
+impl<const OPTIONAL: bool> clap::Args for WarpArgs<OPTIONAL> {
     fn augment_args(cmd: Command) -> Command {
         let names: Vec<&str> = WARPS.iter().map(|w| w.name).collect();
         let mut cmd = cmd.arg(
             Arg::new("warp")
                 .long("warp")
-                .required(true)
+                .required(!OPTIONAL)
                 .value_parser(PossibleValuesParser::new(names))
                 .help(
                     WARPS
@@ -183,11 +195,19 @@ impl clap::Args for WarpArgs {
     }
 }
 
-impl clap::FromArgMatches for WarpArgs {
+/// `--warp` left out (allowed with `WarpArgs<true>`).
+fn name_given_none(m: &ArgMatches) -> bool {
+    m.get_one::<String>("warp").is_none()
+}
+
+impl<const OPTIONAL: bool> clap::FromArgMatches for WarpArgs<OPTIONAL> {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
-        let name = m
-            .get_one::<String>("warp")
-            .ok_or_else(|| invalid("--warp is required".into()))?;
+        let given = m.get_one::<String>("warp");
+        let name: &str = match given {
+            Some(name) => name.as_str(),
+            None if OPTIONAL => WARPS[0].name,
+            None => return Err(invalid("--warp is required".into())),
+        };
         let info = WARPS
             .iter()
             .find(|w| w.name == name)
@@ -196,6 +216,12 @@ impl clap::FromArgMatches for WarpArgs {
         for other in WARPS {
             for p in other.params {
                 let given = m.value_source(id(p)) == Some(clap::parser::ValueSource::CommandLine);
+                if given && name_given_none(m) {
+                    return Err(invalid(format!(
+                        "{} is a warp parameter: give --warp too",
+                        p.flag
+                    )));
+                }
                 if given && !info.params.iter().any(|q| q.flag == p.flag) {
                     let takers: Vec<&str> = WARPS
                         .iter()
@@ -239,7 +265,10 @@ impl clap::FromArgMatches for WarpArgs {
         obj.insert("warp".into(), Value::Object(warp));
         let options =
             WarpOptions::from_json_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
-        Ok(WarpArgs { options })
+        Ok(WarpArgs {
+            options,
+            given: given.is_some(),
+        })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
         *self = Self::from_arg_matches(m)?;
@@ -327,16 +356,24 @@ impl clap::Args for CheckArgs {
     }
 }
 
+/// The options object the flags of `params` give (each left out takes its default), read by
+/// the core's serde type `T`.
+pub(crate) fn options_of<'a, T: serde::de::DeserializeOwned>(
+    m: &ArgMatches,
+    params: impl Iterator<Item = &'a Param>,
+) -> Result<T, clap::Error> {
+    let mut obj = Map::new();
+    for p in params {
+        if let Some(v) = value(m, p) {
+            insert(&mut obj, p.key, v);
+        }
+    }
+    serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))
+}
+
 impl clap::FromArgMatches for CheckArgs {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
-        let mut obj = Map::new();
-        for p in warpslice::check::options::PARAMS {
-            if let Some(v) = value(m, p) {
-                insert(&mut obj, p.key, v);
-            }
-        }
-        let options =
-            serde_json::from_value(Value::Object(obj)).map_err(|e| invalid(e.to_string()))?;
+        let options = options_of(m, warpslice::check::options::PARAMS.iter())?;
         Ok(CheckArgs { options })
     }
     fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
