@@ -498,7 +498,7 @@ pub fn layer_surfaces(job_json: &str, every: u32, grid: u32) -> Result<Vec<f64>,
 #[wasm_bindgen]
 pub fn machine_axes(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsValue> {
     // as `machine_view` (`head_frames`) does: a trailing partial point is refused, not dropped
-    if points.len() % 6 != 0 {
+    if !points.len().is_multiple_of(6) {
         return Err(js(crate::machine::MachineError::BadCsv {
             line: points.len() / 6 + 1,
             message: format!(
