@@ -147,8 +147,21 @@ fn verdict(
         }
         Ok(_) if must_refuse => Err(format!("{what}: accepted, must be refused")),
         Ok(out) => {
-            checked(c, input, &out.gcode, opts)
-                .map_err(|e| format!("{what}: accepted, but {e}"))?;
+            checked(c, input, &out.gcode, opts).map_err(|e| {
+                // WARPSLICE_KEEP_FAILED=DIR (local reproduction): the mutated input and its output
+                if let Some(dir) = std::env::var_os("WARPSLICE_KEEP_FAILED") {
+                    let dir = std::path::PathBuf::from(dir);
+                    let tag: String = what
+                        .chars()
+                        .map(|ch| if ch.is_ascii_alphanumeric() { ch } else { '_' })
+                        .collect();
+                    let _ = std::fs::create_dir_all(&dir);
+                    let _ = std::fs::write(dir.join(format!("{tag}.in.gcode")), input);
+                    let _ = std::fs::write(dir.join(format!("{tag}.out.gcode")), &out.gcode);
+                    let _ = std::fs::write(dir.join("job.json"), job.to_json_pretty());
+                }
+                format!("{what}: accepted, but {e}")
+            })?;
             Ok(format!("{what}: accepted and checked"))
         }
     }
