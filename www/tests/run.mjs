@@ -758,12 +758,18 @@ try {
       warp: [...schema.warps.flatMap((w) => w.params), ...schema.warp_options].map((p) => p.flag),
       unwarp: schema.unwarp_options.map((p) => p.flag),
     };
+    // `warp --suggested N` and the search's options (issue 15): the page has no Suggest step
+    // yet (issue 15 §5); said here, not skipped silently
+    const notYet = ['--suggested', ...(schema.suggest_options || []).map((p) => p.flag)]
+      .filter((f) => !pageFlags.warp.includes(f));
+    console.log(`NOT YET IN THE PAGE (issue 15 §5, the Suggest step): warpslice warp ${notYet.join(' ')}`);
     for (const sub of ['warp', 'unwarp']) {
       const flags = cliFlags(sub);
       for (const f of flags) {
         // the page's own: the job and the warped STL of step 2 (always given), the output and
         // the firmware configuration (the result's second download, for a machine output)
         if (['--warp', '--machine', '--job', '--stl', '--output', '--config-out', '--help'].includes(f)) continue;
+        if (sub === 'warp' && notYet.includes(f)) continue;
         assert(pageFlags[sub].includes(f), `warpslice ${sub} ${f} has a field in the page`);
       }
       // and the other way round: every field of the page is a flag of the CLI
