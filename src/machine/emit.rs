@@ -943,39 +943,42 @@ pub struct SwingRun {
 /// largest summed turn of one axis reaches [`SWING_MIN_TURN_DEG`]. A rotate-around piece is
 /// never in a run and separates runs (it has its own lifted turn).
 pub fn swing_runs(start: &[f64], pieces: &[MachineMove], rotary: &[bool]) -> Vec<SwingRun> {
+    // |Δ| of rotary axis i from the axes `a` to `b`, degrees (0 for a linear axis)
+    let turn_of = |i: usize, a: &[f64], b: &[f64]| {
+        if rotary[i] {
+            (b[i] - a[i]).abs()
+        } else {
+            0.0
+        }
+    };
+    let before = |k: usize| {
+        if k == 0 {
+            start
+        } else {
+            &pieces[k - 1].axes[..]
+        }
+    };
+    let swings = |k: usize| {
+        let m = &pieces[k];
+        let turn = (0..rotary.len())
+            .map(|i| turn_of(i, before(k), &m.axes))
+            .fold(0.0, f64::max);
+        !m.rotate_around
+            && turn > 0.0
+            && (m.tip_length <= 0.0 || turn / m.tip_length > SWING_RATE_DEG_PER_MM)
+    };
     let mut runs: Vec<SwingRun> = Vec::new();
-    if !rotary.iter().any(|&r| r) {
-        return runs;
-    }
-    // per piece: its largest turn of one axis and whether it swings
-    let mut prev = start;
-    let mut turns: Vec<Vec<f64>> = Vec::with_capacity(pieces.len());
-    let mut swing: Vec<bool> = Vec::with_capacity(pieces.len());
-    for m in pieces {
-        let t: Vec<f64> = rotary
-            .iter()
-            .zip(prev.iter().zip(&m.axes))
-            .map(|(&r, (a, b))| if r { (b - a).abs() } else { 0.0 })
-            .collect();
-        let turn = t.iter().copied().fold(0.0, f64::max);
-        swing.push(
-            !m.rotate_around
-                && turn > 0.0
-                && (m.tip_length <= 0.0 || turn / m.tip_length > SWING_RATE_DEG_PER_MM),
-        );
-        turns.push(t);
-        prev = &m.axes;
-    }
-    // raw runs, joined across short gaps without a rotate-around
+    // raw runs, joined across short gaps without a rotate-around (the hot path: most moves
+    // have no swinging piece and allocate nothing)
     let mut raw: Vec<std::ops::Range<usize>> = Vec::new();
     let mut k = 0;
     while k < pieces.len() {
-        if !swing[k] {
+        if !swings(k) {
             k += 1;
             continue;
         }
         let s = k;
-        while k < pieces.len() && swing[k] {
+        while k < pieces.len() && swings(k) {
             k += 1;
         }
         if let Some(last) = raw.last_mut() {
@@ -989,13 +992,14 @@ pub fn swing_runs(start: &[f64], pieces: &[MachineMove], rotary: &[bool]) -> Vec
         raw.push(s..k);
     }
     for r in raw {
-        let mut sums = vec![0.0; rotary.len()];
-        for t in &turns[r.clone()] {
-            for (s, x) in sums.iter_mut().zip(t) {
-                *s += x;
-            }
-        }
-        let turn = sums.iter().copied().fold(0.0, f64::max);
+        // the largest summed turn of one axis over the run (the joined gap's pieces included)
+        let turn = (0..rotary.len())
+            .map(|i| {
+                r.clone()
+                    .map(|k| turn_of(i, before(k), &pieces[k].axes))
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max);
         if turn >= SWING_MIN_TURN_DEG {
             runs.push(SwingRun {
                 pieces: r,
