@@ -71,6 +71,25 @@ impl Turn {
         }
     }
 
+    /// The least rotation taking the unit vector `from` to +Z: about the horizontal axis
+    /// `from × e₃ / |from × e₃|` by the angle whose sine is `|from_xy|` and cosine `from_z`
+    /// (no inverse trigonometry). The identity for a vertical `from`.
+    pub fn onto_z(from: DVec3) -> Turn {
+        let s = (from.x * from.x + from.y * from.y).sqrt();
+        if s == 0.0 {
+            return Turn {
+                axis: DVec3::X,
+                sin: 0.0,
+                cos: 1.0,
+            };
+        }
+        Turn {
+            axis: DVec3::new(from.y / s, -from.x / s, 0.0),
+            sin: s,
+            cos: from.z,
+        }
+    }
+
     /// Rodrigues: `v cos θ + (a × v) sin θ + a (a·v)(1 − cos θ)`.
     pub fn apply(&self, v: DVec3) -> DVec3 {
         let (a, s, c) = (self.axis, self.sin, self.cos);

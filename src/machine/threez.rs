@@ -6,20 +6,32 @@
 //! World space: origin at ball 0 when homed, `e₃` up. Balls `b̂ᵢ` (bed space, all at the same
 //! z = `ball_z`) slide on rails of direction `dᵢ = (cos σᵢ, sin σᵢ, 0)`; each ball stays in the
 //! vertical plane `nᵢ·b + kᵢ = 0`, `nᵢ = e₃ × dᵢ`, `kᵢ = −nᵢ·b̄ᵢ`, `b̄ᵢ = b̂ᵢ − b̂₀` (Eq. 3),
-//! at height `(bᵢ)_z = −zᵢ` (Eq. 1). The tool axis n̂ (tip → nozzle, bed space) is realised by
-//! the bed normal `n' = (−n̂_x, −n̂_y, n̂_z)`.
+//! at height `(bᵢ)_z = −zᵢ` (Eq. 1). Bed space → world is a rotation R and a translation.
 //!
-//! ## Inverse (§3.1)
-//! `M = [t b n']ᵀ`, `b = n'×e₁/|·|`, `t = b×n'/|·|` (Eq. 4); plane-space normals
-//! `ñᵢ = (M nᵢ)_{xy}`, ball offsets `l̃ᵢ = (b̂ᵢ − b̂₀)_{xy}` (Eqs. 5–6). Ball 0 lies on the line
-//! `b̃·ñ₀ = 0` (k₀ = 0), direction `d̃₀ = (ñ₀)_{−y,x}/|ñ₀|` (the paper's d̃₀: any direction of
-//! that line), `b̃₀ = t d̃₀` (Eq. 7). Eq. 8 gives t(θ); Eq. 9 gives
-//! `α cos θ + β sin θ + γ = 0`, solved for the smallest |θ| by Eq. 11 (half-angle tangent,
-//! cancellation-free root). Then (Eq. 14–15)
+//! ## The tool axis: Rᵀe₃, not the mirrored bed normal (a correction to seed 001)
+//! The nozzle is vertical in the world, so the tool axis n̂ (tip → nozzle, bed space) is
+//! `n̂ = Rᵀe₃`. The paper realises n̂ by the bed normal `n' = R e₃ = (n̂)_{−x,−y,z}` (§3,
+//! "reflecting it about the z-axis") and Eq. 23 reads `n̂ = (n')_{−x,−y,z}` back. The two agree
+//! only when R is a rotation about a horizontal axis; the paper's R = Mᵀ R_θ (Eq. 14) also
+//! turns the bed about its normal by the θ the rails impose, and then the real nozzle
+//! direction in bed space is off the requested n̂ by up to 0.14° at a 30° tilt on the RatRig
+//! preset (more than the 0.1° the output promises). So warpslice keeps Rᵀe₃ = n̂ exactly: the
+//! rotations with that property are `R = R_z(ψ)·T`, T the least rotation taking n̂ to e₃ (about
+//! a horizontal axis), ψ a turn about the vertical. The heights of the balls do not depend on
+//! ψ (`(R l̂ᵢ)_z = n̂·l̂ᵢ`), so the tilt is exactly the requested one, and the rails fix ψ.
+//! `tests/machine_threez.rs` checks the nozzle direction with a generic solve of the physical
+//! constraints.
+//!
+//! ## Inverse (§3.1, with R = R_z(ψ)·T)
+//! Ball offsets in the world `R l̂ᵢ = R_z(ψ) T l̂ᵢ`, `l̂ᵢ = b̂ᵢ − b̂₀`. Ball 0 slides along its
+//! rail, `b₀ = t d₀` (k₀ = 0, Eq. 7); balls 1 and 2 stay in their rail planes
+//! `nᵢ·(t d₀ + R_z(ψ)(T l̂ᵢ)_{xy}) + kᵢ = 0` (Eq. 3). Eliminating t (Eq. 8) gives
+//! `α cos ψ + β sin ψ + γ = 0` (Eq. 9 in the world frame), solved for the smallest |ψ| by
+//! Eq. 11 (half-angle tangent, cancellation-free root). Then (Eqs. 14–15)
 //!
 //! ```text
-//! p' = Mᵀ R_θ (p̂ − b̂₀) + b̂₀ + (b₀)_{x,y,0},   (b₀)_{xy} = (Mᵀ (t d̃₀, 0))_{xy}
-//! x = p'_x, y = p'_y, z₀ = p'_z, zᵢ = z₀ − (Mᵀ R_θ (b̂ᵢ − b̂₀))_z   (i = 1, 2)
+//! q = R (p̂ − b̂₀) + b̂₀ + (t d₀, 0)
+//! x = q_x, y = q_y, z₀ = q_z, zᵢ = z₀ − (R l̂ᵢ)_z   (i = 1, 2)
 //! ```
 //!
 //! ## Forward (§3.2)
@@ -28,7 +40,7 @@
 //! and Eq. 11; then the 2-D problem of Eqs. 20–22 in world xy for (t', θ'); finally (Eq. 23)
 //!
 //! ```text
-//! R = R_{θ'} R₂ R₁,  p̂ = Rᵀ((x − t'd₀ₓ, y − t'd₀ᵧ, z₀) − b̂₀) + b̂₀,  n' = R e₃,  n̂ = (n')_{−x,−y,z}
+//! R = R_{θ'} R₂ R₁,  p̂ = Rᵀ((x − t'd₀ₓ, y − t'd₀ᵧ, z₀) − b̂₀) + b̂₀,  n̂ = Rᵀe₃ = R₁ᵀR₂ᵀe₃
 //! ```
 //!
 //! The paper's preset (§4.1): b̂₀ = (−4.07, −12.16), b̂₁ = (304.93, −12.16),
@@ -317,26 +329,6 @@ impl BedPose {
     pub(super) fn rotate(&self, v: DVec3) -> DVec3 {
         rot_z(self.t2.apply(self.t1.apply(v)), self.thp)
     }
-    /// The bed normal in the world, `n' = R e₃`.
-    pub(super) fn bed_normal(&self) -> DVec3 {
-        self.rotate(DVec3::Z)
-    }
-}
-
-/// `M v` and `Mᵀ w` for M = [t b n']ᵀ.
-struct Basis {
-    t: DVec3,
-    b: DVec3,
-    n: DVec3,
-}
-
-impl Basis {
-    fn apply(&self, v: DVec3) -> DVec3 {
-        DVec3::new(self.t.dot(v), self.b.dot(v), self.n.dot(v))
-    }
-    fn apply_t(&self, w: DVec3) -> DVec3 {
-        self.t * w.x + self.b * w.y + self.n * w.z
-    }
 }
 
 impl super::spec::Kind for ThreeZParams {
@@ -395,20 +387,20 @@ impl Machine for ThreeZ {
                 ),
             ));
         }
-        // Eq. 4.
-        let np = DVec3::new(-n_hat.x, -n_hat.y, n_hat.z);
-        let b = np.cross(DVec3::X).normalize();
-        let t = b.cross(np).normalize();
-        let m = Basis { t, b, n: np };
-        // Eq. 5.
-        let nt = self.nrm.map(|v| m.apply(v.extend(0.0)).truncate());
-        let d0 = perp(nt[0]) / nt[0].length();
-        let (tt, theta) = ThreeZ::solve_triangle(
-            self.l[1].truncate(),
-            self.l[2].truncate(),
-            d0,
-            nt[1],
-            nt[2],
+        // The bed's rotation R (bed → world) must turn the tool axis n̂ onto the vertical nozzle,
+        // Rᵀ e₃ = n̂: every such R is `R_z(ψ)·T`, T the least rotation n̂ → e₃ (about a
+        // horizontal axis) and ψ a turn about the vertical (see the module doc: this is where
+        // the paper's `n' = (n̂)_{−x,−y,z}` with `R = Mᵀ R_θ` is off by up to 0.14°).
+        let tilt_turn = Turn::onto_z(n_hat);
+        let a = |i: usize| tilt_turn.apply(self.l[i]);
+        // Eqs. 7–11 in the world: ball 0 at t d₀ on its rail, ball i at t d₀ + R_z(ψ) (T l̂ᵢ)_{xy}
+        // in its rail plane nᵢ·b + kᵢ = 0 (i = 1, 2): α cos ψ + β sin ψ + γ = 0, least |ψ|.
+        let (tt, psi) = ThreeZ::solve_triangle(
+            a(1).truncate(),
+            a(2).truncate(),
+            self.d[0],
+            self.nrm[1],
+            self.nrm[2],
             self.k[1],
             self.k[2],
         )
@@ -419,11 +411,11 @@ impl Machine for ThreeZ {
                 "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into(),
             )
         })?;
-        // Eq. 12/14.
-        let b0w = m.apply_t((d0 * tt).extend(0.0));
-        let turn = Turn::new(DVec3::Z, theta);
-        let rot = |v: DVec3| m.apply_t(turn.about_z(v));
-        let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + DVec3::new(b0w.x, b0w.y, 0.0);
+        // Eq. 14 with R = R_z(ψ)·T: q = R (p̂ − b̂₀) + b̂₀ + (t d₀, 0).
+        let b0w = (self.d[0] * tt).extend(0.0);
+        let spin = Turn::new(DVec3::Z, psi);
+        let rot = |v: DVec3| spin.about_z(tilt_turn.apply(v));
+        let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + b0w;
         let z0 = pp.z;
         // Eq. 15.
         if let Some([inward, outward]) = self.params.rail_travel_mm {
@@ -454,8 +446,9 @@ impl Machine for ThreeZ {
         let b0 = self.d[0] * pose.tp;
         let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
         let p = r21t(rot_z(v, -pose.thp)) + self.b_hat[0];
-        let np = pose.bed_normal();
-        Ok((p, DVec3::new(-np.x, -np.y, np.z)))
+        // The nozzle is vertical in the world: in bed space it points along Rᵀ e₃ = R₁ᵀ R₂ᵀ e₃
+        // (R_θ' turns about e₃).
+        Ok((p, r21t(DVec3::Z)))
     }
     /// The bed's pose for the Z motor heights, [`ThreeZ::bed_pose`]: its 3Z closed-form bound
     /// ([`super::threez_bound`]).

@@ -62,7 +62,8 @@
 //! within that (s ≤ 1) of its start slide.
 //!
 //! ## The tool axis (Lemmas 1, 3)
-//! The tool axis is the bed normal R e₃ mirrored in x and y (an isometry), `|(R e₃)''| ≤ |ω̇| + Ω²`:
+//! The tool axis is the world's vertical seen from the bed, `Rᵀe₃` ([`super::threez`]):
+//! `(Rᵀe₃)' = −Rᵀ(ω × e₃)`, `(Rᵀe₃)'' = Rᵀ(ω × (ω × e₃)) − Rᵀ(ω̇ × e₃)`, so `|(Rᵀe₃)''| ≤ |ω̇| + Ω²`:
 //! within `(|ω̇| + Ω²)/8` of its chord, and the slerp of the ends within `w²/8` of it
 //! (w = ∠(n₀, n₁)); the angle is `2 asin(chord/2)` ([`bound::angle_of_chord`]).
 //!

@@ -47,12 +47,6 @@ fn perp(v: DVec2) -> DVec2 {
     DVec2::new(-v.y, v.x)
 }
 
-/// The 2-D vector turned by `a` radians counter-clockwise.
-fn rot_z2(v: DVec2, a: f64) -> DVec2 {
-    let (s, c) = a.sin_cos();
-    DVec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
-}
-
 /// Wrap radians into (−π, π].
 fn wrap_pi(a: f64) -> f64 {
     let t = std::f64::consts::TAU;
@@ -164,8 +158,10 @@ impl ThreeZ {
     /// `u·l̂ᵢ = z₀ − zᵢ` for `u = Rᵀe₃` (the world's up in bed space): a 2×2 linear system for
     /// u_xy, u_z > 0. R is then the minimal rotation taking u to e₃ followed by a turn ψ about
     /// e₃, which with ball 0's slide t along d₀ puts balls 1 and 2 on their rail planes
-    /// (Eqs. 20–22). Finally (Eq. 23) `p̂ = Rᵀ((x − t d₀ₓ, y − t d₀ᵧ, z₀) − b̂₀) + b̂₀`,
-    /// `n' = R e₃`, `n̂ = (n')_{−x,−y,z}`.
+    /// (Eqs. 20–22). Finally (Eq. 23) `p̂ = Rᵀ((x − t d₀ₓ, y − t d₀ᵧ, z₀) − b̂₀) + b̂₀`.
+    /// The tool axis is where the vertical nozzle points in bed space: `n̂ = u = Rᵀe₃`
+    /// (not Eq. 23's `(R e₃)_{−x,−y,z}`, which equals it only when R has no turn about the
+    /// vertical: up to 0.14° off at 30° of tilt on the RatRig preset).
     /// Returns (p̂, n̂, u).
     fn forward(&self, x: f64, y: f64, z: [f64; 3]) -> Result<(DVec3, DVec3, DVec3), String> {
         let (l1, l2) = (self.l[1], self.l[2]);
@@ -186,45 +182,30 @@ impl ThreeZ {
             .ok_or_else(|| format!("three-z: the Z axes {z:?} put no ball on its rail"))?;
         let b0w = self.d[0] * pose.t;
         let p = pose.apply_t(DVec3::new(x - b0w.x, y - b0w.y, z[0]) - self.b0) + self.b0;
-        let np = pose.apply(DVec3::Z);
-        Ok((p, DVec3::new(-np.x, -np.y, np.z), u))
+        Ok((p, u, u))
     }
 
-    /// The bed pose realising tool axis `n` (seed 001 §3.1: bed normal `n' = (n̂)_{−x,−y,z}`,
-    /// least in-plane turn): every rotation with R e₃ = n' is R_min·R_z(θ), R_min the minimal
-    /// rotation e₃ → n' (axis, tilt): the ball offsets in the world are R_min(cos θ l̂ᵢ + sin θ
-    /// e₃ × l̂ᵢ); θ and ball 0's slide t along d₀ from the rails of balls 1 and 2 (Eqs. 7–11).
-    /// Returns (axis, tilt, θ, t).
-    fn pose_of(&self, n: DVec3) -> Option<(DVec3, f64, f64, f64)> {
-        let np = DVec3::new(-n.x, -n.y, n.z).normalize();
-        let (axis, tilt) = minimal_rotation(DVec3::Z, np);
-        let (d0, n1, n2) = (self.d[0], self.nr[1], self.nr[2]);
-        let a = |i: usize| rotate(self.l[i].extend(0.0), axis, tilt).truncate();
-        let b = |i: usize| rotate(perp(self.l[i]).extend(0.0), axis, tilt).truncate();
-        let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
-        let alpha = dn1 * n2.dot(a(2)) - dn2 * n1.dot(a(1));
-        let beta = dn1 * n2.dot(b(2)) - dn2 * n1.dot(b(1));
-        let gamma = dn1 * self.k[2] - dn2 * self.k[1];
-        let th = least_root(alpha, beta, gamma)?;
-        let (s, c) = th.sin_cos();
-        let t = -(n1.dot(a(1) * c + b(1) * s) + self.k[1]) / dn1;
-        Some((axis, tilt, th, t))
+    /// The bed pose realising tool axis `n`: the vertical nozzle is `n` in bed space, so
+    /// `Rᵀe₃ = n` and R is the minimal rotation taking n to e₃ followed by a turn ψ about e₃,
+    /// ψ and ball 0's slide from the rails ([`ThreeZ::rails_solve`]).
+    fn pose_of(&self, n: DVec3) -> Option<BedPose> {
+        let (axis, tilt) = minimal_rotation(n.normalize(), DVec3::Z);
+        self.rails_solve(axis, tilt)
     }
 
     /// The machine axes (x, y, z₀, z₁, z₂) putting the tip at bed point `p` with tool axis `n`:
     /// Eq. 23 read backwards, `(x − t d₀ₓ, y − t d₀ᵧ, z₀) = R(p̂ − b̂₀) + b̂₀` and
-    /// `zᵢ = z₀ − (R l̂ᵢ)_z` (Eqs. 1, 15), R = R_min·R_z(θ) of [`ThreeZ::pose_of`].
+    /// `zᵢ = z₀ − (R l̂ᵢ)_z` (Eqs. 1, 15), R of [`ThreeZ::pose_of`].
     fn axes_of(&self, p: DVec3, n: DVec3) -> Option<[f64; 5]> {
-        let (axis, tilt, th, t) = self.pose_of(n)?;
-        let r = |v: DVec3| rotate(rotate(v, DVec3::Z, th), axis, tilt);
+        let pose = self.pose_of(n)?;
+        let r = |v: DVec3| pose.apply(v);
         let q = r(p - self.b0) + self.b0;
-        let b0w = self.d[0] * t;
+        let b0w = self.d[0] * pose.t;
         let z = |i: usize| q.z - r(self.l[i].extend(0.0)).z;
         Some([q.x + b0w.x, q.y + b0w.y, q.z, z(1), z(2)])
     }
 
-    /// Whether the bed pose realising tool axis `n` (seed 001 §3.1: bed normal
-    /// `n' = (n̂)_{−x,−y,z}`, least in-plane turn) is beyond the tilt limit or slides a ball
+    /// Whether the bed pose realising tool axis `n` ([`ThreeZ::pose_of`]) is beyond the tilt limit or slides a ball
     /// beyond its rail's travel (§4.1: from the planar position, inward towards the balls'
     /// centroid and outward).
     fn out_of_reach(&self, n: DVec3) -> Option<String> {
@@ -236,11 +217,11 @@ impl ThreeZ {
             ));
         }
         let [inward, outward] = self.rails?;
-        let Some((axis, tilt, th, t)) = self.pose_of(n) else {
+        let Some(pose) = self.pose_of(n) else {
             return Some("no bed pose puts the balls on their rails".into());
         };
-        let d0 = self.d[0];
-        let world = |i: usize| rotate(rot_z2(self.l[i], th).extend(0.0), axis, tilt).truncate();
+        let (d0, t) = (self.d[0], pose.t);
+        let world = |i: usize| pose.apply(self.l[i].extend(0.0)).truncate();
         let centroid = (self.l[0] + self.l[1] + self.l[2]) / 3.0;
         for i in 0..3 {
             let now = d0 * t + world(i);
@@ -614,18 +595,6 @@ impl Fk {
                 )
             }
         })
-    }
-
-    /// The world's up in bed space for the triple-Z machine's axes (the nozzle is vertical, so
-    /// this is the tool axis relative to the part as the mechanism makes it), for comparing
-    /// with seed 001 Eq. 23's `n̂ = (R e₃)_{−x,−y,z}`. `None` for the other kinds.
-    pub fn three_z_bed_up(&self, x: &[f64]) -> Option<DVec3> {
-        match self {
-            Fk::ThreeZ(t) if x.len() == 5 => {
-                t.forward(x[0], x[1], [x[2], x[3], x[4]]).ok().map(|f| f.2)
-            }
-            _ => None,
-        }
     }
 
     /// Whether the realised tool axis at `(p, n)` is not fixed by `(p, n)` alone: the machine
