@@ -6,8 +6,21 @@
 //! ([`HeightGrid`]). A travel whose straight line already clears the grid by the clearance
 //! (cells within [`NEAR_END_RADIUS`] of its ends excepted: that is where the nozzle just
 //! printed or is about to print) goes straight.
+//!
+//! ## The whole head (issue 10 §2)
+//! On a machine the emitter gives the head's clearance profile
+//! ([`crate::emit::clearance::HeadProfile`]): a lifted travel then climbs to the higher of the
+//! tip's height (printed top + clearance) and the height at which the head's profile, tilted as
+//! far as either end's tool axis, clears every printed cell within its reach of the path by
+//! [`HEAD_CLEARANCE_MM`] ([`HeightGrid::head_clear_z`]). The tool axis turns from the start's
+//! to the end's during the move at that height (the lift and the descent keep their end's
+//! pose). The bound assumes the tilt along the move stays within the ends' tilts (the B head,
+//! RTN and PAX interpolate the tilt axis linearly). A travel that goes straight is judged by the
+//! tip's rule alone.
 
 use glam::{DVec2, DVec3};
+
+use crate::emit::clearance::{segment_distance, HeadProfile, Printed, HEAD_CLEARANCE_MM};
 
 /// Cell size of the height grid, mm.
 pub const CELL: f64 = 1.0;
@@ -112,13 +125,73 @@ pub enum TravelPlan {
     Lift(f64),
 }
 
-/// Plan a travel with `clearance` (mm).
-pub fn plan(grid: &HeightGrid, a: DVec3, b: DVec3, clearance: f64) -> TravelPlan {
+/// The head a travel must clear: its profile and the largest tilt of the tool axis along the
+/// travel (radians from +Z).
+#[derive(Clone, Copy, Debug)]
+pub struct HeadClearance<'a> {
+    /// The head's profile.
+    pub profile: &'a HeadProfile,
+    /// The largest tilt along the travel.
+    pub tilt: f64,
+}
+
+/// Plan a travel with `clearance` (mm) above the printed top for the tip, and with the whole
+/// head clearing printed material by [`HEAD_CLEARANCE_MM`] when `head` is given (see the module
+/// documentation).
+pub fn plan(
+    grid: &HeightGrid,
+    a: DVec3,
+    b: DVec3,
+    clearance: f64,
+    head: Option<HeadClearance<'_>>,
+) -> TravelPlan {
     let (above, top) = grid.clearance_needed(a, b);
     if above <= DIRECT_TRAVEL_SLACK {
-        TravelPlan::Direct
-    } else {
-        TravelPlan::Lift(top.max(a.z).max(b.z) + clearance)
+        return TravelPlan::Direct;
+    }
+    let tip = top.max(a.z).max(b.z) + clearance;
+    match head {
+        Some(h) => {
+            let z = grid.head_clear_z(h.profile, a.truncate(), b.truncate(), 0.0, h.tilt);
+            TravelPlan::Lift(tip.max(z + HEAD_CLEARANCE_MM))
+        }
+        None => TravelPlan::Lift(tip),
+    }
+}
+
+impl Printed for HeightGrid {
+    /// Every marked cell within the head's reach (+ `pad` + half a cell's diagonal) of the
+    /// segment, at the distance of its centre from the segment less `pad` and half a diagonal
+    /// (a lower bound of the horizontal distance from any tip position within `pad` of the
+    /// segment to any point of the cell). The cost is the cells of the segment's box grown by
+    /// the reach: (|b − a| + 2R)·2R / CELL² for a reach R (≈ 35 mm for a 45° RTN head).
+    fn head_clear_z(&self, profile: &HeadProfile, a: DVec2, b: DVec2, pad: f64, tilt: f64) -> f64 {
+        let half_diag = CELL * std::f64::consts::FRAC_1_SQRT_2;
+        let reach = profile.reach(tilt) + pad + half_diag;
+        let lo = (a.min(b) - DVec2::splat(reach) - self.origin) / CELL;
+        let hi = (a.max(b) + DVec2::splat(reach) - self.origin) / CELL;
+        let clamp = |v: f64, n: usize| -> usize { v.floor().clamp(0.0, n as f64 - 1.0) as usize };
+        if hi.x < 0.0 || hi.y < 0.0 || lo.x >= self.nx as f64 || lo.y >= self.ny as f64 {
+            return f64::NEG_INFINITY;
+        }
+        let (i0, i1) = (clamp(lo.x, self.nx), clamp(hi.x, self.nx));
+        let (j0, j1) = (clamp(lo.y, self.ny), clamp(hi.y, self.ny));
+        let mut z = f64::NEG_INFINITY;
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let top = self.h[j * self.nx + i];
+                if top == f64::NEG_INFINITY {
+                    continue;
+                }
+                let c = self.origin + (DVec2::new(i as f64, j as f64) + 0.5) * CELL;
+                let d = (segment_distance(c, a, b) - pad - half_diag).max(0.0);
+                let floor = profile.floor(tilt, d);
+                if floor.is_finite() {
+                    z = z.max(top - floor);
+                }
+            }
+        }
+        z
     }
 }
 
@@ -132,14 +205,14 @@ mod tests {
         g.mark_segment(DVec3::new(-1.0, 0.0, 8.0), DVec3::new(1.0, 0.0, 8.0));
         let a = DVec3::new(-8.0, 0.0, 2.0);
         let b = DVec3::new(8.0, 0.0, 2.0);
-        assert_eq!(plan(&g, a, b, 1.0), TravelPlan::Lift(9.0));
+        assert_eq!(plan(&g, a, b, 1.0, None), TravelPlan::Lift(9.0));
         // a travel that passes well beside it goes straight
         let a2 = DVec3::new(-8.0, 8.0, 2.0);
         let b2 = DVec3::new(8.0, 8.0, 2.0);
-        assert_eq!(plan(&g, a2, b2, 1.0), TravelPlan::Direct);
+        assert_eq!(plan(&g, a2, b2, 1.0, None), TravelPlan::Direct);
         // and so does one over it at the height of its top (a planar layer's travel)
         let a3 = DVec3::new(-8.0, 0.0, 8.0);
         let b3 = DVec3::new(8.0, 0.0, 8.0);
-        assert_eq!(plan(&g, a3, b3, 1.0), TravelPlan::Direct);
+        assert_eq!(plan(&g, a3, b3, 1.0, None), TravelPlan::Direct);
     }
 }
