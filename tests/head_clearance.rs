@@ -239,6 +239,7 @@ fn b_head_tilted_45_degrees_travels_over_a_20_mm_wall_with_the_whole_head_clear(
     let head = HeadClearance {
         profile: &profile,
         tilt,
+        turn: 0.0,
     };
     let TravelPlan::Lift(z) = plan(&g.grid, a, b, 1.0, Some(head)) else {
         panic!("the travel crosses the wall: it must lift");

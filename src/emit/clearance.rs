@@ -111,15 +111,37 @@ impl ProfilePiece {
 }
 
 /// The head as seen by a lift (see the module documentation).
-#[derive(Clone, Debug, PartialEq, Default)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct HeadProfile {
     /// The pieces, any order.
     pub pieces: Vec<ProfilePiece>,
+    /// The tilts the machine realises (radians from +Z, lowest and highest): a tilt asked of
+    /// [`HeadProfile::floor`] or [`HeadProfile::reach`] is taken into this range first (a 3-axis
+    /// head stays vertical whatever the layer's normal, the RTN nozzle is always at 45°).
+    pub tilt_range: [f64; 2],
+}
+
+impl Default for HeadProfile {
+    fn default() -> Self {
+        HeadProfile {
+            pieces: Vec::new(),
+            tilt_range: [0.0, std::f64::consts::PI],
+        }
+    }
 }
 
 impl HeadProfile {
+    /// The tilt the machine realises for a requested tilt θ (radians).
+    pub fn realised_tilt(&self, tilt: f64) -> f64 {
+        tilt.clamp(
+            self.tilt_range[0],
+            self.tilt_range[1].max(self.tilt_range[0]),
+        )
+    }
+
     /// The farthest any head point gets from the tip horizontally at tilt θ (radians), mm.
     pub fn reach(&self, tilt: f64) -> f64 {
+        let tilt = self.realised_tilt(tilt);
         let st = crate::num::sin(tilt).abs();
         self.pieces
             .iter()
@@ -130,6 +152,7 @@ impl HeadProfile {
     /// No head point at a horizontal distance of `d` mm or more from the tip is lower than
     /// this above the tip, at tilt θ (radians from +Z); +∞ when none reaches `d`.
     pub fn floor(&self, tilt: f64, d: f64) -> f64 {
+        let tilt = self.realised_tilt(tilt);
         let (st, ct) = (crate::num::sin(tilt).abs(), crate::num::cos(tilt));
         self.pieces
             .iter()
@@ -180,6 +203,7 @@ mod tests {
         // θ = 0: g(s) = r(s) = 0.5 + s·tan α, h(s) = s, so floor(d) = (d − 0.5)/tan α
         let p = HeadProfile {
             pieces: vec![cone(40.0)],
+            ..HeadProfile::default()
         };
         let k = 40f64.to_radians().tan();
         for d in [0.5, 1.0, 2.0, 4.0] {
@@ -201,6 +225,7 @@ mod tests {
                 radius_mm: [16.12, 16.12],
                 drop_mm: [14.0, 14.0],
             }],
+            ..HeadProfile::default()
         };
         let t = 45f64.to_radians();
         let want = (4.5 - 14.0) * t.cos();

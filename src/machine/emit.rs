@@ -215,8 +215,9 @@ impl MachineEmitter {
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
         // a head that turns itself (not a part turned under it) tilts in its tool axis'
         // vertical plane
-        let profile =
+        let mut profile =
             super::head::clearance_profile(&spec.head()?, !machine.capabilities().moving_bed);
+        profile.tilt_range = realised_tilt_range(machine.as_ref());
         let config = input_for(spec, machine.as_ref(), feed)?;
         flavour.check(machine.name(), &limits, feed)?;
         let rule_limits = limits
@@ -1002,6 +1003,41 @@ impl Emitter for MachineEmitter {
 
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
+    }
+}
+
+/// Tilts asked of the machine by [`realised_tilt_range`], degrees.
+pub const TILT_PROBES_DEG: [f64; 8] = [0.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 89.0];
+
+/// The range of tilts (radians from +Z) the machine realises, probed: `realised_axis` at the
+/// workspace's centre for [`TILT_PROBES_DEG`] at four azimuths (a 3-axis head gives [0, 0],
+/// the RTN's fixed nozzle [45°, 45°], a tilting head [0, its largest probed tilt]). A sampled
+/// range, not a proof: a machine realising a tilt between probes but beyond both ends would be
+/// taken at the nearest end (none of the kinds does: their realised tilt is the request clamped
+/// to a range, or a constant).
+fn realised_tilt_range(machine: &dyn Machine) -> [f64; 2] {
+    let w = machine.workspace();
+    let c = (w.min + w.max) * 0.5;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for t in TILT_PROBES_DEG {
+        for k in 0..4 {
+            let (t, a) = (crate::num::rad(t), crate::num::rad(90.0 * k as f64));
+            let n = DVec3::new(
+                crate::num::sin(t) * crate::num::cos(a),
+                crate::num::sin(t) * crate::num::sin(a),
+                crate::num::cos(t),
+            );
+            let r = tilt_of(machine.realised_axis(c, n));
+            if r.is_finite() {
+                lo = lo.min(r);
+                hi = hi.max(r);
+            }
+        }
+    }
+    if lo <= hi {
+        [lo, hi]
+    } else {
+        [0.0, std::f64::consts::PI]
     }
 }
 

@@ -440,5 +440,8 @@ pub fn clearance_profile(head: &HeadSpec, tilt_frame: bool) -> crate::emit::clea
             _ => None,
         })
         .collect();
-    HeadProfile { pieces }
+    HeadProfile {
+        pieces,
+        ..HeadProfile::default()
+    }
 }

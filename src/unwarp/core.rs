@@ -750,6 +750,7 @@ impl Core {
                     profile,
                     tilt: crate::num::acos(cur_n.z.clamp(-1.0, 1.0))
                         .max(crate::num::acos(n.z.clamp(-1.0, 1.0))),
+                    turn: crate::num::angle_between(cur_n, n),
                 });
                 match travel::plan(&self.grid, cur, target, self.opts.travel_clearance, head) {
                     travel::TravelPlan::Direct => self.write_travel(target, n, f),

@@ -228,10 +228,11 @@ impl Core {
         }
         if let Some(a) = self.outside_pose {
             // outside the region the tool axis is vertical (the rest pose)
-            let head = self
-                .head
-                .as_ref()
-                .map(|profile| travel::HeadClearance { profile, tilt: 0.0 });
+            let head = self.head.as_ref().map(|profile| travel::HeadClearance {
+                profile,
+                tilt: 0.0,
+                turn: 0.0,
+            });
             if let travel::TravelPlan::Lift(z) =
                 travel::plan(&self.grid, a, target, clearance, head)
             {
