@@ -19,6 +19,7 @@ use crate::job::Job;
 use crate::toolpath::ToolPoint;
 
 mod cartesian;
+pub mod clearance;
 mod e_writer;
 mod report;
 
@@ -159,6 +160,23 @@ pub trait Emitter: Send {
         tp: &ToolPoint,
         relative_e: bool,
     ) -> Result<(), EmitError>;
+    /// [`Emitter::point`] with the material printed so far, for the lifts the emitter makes on
+    /// its own (a machine's rotate-around, a swing lift: [`clearance`]). The default ignores it.
+    fn point_over(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+        printed: &dyn clearance::Printed,
+    ) -> Result<(), EmitError> {
+        let _ = printed;
+        self.point(out, tp, relative_e)
+    }
+    /// The head's clearance profile ([`clearance::HeadProfile`]), for travels that clear the
+    /// whole head; `None` (the default, 3-axis output): travels are planned for the tip only.
+    fn head_profile(&self) -> Option<clearance::HeadProfile> {
+        None
+    }
     /// `G92 E v` passed through: the firmware's E is now v.
     fn reset_e(&mut self, v: f64);
     /// The firmware's E after the last point (absolute mode).

@@ -66,6 +66,7 @@ use super::reach::Reach;
 use super::speed::AxisSpeeds;
 use super::tessellate::{tessellate_move, Bounds, MachineMove, TessellationReport, DEFAULT_BOUNDS};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
+use crate::emit::clearance::{segment_distance, HeadProfile, Printed, HEAD_CLEARANCE_MM};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, SwingPlace, DEFAULT_TRAVEL_FEED};
 use crate::gcode::write::{push_e, push_fixed, push_mm, written_value, MM_DECIMALS};
 use crate::job::Job;
@@ -168,6 +169,21 @@ pub struct MachineEmitter {
     /// Which output coordinates (x, y, z) each axis depends on at the rest pose
     /// ([`rest_dependence`]), computed on the first partial move.
     rest_deps: Option<Vec<[bool; 3]>>,
+    /// The head's clearance profile ([`super::head::clearance_profile`]): lifted turns and the
+    /// unwarp's lifted travels clear the whole head.
+    profile: HeadProfile,
+}
+
+/// A pose a lifted turn passes through in the air ([`MachineEmitter::lifted_turn`]): the tip
+/// `p` and tool axis `n` on the path (lifted by the turn's lift when written), the axes that
+/// seed the inverse kinematics (the piece's own: same rotary values, same branch), the tip
+/// length of the move to it and its feed.
+struct AirPose<'a> {
+    p: DVec3,
+    n: DVec3,
+    seed: &'a [f64],
+    tip_length: f64,
+    f: f64,
 }
 
 impl std::fmt::Debug for MachineEmitter {
@@ -197,6 +213,11 @@ impl MachineEmitter {
             axis_bounds.iter().map(|b| b.rotary).collect(),
         );
         let flavour = flavour.or(spec.flavour).unwrap_or_default();
+        // a head that turns itself (not a part turned under it) tilts in its tool axis'
+        // vertical plane
+        let mut profile =
+            super::head::clearance_profile(&spec.head()?, !machine.capabilities().moving_bed);
+        profile.tilt_range = realised_tilt_range(machine.as_ref());
         let config = input_for(spec, machine.as_ref(), feed)?;
         flavour.check(machine.name(), &limits, feed)?;
         let rule_limits = limits
@@ -247,6 +268,7 @@ impl MachineEmitter {
             convert_outside: false,
             outside: true,
             rest_deps: None,
+            profile,
         })
     }
 
@@ -447,52 +469,134 @@ impl MachineEmitter {
         }
     }
 
-    /// Lifted turn-around to `to` (a single-revolution axis crosses its seam).
+    /// [`Emitter::point`], with the printed material for lifted turns when known.
+    fn point_at(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+        printed: Option<&dyn Printed>,
+    ) -> Result<(), EmitError> {
+        self.start_lines(out);
+        self.input_line = tp.line;
+        if self.input_lines.is_some() {
+            let next = self.next_output_line(out);
+            if let Some(m) = self.input_lines.as_mut() {
+                m.push(next, tp.line);
+            }
+        }
+        if tp.travel && tp.e != 0.0 {
+            let v = self.ew.advance(tp.e, relative_e);
+            out.extend_from_slice(b"G1 E");
+            push_e(out, v);
+            let f = if self.feed_now() == FeedMode::InverseTime {
+                tp.f / tp.e.abs()
+            } else {
+                tp.f
+            };
+            self.write_feed(out, f);
+            self.speeds.add_extruder_move(self.feed_now(), tp.e, f);
+            out.push(b'\n');
+            return Ok(());
+        }
+        if !tp.travel && !self.outside {
+            if self.last_layer.is_some_and(|l| l != tp.layer) {
+                self.reset_rotary(out);
+            }
+            self.last_layer = Some(tp.layer);
+        }
+        self.move_to(out, tp, relative_e, printed)
+            .map_err(EmitError::new)
+    }
+
+    /// How far a lifted turn lifts the tip along +Z: [`ROTATE_AROUND_LIFT_MM`], or more where
+    /// the head would not clear the printed material (`printed`; `None`: the tip's 1 mm) by
+    /// [`HEAD_CLEARANCE_MM`] at every pose of the turn: the head's profile at the largest tilt of
+    /// `from` and `poses`, over the segment from `from`'s tip to the last pose's, padded by the
+    /// farthest pose from it, set on the lowest of their tips.
+    fn turn_lift(
+        &self,
+        printed: Option<&dyn Printed>,
+        from: &Pose,
+        poses: &[(DVec3, DVec3)],
+    ) -> f64 {
+        let Some(printed) = printed else {
+            return ROTATE_AROUND_LIFT_MM;
+        };
+        let (a, b) = (from.p, poses.last().map_or(from.p, |q| q.0));
+        let (mut pad, mut tilt, mut low) = (0.0f64, tilt_of(from.n), from.p.z);
+        for &(p, n) in poses {
+            pad = pad.max(segment_distance(p.truncate(), a.truncate(), b.truncate()));
+            tilt = tilt.max(tilt_of(n));
+            low = low.min(p.z);
+        }
+        let z = printed.head_clear_z(&self.profile, a.truncate(), b.truncate(), pad, tilt);
+        ROTATE_AROUND_LIFT_MM.max(z + HEAD_CLEARANCE_MM - low)
+    }
+
+    /// A lifted turn: from `from`, lift the tip by `lift` along +Z with the pose held (feed
+    /// `f_lift`), pass through `poses` each lifted the same way (`inverse(p + lift, n)` seeded
+    /// with the pose's own axes, so every rotary value is the pose's), and set down on `land`
+    /// (tip `land_p`, feed `f_lift`). Nothing is extruded. Every line ends with `tag`. The one
+    /// shape of a rotate-around and a swing lift.
+    #[allow(clippy::too_many_arguments)]
+    fn lifted_turn<'a>(
+        &mut self,
+        out: &mut Vec<u8>,
+        from: &Pose,
+        lift: f64,
+        f_lift: f64,
+        poses: impl Iterator<Item = AirPose<'a>>,
+        land: (&[f64], DVec3),
+        tag: &str,
+    ) -> Result<(), MachineError> {
+        let up = DVec3::Z * lift;
+        let mut at = self
+            .machine
+            .inverse(from.p + up, from.n, Some(&from.axes))?;
+        self.write_g1(out, &from.axes, &at, from.p + up, None, lift, f_lift, tag)?;
+        for q in poses {
+            let next = self.machine.inverse(q.p + up, q.n, Some(q.seed))?;
+            self.write_g1(out, &at, &next, q.p + up, None, q.tip_length, q.f, tag)?;
+            at = next;
+        }
+        self.write_g1(out, &at, land.0, land.1, None, lift, f_lift, tag)
+    }
+
+    /// Lifted turn-around to `to` (a single-revolution axis crosses its seam), at feed `f`.
     fn rotate_around(
         &mut self,
         out: &mut Vec<u8>,
         from: &Pose,
         to: &Pose,
         f: f64,
+        printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
-        let lift = DVec3::Z * ROTATE_AROUND_LIFT_MM;
-        let up0 = self
-            .machine
-            .inverse(from.p + lift, from.n, Some(&from.axes))?;
-        let up1 = self.machine.inverse(to.p + lift, to.n, Some(&to.axes))?;
-        let tag = ROTATE_AROUND_TAG;
-        self.write_g1(
-            out,
-            &from.axes,
-            &up0,
-            from.p,
-            None,
-            ROTATE_AROUND_LIFT_MM,
+        let lift = self.turn_lift(printed, from, &[(to.p, to.n)]);
+        let pose = AirPose {
+            p: to.p,
+            n: to.n,
+            seed: &to.axes,
+            tip_length: (to.p - from.p).length(),
             f,
-            tag,
-        )?;
-        let len = (to.p - from.p).length();
-        self.write_g1(out, &up0, &up1, to.p, None, len, f, tag)?;
-        self.write_g1(
+        };
+        let land = (&to.axes[..], to.p);
+        self.lifted_turn(
             out,
-            &up1,
-            &to.axes,
-            to.p,
-            None,
-            ROTATE_AROUND_LIFT_MM,
+            from,
+            lift,
             f,
-            tag,
+            std::iter::once(pose),
+            land,
+            ROTATE_AROUND_TAG,
         )?;
         self.report.rotate_arounds += 1;
         Ok(())
     }
 
-    /// A swing lift ([`SWING_MIN_TURN_DEG`]): from `from`, lift the tip by
-    /// [`ROTATE_AROUND_LIFT_MM`] along +Z with the pose held, pass through the poses of `run`
-    /// each lifted the same way (`inverse(p + lift, n)` from the piece's own axes, so every
-    /// rotary value is the piece's and the turn is the one the swing would have printed), and
-    /// set down on the run's last pose. Nothing is extruded: the run's filament goes to the next
-    /// extruding piece. Each place goes into the report.
+    /// A swing lift ([`SWING_MIN_TURN_DEG`]): a lifted turn from `from` through the poses of
+    /// `run` (the turn the swing would have printed), set down on the run's last pose. The
+    /// run's filament goes to the next extruding piece. Each place goes into the report.
     fn swing_lift(
         &mut self,
         out: &mut Vec<u8>,
@@ -500,52 +604,33 @@ impl MachineEmitter {
         run: &[MachineMove],
         turn_deg: f64,
         tp: &ToolPoint,
+        printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
-        let lift = DVec3::Z * ROTATE_AROUND_LIFT_MM;
         let output_line = self.next_output_line(out);
-        let up0 = self
-            .machine
-            .inverse(from.p + lift, from.n, Some(&from.axes))?;
-        let tag = SWING_TAG;
-        self.write_g1(
-            out,
-            &from.axes,
-            &up0,
-            from.p + lift,
-            None,
-            ROTATE_AROUND_LIFT_MM,
-            tp.f,
-            tag,
-        )?;
-        let mut at = up0;
-        let mut tip = 0.0;
-        for m in run {
-            let up = self.machine.inverse(m.p + lift, m.n, Some(&m.axes))?;
-            self.write_g1(
-                out,
-                &at,
-                &up,
-                m.p + lift,
-                None,
-                m.tip_length,
-                tp.f.max(m.f),
-                tag,
-            )?;
-            self.carry_e += m.e;
-            tip += m.tip_length;
-            at = up;
-        }
+        let at: Vec<(DVec3, DVec3)> = run.iter().map(|m| (m.p, m.n)).collect();
+        let lift = self.turn_lift(printed, from, &at);
         let last = &run[run.len() - 1];
-        self.write_g1(
+        let poses = run.iter().map(|m| AirPose {
+            p: m.p,
+            n: m.n,
+            seed: &m.axes,
+            tip_length: m.tip_length,
+            f: tp.f.max(m.f),
+        });
+        self.lifted_turn(
             out,
-            &at,
-            &last.axes,
-            last.p,
-            None,
-            ROTATE_AROUND_LIFT_MM,
+            from,
+            lift,
             tp.f,
-            tag,
+            poses,
+            (&last.axes, last.p),
+            SWING_TAG,
         )?;
+        let tip: f64 = run.iter().map(|m| m.tip_length).sum();
+        for m in run {
+            // piece by piece, in order (the E written after is the same bits as before)
+            self.carry_e += m.e;
+        }
         self.report.swing_lifts += 1;
         self.report.swing_skipped_mm += tip;
         self.report.swings.push(SwingPlace {
@@ -564,6 +649,7 @@ impl MachineEmitter {
         out: &mut Vec<u8>,
         tp: &ToolPoint,
         relative: bool,
+        printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
         let Some(prev) = self.prev.clone() else {
             let axes = self.machine.inverse(tp.p, tp.n, None)?;
@@ -590,7 +676,14 @@ impl MachineEmitter {
         let mut k = 0;
         while k < moves.len() {
             if let Some(run) = swings.iter().find(|r| r.pieces.start == k) {
-                self.swing_lift(out, &from, &moves[run.pieces.clone()], run.turn_deg, tp)?;
+                self.swing_lift(
+                    out,
+                    &from,
+                    &moves[run.pieces.clone()],
+                    run.turn_deg,
+                    tp,
+                    printed,
+                )?;
                 let last = &moves[run.pieces.end - 1];
                 from = Pose {
                     axes: last.axes.clone(),
@@ -614,7 +707,7 @@ impl MachineEmitter {
                     p: m.p,
                     n: m.n,
                 };
-                self.rotate_around(out, &from, &to, tp.f.max(m.f))?;
+                self.rotate_around(out, &from, &to, tp.f.max(m.f), printed)?;
             } else {
                 let e = (!m.travel).then(|| (m.e + std::mem::take(&mut self.carry_e), relative));
                 let tag = if m.depth_limited {
@@ -746,35 +839,21 @@ impl Emitter for MachineEmitter {
         tp: &ToolPoint,
         relative_e: bool,
     ) -> Result<(), EmitError> {
-        self.start_lines(out);
-        self.input_line = tp.line;
-        if self.input_lines.is_some() {
-            let next = self.next_output_line(out);
-            if let Some(m) = self.input_lines.as_mut() {
-                m.push(next, tp.line);
-            }
-        }
-        if tp.travel && tp.e != 0.0 {
-            let v = self.ew.advance(tp.e, relative_e);
-            out.extend_from_slice(b"G1 E");
-            push_e(out, v);
-            let f = if self.feed_now() == FeedMode::InverseTime {
-                tp.f / tp.e.abs()
-            } else {
-                tp.f
-            };
-            self.write_feed(out, f);
-            self.speeds.add_extruder_move(self.feed_now(), tp.e, f);
-            out.push(b'\n');
-            return Ok(());
-        }
-        if !tp.travel && !self.outside {
-            if self.last_layer.is_some_and(|l| l != tp.layer) {
-                self.reset_rotary(out);
-            }
-            self.last_layer = Some(tp.layer);
-        }
-        self.move_to(out, tp, relative_e).map_err(EmitError::new)
+        self.point_at(out, tp, relative_e, None)
+    }
+
+    fn point_over(
+        &mut self,
+        out: &mut Vec<u8>,
+        tp: &ToolPoint,
+        relative_e: bool,
+        printed: &dyn Printed,
+    ) -> Result<(), EmitError> {
+        self.point_at(out, tp, relative_e, Some(printed))
+    }
+
+    fn head_profile(&self) -> Option<HeadProfile> {
+        Some(self.profile.clone())
     }
 
     fn lines_written(&mut self, n: u64) {
@@ -796,7 +875,7 @@ impl Emitter for MachineEmitter {
                     travel: true,
                     line: self.input_line,
                 };
-                self.move_to(out, &tp, true).map_err(EmitError::new)?;
+                self.move_to(out, &tp, true, None).map_err(EmitError::new)?;
             }
         }
         if self.feed == FeedMode::InverseTime {
@@ -925,6 +1004,46 @@ impl Emitter for MachineEmitter {
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
     }
+}
+
+/// Tilts asked of the machine by [`realised_tilt_range`], degrees.
+pub const TILT_PROBES_DEG: [f64; 8] = [0.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 89.0];
+
+/// The range of tilts (radians from +Z) the machine realises, probed: `realised_axis` at the
+/// workspace's centre for [`TILT_PROBES_DEG`] at four azimuths (a 3-axis head gives [0, 0],
+/// the RTN's fixed nozzle [45°, 45°], a tilting head [0, its largest probed tilt]). A sampled
+/// range, not a proof: a machine realising a tilt between probes but beyond both ends would be
+/// taken at the nearest end (none of the kinds does: their realised tilt is the request clamped
+/// to a range, or a constant).
+fn realised_tilt_range(machine: &dyn Machine) -> [f64; 2] {
+    let w = machine.workspace();
+    let c = (w.min + w.max) * 0.5;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for t in TILT_PROBES_DEG {
+        for k in 0..4 {
+            let (t, a) = (crate::num::rad(t), crate::num::rad(90.0 * k as f64));
+            let n = DVec3::new(
+                crate::num::sin(t) * crate::num::cos(a),
+                crate::num::sin(t) * crate::num::sin(a),
+                crate::num::cos(t),
+            );
+            let r = tilt_of(machine.realised_axis(c, n));
+            if r.is_finite() {
+                lo = lo.min(r);
+                hi = hi.max(r);
+            }
+        }
+    }
+    if lo <= hi {
+        [lo, hi]
+    } else {
+        [0.0, std::f64::consts::PI]
+    }
+}
+
+/// The tilt of tool axis `n` from +Z, radians.
+fn tilt_of(n: DVec3) -> f64 {
+    crate::num::acos(n.z.clamp(-1.0, 1.0))
 }
 
 /// A run of swing pieces to lift over ([`swing_runs`]).

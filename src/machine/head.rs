@@ -374,3 +374,74 @@ pub fn fixed_head_frame(machine: &dyn super::Machine, axes: &[f64]) -> Option<gl
     let x = x.normalize();
     Some(glam::DMat3::from_cols(x, n.cross(x), n))
 }
+
+/// The head's clearance profile for lifts ([`crate::emit::clearance`]): one piece per part, in
+/// the tool frame. A cone's radius and its reach towards the tilt's descent are both
+/// `tip_radius + (s − from)·tan(half_angle)`; a cylinder's are its radius; a box's radius is its
+/// farthest corner from the tool axis, and its reach towards the descent is `max(|x_min|,
+/// |x_max|)` when `tilt_frame` (the head tilts in the vertical plane of its tool axis, its x
+/// axis along the descent or against it: `R_z(φ)·R_y(t)`, the B head, RTN and PAX heads, the
+/// 3-axis head), else that same farthest corner (a head the part turns under, whose twist about
+/// the tool axis the profile does not know).
+pub fn clearance_profile(head: &HeadSpec, tilt_frame: bool) -> crate::emit::clearance::HeadProfile {
+    use crate::emit::clearance::{HeadProfile, ProfilePiece};
+    let pieces = head
+        .parts
+        .iter()
+        .filter_map(|part| match part {
+            HeadPart::Cone {
+                name,
+                tip_radius_mm,
+                half_angle_deg,
+                length_mm,
+                from_mm,
+            } => {
+                let r1 =
+                    tip_radius_mm + length_mm * crate::num::tan(crate::num::rad(*half_angle_deg));
+                Some(ProfilePiece {
+                    name: name.clone(),
+                    from_mm: *from_mm,
+                    to_mm: from_mm + length_mm,
+                    radius_mm: [*tip_radius_mm, r1],
+                    drop_mm: [*tip_radius_mm, r1],
+                })
+            }
+            HeadPart::Cylinder {
+                name,
+                radius_mm,
+                from_mm,
+                to_mm,
+            } => Some(ProfilePiece {
+                name: name.clone(),
+                from_mm: *from_mm,
+                to_mm: *to_mm,
+                radius_mm: [*radius_mm; 2],
+                drop_mm: [*radius_mm; 2],
+            }),
+            HeadPart::Box { name, min, max } => {
+                let corner = [min[0], max[0]]
+                    .iter()
+                    .flat_map(|x| [min[1], max[1]].map(|y| x.hypot(y)))
+                    .fold(0.0, f64::max);
+                let drop = if tilt_frame {
+                    min[0].abs().max(max[0].abs())
+                } else {
+                    corner
+                };
+                Some(ProfilePiece {
+                    name: name.clone(),
+                    from_mm: min[2],
+                    to_mm: max[2],
+                    radius_mm: [corner; 2],
+                    drop_mm: [drop; 2],
+                })
+            }
+            #[allow(unreachable_patterns)]
+            _ => None,
+        })
+        .collect();
+    HeadProfile {
+        pieces,
+        ..HeadProfile::default()
+    }
+}

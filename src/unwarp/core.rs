@@ -28,6 +28,7 @@
 use glam::DVec3;
 
 use super::{segment, travel, UnwarpError, UnwarpOptions, UnwarpReport, RETRACT_FEED};
+use crate::emit::clearance::{HeadProfile, Printed, HEAD_CLEARANCE_MM};
 use crate::emit::{EmitError, Emitter, DEFAULT_TRAVEL_FEED, E_QUANTUM};
 use crate::gcode::write::push_e;
 use crate::gcode::{Command, HeadMove, Line, Move, State};
@@ -121,6 +122,8 @@ pub(super) struct Core {
     /// Filament the slicer retracted and has not yet pushed back, mm.
     pub(super) retracted: f64,
     pub(super) grid: travel::HeightGrid,
+    /// The head's clearance profile (the emitter's; `None`: travels for the tip only).
+    pub(super) head: Option<HeadProfile>,
     pub(super) inside: bool,
     pub(super) done_region: bool,
     /// Smallest z component of an object extrusion's tool axis (cos of the largest tilt).
@@ -433,7 +436,7 @@ impl Core {
             return;
         }
         tp.line = self.report.lines_in;
-        let r = self.counted(|c| c.emit.point(&mut c.out, &tp, relative));
+        let r = self.counted(|c| c.emit.point_over(&mut c.out, &tp, relative, &c.grid));
         self.keep_error(r);
         if !tp.travel || tp.e == 0.0 {
             self.cur = Some((tp.p, tp.n));
@@ -743,7 +746,13 @@ impl Core {
             self.travel_from_unknown(line, what, target, n, f, relative);
         } else if let Some((cur, cur_n)) = self.cur {
             if (target - cur).length() > LENGTH_EPSILON {
-                match travel::plan(&self.grid, cur, target, self.opts.travel_clearance) {
+                let head = self.head.as_ref().map(|profile| travel::HeadClearance {
+                    profile,
+                    tilt: crate::num::acos(cur_n.z.clamp(-1.0, 1.0))
+                        .max(crate::num::acos(n.z.clamp(-1.0, 1.0))),
+                    turn: crate::num::angle_between(cur_n, n),
+                });
+                match travel::plan(&self.grid, cur, target, self.opts.travel_clearance, head) {
                     travel::TravelPlan::Direct => self.write_travel(target, n, f),
                     travel::TravelPlan::Lift(z) => {
                         self.lifted(relative, |c| {
@@ -822,7 +831,14 @@ impl Core {
         self.write_held();
         if let Some((cur, n)) = self.cur {
             let (_, top) = self.grid.clearance_needed(cur, cur);
-            let z = top.max(cur.z) + self.opts.travel_clearance;
+            let mut z = top.max(cur.z) + self.opts.travel_clearance;
+            if let Some(profile) = &self.head {
+                // the emitter turns the tool axis back to vertical up there: the head clears
+                let tilt = crate::num::acos(n.z.clamp(-1.0, 1.0));
+                let c = cur.truncate();
+                let head = self.grid.head_clear_z(profile, c, c, 0.0, tilt);
+                z = z.max(head + HEAD_CLEARANCE_MM);
+            }
             if z > cur.z {
                 self.write_travel(DVec3::new(cur.x, cur.y, z), n, DEFAULT_TRAVEL_FEED);
             }

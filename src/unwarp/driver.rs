@@ -112,6 +112,7 @@ impl Unwarper {
             b.include(reg.printed_bbox.min);
             b.include(reg.printed_bbox.max);
         }
+        let head = emit.head_profile();
         let mut core = Core {
             job: self.job.clone(),
             warp,
@@ -134,6 +135,7 @@ impl Unwarper {
             printed_top: f64::NEG_INFINITY,
             retracted: 0.0,
             grid: travel::HeightGrid::new((b.min + shift).truncate(), (b.max + shift).truncate()),
+            head,
             inside: false,
             done_region: false,
             min_nz: 1.0,

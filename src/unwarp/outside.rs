@@ -227,7 +227,15 @@ impl Core {
             self.outside_point(line, at, m.e, m, true, relative)?;
         }
         if let Some(a) = self.outside_pose {
-            if let travel::TravelPlan::Lift(z) = travel::plan(&self.grid, a, target, clearance) {
+            // outside the region the tool axis is vertical (the rest pose)
+            let head = self.head.as_ref().map(|profile| travel::HeadClearance {
+                profile,
+                tilt: 0.0,
+                turn: 0.0,
+            });
+            if let travel::TravelPlan::Lift(z) =
+                travel::plan(&self.grid, a, target, clearance, head)
+            {
                 self.outside_point(line, DVec3::new(a.x, a.y, z), 0.0, m, true, relative)?;
                 let over = DVec3::new(target.x, target.y, z);
                 self.outside_point(line, over, 0.0, m, true, relative)?;

@@ -15,6 +15,7 @@
 
 use glam::{DVec2, DVec3};
 
+use crate::emit::clearance::segment_distance;
 use crate::mesh::Mesh;
 
 /// Grid cell size, mm.
@@ -158,7 +159,7 @@ impl Sections {
             for ix in (cx - r).max(0)..=(cx + r).min(nx - 1) {
                 for &s in &cut.cells[(iy * nx + ix) as usize] {
                     let (a, b) = cut.segs[s as usize];
-                    best = best.min(point_segment(q, a, b));
+                    best = best.min(segment_distance(q, a, b));
                 }
             }
         }
@@ -195,18 +196,6 @@ impl Sections {
             best
         }
     }
-}
-
-/// Distance from `q` to the segment a–b.
-fn point_segment(q: DVec2, a: DVec2, b: DVec2) -> f64 {
-    let d = b - a;
-    let l2 = d.length_squared();
-    let t = if l2 > 0.0 {
-        ((q - a).dot(d) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + d * t - q).length()
 }
 
 #[cfg(test)]

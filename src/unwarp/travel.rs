@@ -6,8 +6,23 @@
 //! ([`HeightGrid`]). A travel whose straight line already clears the grid by the clearance
 //! (cells within [`NEAR_END_RADIUS`] of its ends excepted: that is where the nozzle just
 //! printed or is about to print) goes straight.
+//!
+//! ## The whole head (issue 10 §2)
+//! On a machine the emitter gives the head's clearance profile
+//! ([`crate::emit::clearance::HeadProfile`]): a lifted travel then climbs to the higher of the
+//! tip's height (printed top + clearance) and the height at which the head's profile, tilted as
+//! far as either end's tool axis, clears every printed cell within its reach of the path by
+//! [`HEAD_CLEARANCE_MM`] ([`HeightGrid::head_clear_z`]). The tool axis turns from the start's
+//! to the end's during the move at that height (the lift and the descent keep their end's
+//! pose). The bound assumes the tilt along the move stays within the ends' tilts (the B head,
+//! RTN and PAX interpolate the tilt axis linearly). A travel that turns the tool axis by more
+//! than [`TURN_IN_AIR_DEG`] goes straight only where the head clears at its height; any other
+//! straight travel is judged by the tip's rule alone (the head's profile is conservative: a
+//! tilted head at rest beside higher material already fails it, so it would lift them all).
 
 use glam::{DVec2, DVec3};
+
+use crate::emit::clearance::{segment_distance, HeadProfile, Printed, HEAD_CLEARANCE_MM};
 
 /// Cell size of the height grid, mm.
 pub const CELL: f64 = 1.0;
@@ -112,13 +127,92 @@ pub enum TravelPlan {
     Lift(f64),
 }
 
-/// Plan a travel with `clearance` (mm).
-pub fn plan(grid: &HeightGrid, a: DVec3, b: DVec3, clearance: f64) -> TravelPlan {
+/// A travel whose tool axis turns by more than this between its ends turns in the air (lift,
+/// turn, descend) unless the whole head clears the printed material at the travel's own height,
+/// degrees: the B head's large B changes, an RTN or PAX head swinging to the other side of a
+/// cone. A smaller turn (neighbouring points of a curved layer) is judged by the tip's rule.
+pub const TURN_IN_AIR_DEG: f64 = 10.0;
+
+/// The head a travel must clear: its profile, the largest tilt of the tool axis along the travel
+/// (radians from +Z) and the angle between the tool axes at its ends (radians).
+#[derive(Clone, Copy, Debug)]
+pub struct HeadClearance<'a> {
+    /// The head's profile.
+    pub profile: &'a HeadProfile,
+    /// The largest tilt along the travel.
+    pub tilt: f64,
+    /// The angle the tool axis turns by.
+    pub turn: f64,
+}
+
+/// Plan a travel with `clearance` (mm) above the printed top for the tip, and with the whole
+/// head clearing printed material by [`HEAD_CLEARANCE_MM`] when `head` is given (see the module
+/// documentation): a travel goes straight when the tip's rule lets it and, if it turns the tool
+/// axis by more than [`TURN_IN_AIR_DEG`], the head clears at the lower of its ends' heights;
+/// otherwise it lifts to the higher of the tip's height and the head's.
+pub fn plan(
+    grid: &HeightGrid,
+    a: DVec3,
+    b: DVec3,
+    clearance: f64,
+    head: Option<HeadClearance<'_>>,
+) -> TravelPlan {
     let (above, top) = grid.clearance_needed(a, b);
-    if above <= DIRECT_TRAVEL_SLACK {
-        TravelPlan::Direct
-    } else {
-        TravelPlan::Lift(top.max(a.z).max(b.z) + clearance)
+    let head_z = |h: &HeadClearance<'_>| {
+        grid.head_clear_z(h.profile, a.truncate(), b.truncate(), 0.0, h.tilt) + HEAD_CLEARANCE_MM
+    };
+    let tip = top.max(a.z).max(b.z) + clearance;
+    match head {
+        None if above <= DIRECT_TRAVEL_SLACK => TravelPlan::Direct,
+        None => TravelPlan::Lift(tip),
+        Some(h) => {
+            let turns = h.turn > crate::num::rad(TURN_IN_AIR_DEG);
+            if above <= DIRECT_TRAVEL_SLACK && !turns {
+                return TravelPlan::Direct;
+            }
+            let z = head_z(&h);
+            if above <= DIRECT_TRAVEL_SLACK && z <= a.z.min(b.z) {
+                TravelPlan::Direct
+            } else {
+                TravelPlan::Lift(tip.max(z))
+            }
+        }
+    }
+}
+
+impl Printed for HeightGrid {
+    /// Every marked cell within the head's reach (+ `pad` + half a cell's diagonal) of the
+    /// segment, at the distance of its centre from the segment less `pad` and half a diagonal
+    /// (a lower bound of the horizontal distance from any tip position within `pad` of the
+    /// segment to any point of the cell). The cost is the cells of the segment's box grown by
+    /// the reach: (|b − a| + 2R)·2R / CELL² for a reach R (≈ 35 mm for a 45° RTN head).
+    fn head_clear_z(&self, profile: &HeadProfile, a: DVec2, b: DVec2, pad: f64, tilt: f64) -> f64 {
+        let half_diag = CELL * std::f64::consts::FRAC_1_SQRT_2;
+        let reach = profile.reach(tilt) + pad + half_diag;
+        let lo = (a.min(b) - DVec2::splat(reach) - self.origin) / CELL;
+        let hi = (a.max(b) + DVec2::splat(reach) - self.origin) / CELL;
+        let clamp = |v: f64, n: usize| -> usize { v.floor().clamp(0.0, n as f64 - 1.0) as usize };
+        if hi.x < 0.0 || hi.y < 0.0 || lo.x >= self.nx as f64 || lo.y >= self.ny as f64 {
+            return f64::NEG_INFINITY;
+        }
+        let (i0, i1) = (clamp(lo.x, self.nx), clamp(hi.x, self.nx));
+        let (j0, j1) = (clamp(lo.y, self.ny), clamp(hi.y, self.ny));
+        let mut z = f64::NEG_INFINITY;
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let top = self.h[j * self.nx + i];
+                if top == f64::NEG_INFINITY {
+                    continue;
+                }
+                let c = self.origin + (DVec2::new(i as f64, j as f64) + 0.5) * CELL;
+                let d = (segment_distance(c, a, b) - pad - half_diag).max(0.0);
+                let floor = profile.floor(tilt, d);
+                if floor.is_finite() {
+                    z = z.max(top - floor);
+                }
+            }
+        }
+        z
     }
 }
 
@@ -132,14 +226,92 @@ mod tests {
         g.mark_segment(DVec3::new(-1.0, 0.0, 8.0), DVec3::new(1.0, 0.0, 8.0));
         let a = DVec3::new(-8.0, 0.0, 2.0);
         let b = DVec3::new(8.0, 0.0, 2.0);
-        assert_eq!(plan(&g, a, b, 1.0), TravelPlan::Lift(9.0));
+        assert_eq!(plan(&g, a, b, 1.0, None), TravelPlan::Lift(9.0));
         // a travel that passes well beside it goes straight
         let a2 = DVec3::new(-8.0, 8.0, 2.0);
         let b2 = DVec3::new(8.0, 8.0, 2.0);
-        assert_eq!(plan(&g, a2, b2, 1.0), TravelPlan::Direct);
+        assert_eq!(plan(&g, a2, b2, 1.0, None), TravelPlan::Direct);
         // and so does one over it at the height of its top (a planar layer's travel)
         let a3 = DVec3::new(-8.0, 0.0, 8.0);
         let b3 = DVec3::new(8.0, 0.0, 8.0);
-        assert_eq!(plan(&g, a3, b3, 1.0), TravelPlan::Direct);
+        assert_eq!(plan(&g, a3, b3, 1.0, None), TravelPlan::Direct);
+    }
+
+    /// A block 4.5…16 mm up the tool axis, 16 mm round, reaching 14 mm towards the descent.
+    fn block() -> HeadProfile {
+        HeadProfile {
+            pieces: vec![crate::emit::clearance::ProfilePiece {
+                name: "heater-block".into(),
+                from_mm: 4.5,
+                to_mm: 16.0,
+                radius_mm: [16.0; 2],
+                drop_mm: [14.0; 2],
+            }],
+            ..HeadProfile::default()
+        }
+    }
+
+    #[test]
+    fn a_column_beside_the_path_raises_the_head_not_the_tip() {
+        let mut g = HeightGrid::new(DVec2::new(-30.0, -30.0), DVec2::new(30.0, 30.0));
+        // a column 8 mm high 10 mm beside the travel's line (its cell spans x 10…11)
+        g.mark(DVec3::new(10.5, 0.5, 8.0));
+        // and a bump on the line itself, so the tip's rule lifts (to 2 + 1)
+        g.mark_segment(DVec3::new(-0.5, -10.0, 2.0), DVec3::new(0.5, -10.0, 2.0));
+        let (a, b) = (DVec3::new(0.0, -20.0, 1.0), DVec3::new(0.0, 20.0, 1.0));
+        assert_eq!(plan(&g, a, b, 1.0, None), TravelPlan::Lift(3.0));
+        let p = block();
+        // vertical: the block's floor is 4.5 mm above the tip within 16 mm of it; the column's
+        // cell is 10 − 0.71 mm from the line at the nearest: the tip must be at 8 − 4.5
+        let z = g.head_clear_z(&p, a.truncate(), b.truncate(), 0.0, 0.0);
+        assert!((z - 3.5).abs() < 1e-12, "{z}");
+        let vertical = HeadClearance {
+            profile: &p,
+            tilt: 0.0,
+            turn: 0.0,
+        };
+        assert_eq!(
+            plan(&g, a, b, 1.0, Some(vertical)),
+            TravelPlan::Lift(3.5 + HEAD_CLEARANCE_MM)
+        );
+        // tilted 30°: the block's long side 4.5·cos 30° − 14·sin 30° = −3.10 mm below the tip
+        let t = crate::num::rad(30.0);
+        let z = g.head_clear_z(&p, a.truncate(), b.truncate(), 0.0, t);
+        let want = 8.0 - (4.5 * crate::num::cos(t) - 14.0 * crate::num::sin(t));
+        assert!((z - want).abs() < 1e-12, "{z} vs {want}");
+        // 16·sin 30° + 16 = 24 mm of reach: a column 25 mm away is out of it
+        let mut far = HeightGrid::new(DVec2::new(-40.0, -30.0), DVec2::new(40.0, 30.0));
+        far.mark(DVec3::new(25.71 + 0.5, 0.5, 8.0));
+        assert_eq!(
+            far.head_clear_z(&p, a.truncate(), b.truncate(), 0.0, t),
+            f64::NEG_INFINITY
+        );
+    }
+
+    #[test]
+    fn a_travel_that_turns_the_head_lifts_where_the_head_would_not_clear() {
+        let mut g = HeightGrid::new(DVec2::new(-30.0, -30.0), DVec2::new(30.0, 30.0));
+        g.mark(DVec3::new(10.5, 0.5, 8.0));
+        let (a, b) = (DVec3::new(0.0, -5.0, 2.0), DVec3::new(0.0, 5.0, 2.0));
+        let p = block();
+        let head = |turn_deg: f64| HeadClearance {
+            profile: &p,
+            tilt: crate::num::rad(30.0),
+            turn: crate::num::rad(turn_deg),
+        };
+        // the tip's rule: straight (nothing on the line)
+        assert_eq!(plan(&g, a, b, 1.0, None), TravelPlan::Direct);
+        assert_eq!(plan(&g, a, b, 1.0, Some(head(5.0))), TravelPlan::Direct);
+        let want = 8.0 - (4.5 * crate::num::cos(crate::num::rad(30.0)) - 7.0) + HEAD_CLEARANCE_MM;
+        match plan(&g, a, b, 1.0, Some(head(TURN_IN_AIR_DEG + 1.0))) {
+            TravelPlan::Lift(z) => assert!((z - want).abs() < 1e-12, "{z} vs {want}"),
+            d => panic!("a turn beside the column went {d:?}"),
+        }
+        // the same turn far above the column goes straight
+        let (a2, b2) = (a + DVec3::Z * 20.0, b + DVec3::Z * 20.0);
+        assert_eq!(
+            plan(&g, a2, b2, 1.0, Some(head(TURN_IN_AIR_DEG + 1.0))),
+            TravelPlan::Direct
+        );
     }
 }
