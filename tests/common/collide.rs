@@ -115,17 +115,28 @@ fn frame(fk: &Fk, axes: &[f64], n: DVec3) -> Option<DMat3> {
     }
 }
 
-/// Whether `q` (output frame) is inside `part` posed at tip `p`, axis `n`, frame `r`; for the
-/// tip part also above the contact surface by `press` (mm along the axis).
-fn inside(
-    part: &HeadPart,
+/// A part posed at tip `p`, axis `n`, frame `r`, against beads of width `w`; for the tip part
+/// the contact surface is raised by `press` (mm along the axis).
+struct Posed<'a> {
+    part: &'a HeadPart,
     p: DVec3,
     n: DVec3,
-    r: Option<&DMat3>,
-    q: DVec3,
+    r: Option<&'a DMat3>,
     w: f64,
     press: f64,
-) -> bool {
+}
+
+/// Whether `q` (output frame) is inside the posed part (the tip part: above its contact
+/// surface).
+fn inside(at: &Posed<'_>, q: DVec3) -> bool {
+    let Posed {
+        part,
+        p,
+        n,
+        r,
+        w,
+        press,
+    } = *at;
     let d = q - p;
     let s = n.dot(d);
     let rho = (d.length_squared() - s * s).max(0.0).sqrt();
@@ -359,23 +370,13 @@ pub fn confirm(
 }
 
 /// Where the vertical line through `q` (inside the part) enters it from below: bisection
-/// between `q` and a point below the part (the part and the contact-cut nozzle are convex, so
-/// the line meets them in one interval), to 1e-6 mm.
-#[allow(clippy::too_many_arguments)]
-fn entry_z(
-    part: &HeadPart,
-    p: DVec3,
-    n: DVec3,
-    r: Option<&DMat3>,
-    q: DVec3,
-    w: f64,
-    press: f64,
-    below: f64,
-) -> f64 {
+/// between `q` and `below` mm under it, outside the part (the part and the contact-cut nozzle
+/// are convex, so the line meets them in one interval), to 1e-6 mm.
+fn entry_z(at: &Posed<'_>, q: DVec3, below: f64) -> f64 {
     let (mut lo, mut hi) = (q.z - below, q.z);
     while hi - lo > 1e-6 {
         let mid = 0.5 * (lo + hi);
-        if inside(part, p, n, r, DVec3::new(q.x, q.y, mid), w, press) {
+        if inside(at, DVec3::new(q.x, q.y, mid)) {
             hi = mid;
         } else {
             lo = mid;
@@ -471,9 +472,16 @@ fn judge(
                 if (pt.q - p).length() > far {
                     continue;
                 }
-                let press = if pt.layer == layer { h } else { 0.0 };
-                if inside(part, p, n, r.as_ref(), pt.q, w, press) {
-                    let z_in = entry_z(part, p, n, r.as_ref(), pt.q, w, press, 3.0 * far);
+                let at = Posed {
+                    part,
+                    p,
+                    n,
+                    r: r.as_ref(),
+                    w,
+                    press: if pt.layer == layer { h } else { 0.0 },
+                };
+                if inside(&at, pt.q) {
+                    let z_in = entry_z(&at, pt.q, 3.0 * far);
                     deepest(
                         pt.q.z - z_in,
                         format!(
