@@ -385,29 +385,13 @@ fn entry_z(at: &Posed<'_>, q: DVec3, below: f64) -> f64 {
     hi
 }
 
-/// The farthest point of `part` from the tip, mm (an upper bound).
+/// The farthest point of `part` from the tip, mm: a point of its rim circles or corners
+/// ([`boundary`] in the tool frame), since every part is convex.
 fn reach(part: &HeadPart) -> f64 {
-    match part {
-        HeadPart::Cone {
-            tip_radius_mm,
-            half_angle_deg,
-            length_mm,
-            from_mm,
-            ..
-        } => (from_mm.abs() + length_mm)
-            .hypot(tip_radius_mm + length_mm * half_angle_deg.to_radians().tan()),
-        HeadPart::Cylinder {
-            radius_mm,
-            from_mm,
-            to_mm,
-            ..
-        } => from_mm.abs().max(to_mm.abs()).hypot(*radius_mm),
-        HeadPart::Box { min, max, .. } => (0..3)
-            .map(|i| min[i].abs().max(max[i].abs()).powi(2))
-            .sum::<f64>()
-            .sqrt(),
-        _ => 0.0,
-    }
+    boundary(part, DVec3::ZERO, DVec3::Z, Some(&DMat3::IDENTITY))
+        .iter()
+        .map(|q| q.length())
+        .fold(0.0, f64::max)
 }
 
 #[allow(clippy::too_many_arguments)]
