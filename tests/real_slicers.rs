@@ -406,7 +406,7 @@ fn run_case(
             }
             Ok(MachineOutcome::Unreachable) => t.refused += 1,
             Ok(MachineOutcome::Collided(c)) => {
-                println!("  {} × {name}: refused, confirmed: {c}", case.label);
+                println!("  {} × {name}: refused, {c}", case.label);
                 t.collided += 1;
             }
             Err(e) => t.failure = Some(format!("machine {name}: {e}")),
@@ -651,8 +651,23 @@ fn confirm_collision(
         ));
     }
     let text = String::from_utf8_lossy(&out.gcode);
-    let c = common::collide::confirm(spec, &text, f.line as usize, &f.part, &f.obstacle)
-        .map_err(|why| format!("refused ({refusal}), not confirmed independently: {why}"))?;
+    let c = match common::collide::confirm(spec, &text, f.line as usize, &f.part, &f.obstacle) {
+        Ok(c) => c,
+        // shallower than the helper's bead sampling can see: said so, not called confirmed
+        Err(why) if f.depth_mm <= common::collide::UNSEEN_DEPTH_MM => {
+            return Ok(format!(
+                "NOT re-found, below the helper's resolution ({:.3} ≤ {} mm): line {} (input line {}), layer {}, {} into {}: {why}",
+                f.depth_mm,
+                common::collide::UNSEEN_DEPTH_MM,
+                f.line,
+                f.input_line.map_or("-".into(), |l| l.to_string()),
+                f.layer,
+                f.part,
+                f.obstacle
+            ))
+        }
+        Err(why) => return Err(format!("refused ({refusal}), not confirmed independently: {why}")),
+    };
     // a box checked as its enclosing cylinder (no head frame in the helper for this machine)
     // is a larger solid: its depth bounds the checker's from above only
     let short = f.depth_mm - c.depth_mm > common::collide::DEPTH_TOLERANCE_MM;
@@ -664,7 +679,7 @@ fn confirm_collision(
         ));
     }
     Ok(format!(
-        "at least {total} finding(s); first line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
+        "confirmed: at least {total} finding(s); first line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
         f.line,
         f.input_line.map_or("-".into(), |l| l.to_string()),
         f.layer,

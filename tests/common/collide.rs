@@ -63,6 +63,13 @@ pub const POSES: usize = 400;
 /// Sum: 0.62 mm, rounded up to 0.65. A depth beyond it on either side is a disagreement.
 pub const DEPTH_TOLERANCE_MM: f64 = 0.65;
 
+/// The shallowest overlap the helper is sure to see, mm: its bead points are within 0.075 mm
+/// horizontally of any bead point (see [`DEPTH_TOLERANCE_MM`]), and a part's lower face rises
+/// at most 1.19 mm per mm (the 40° nozzle cone), so an overlap shallower than 0.075 × 1.19 =
+/// 0.09 mm may lie wholly between the points. A finding shallower than this that the helper
+/// does not re-find is reported as below its resolution, not as confirmed.
+pub const UNSEEN_DEPTH_MM: f64 = 0.09;
+
 /// What the helper found for a finding.
 #[derive(Clone, Debug)]
 pub struct Confirmed {
