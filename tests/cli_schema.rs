@@ -67,9 +67,10 @@ fn every_schema_parameter_is_a_flag_with_its_default() {
             let line =
                 line_of(h, p.flag).unwrap_or_else(|| panic!("{} missing from:\n{h}", p.flag));
             if let Some(t) = default_text(p) {
-                // the help of a flag may wrap onto the next lines, up to the next flag
+                // the help of a flag may wrap onto the next lines, up to the next flag (the
+                // flag where it starts a line: another flag's help may name it)
                 let text = h
-                    .split(&format!("{} ", p.flag))
+                    .split(&format!("\n      {} ", p.flag))
                     .nth(1)
                     .and_then(|rest| rest.split("\n      --").next())
                     .unwrap_or_default();

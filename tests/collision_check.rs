@@ -396,13 +396,14 @@ fn a_vertical_nozzle_riding_a_30_degree_slope_is_contact_not_collision() {
     );
 }
 
-/// With `--check-collisions` a machine output that collides is refused naming the first
-/// finding's output line; with `--allow-collisions` too it is written and lists every finding as
-/// comments at its end, the same findings as the library's check of the written file; without
-/// `--check-collisions` (the default for now) it is written without a check. The part: the conic 20 mm cube (30° outward) on the cartesian
-/// preset, whose heater block (14 mm towards +X, 4.5 mm up) meets the cone's rising layers.
+/// The collision check is on by default: a machine output that collides is refused naming the
+/// first finding's output line, with no flag or with `--check-collisions` (accepted, the same);
+/// with `--allow-collisions` it is written and lists every finding as comments at its end, the
+/// same findings as the library's check of the written file. The part: the conic 20 mm cube
+/// (30° outward) on the cartesian preset, whose heater block (14 mm towards +X, 4.5 mm up)
+/// meets the cone's rising layers.
 #[test]
-fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
+fn the_cli_refuses_a_colliding_machine_output_by_default_and_allow_collisions_lists_them() {
     let w = synthetic::conic_cube();
     let dir = std::env::temp_dir().join(format!("warpslice-collision-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -432,7 +433,7 @@ fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
     };
     let spec = preset("cartesian").unwrap();
     // --allow-collisions: written, every finding listed
-    let (ok, err) = run(&["--check-collisions", "--allow-collisions"]);
+    let (ok, err) = run(&["--allow-collisions"]);
     assert!(ok, "{err}");
     let text = std::fs::read_to_string(&out).unwrap();
     let listed: Vec<&str> = text
@@ -457,22 +458,21 @@ fn the_cli_refuses_a_colliding_machine_output_with_check_collisions() {
             "{l} vs {f:?}"
         );
     }
-    // --check-collisions: refused, naming the first finding
-    let (ok, err) = run(&["--check-collisions"]);
-    assert!(!ok, "a colliding output was written");
-    assert!(
-        err.contains(&format!(
-            "output line {} (layer {}; from input line ",
-            f[0].line, f[0].layer
-        )) && err.contains(&format!("): the {} goes", f[0].part))
-            && err.contains("--allow-collisions"),
-        "{err}"
-    );
-    // the default (no --check-collisions): written, nothing listed
-    let (ok, err) = run(&[]);
-    assert!(ok, "{err}");
-    let text = std::fs::read_to_string(&out).unwrap();
-    assert!(!text.contains("; warpslice collision: "));
+    // the default, and --check-collisions (accepted, the same): refused, naming the first
+    // finding, and no file written
+    for extra in [&[][..], &["--check-collisions"][..]] {
+        let (ok, err) = run(extra);
+        assert!(!ok, "a colliding output was written with {extra:?}");
+        assert!(!out.exists(), "a refused output was left with {extra:?}");
+        assert!(
+            err.contains(&format!(
+                "output line {} (layer {}; from input line ",
+                f[0].line, f[0].layer
+            )) && err.contains(&format!("): the {} goes", f[0].part))
+                && err.contains("--allow-collisions"),
+            "{extra:?}: {err}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

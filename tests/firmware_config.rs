@@ -307,7 +307,15 @@ fn config_out_holds_every_axis_and_value_the_gcode_writes() {
         let part = Part::new(preset, &warp);
         let machine = machine_arg(&part, preset);
         for flavour in ["reprapfirmware", "marlin", "klipper"] {
-            let mut flags = vec!["--machine", machine.as_str(), "--flavour", flavour];
+            // the firmware configuration, not the head's clearance (collision_check.rs): the
+            // default head meets some presets' warped part, so written anyway
+            let mut flags = vec![
+                "--machine",
+                machine.as_str(),
+                "--flavour",
+                flavour,
+                "--allow-collisions",
+            ];
             flags.extend_from_slice(&place);
             let what = format!("{preset} {flavour}");
             let (gcode, cfg, stdout) = part

@@ -93,9 +93,9 @@ impl Part {
     /// bbox's centre, (0, 0) for these shears of the centred cube, on (100, 100)): no
     /// registration error in the layer-surface checks. The output text.
     fn unwarp(&self, name: &str, extra: &[&str]) -> String {
-        // the collision check (opt-in) is tested in collision_check.rs: these files are about
-        // the firmware's words, and the default head meets the bed on their tilted parts
-        let mut flags = vec!["--offset", "100,100"];
+        // the collision check (on by default) is tested in collision_check.rs: these files are
+        // about the firmware's words, and the default head meets the bed on their tilted parts
+        let mut flags = vec!["--offset", "100,100", "--allow-collisions"];
         flags.extend_from_slice(extra);
         let (out, o) = self.run_unwarp(name, &flags);
         assert!(

@@ -129,15 +129,16 @@ fn run_preset(name: &str, warp: &WarpSpec, dir: &std::path::Path) -> Result<Stri
     let Some((input, job)) = sliced(warp, centre_for(name), dir, &tag) else {
         return Ok("skipped".into());
     };
-    let opts = UnwarpSettings::with_machine(
+    let mut opts = UnwarpSettings::with_machine(
         UnwarpOptions {
             collect_toolpath: true,
             ..UnwarpOptions::default()
         },
         spec.clone(),
     );
-    // the collision check (opt-in) is tested in collision_check.rs; here the kinematics end to
-    // end (the default head meets the bed on tilted parts)
+    // the collision check (on by default) is tested in collision_check.rs; here the kinematics
+    // end to end (the default head meets the bed on tilted parts): written anyway
+    opts.output.allow_collisions = true;
     let out = unwarp(&input, &job, &opts).map_err(|e| format!("unwarp: {e}"))?;
     let path = dir.join(format!("{tag}.gcode"));
     std::fs::write(&path, &out.gcode).map_err(|e| e.to_string())?;
@@ -279,7 +280,8 @@ fn tip_speed_case(
                 machine: Some(spec.clone()),
                 feed,
                 flavour: Flavour::parse(flavour.flavour()),
-                // the tip feed, not the head's clearance (collision_check.rs; the check is opt-in)
+                // the tip feed, not the head's clearance (collision_check.rs): written anyway
+                allow_collisions: true,
                 ..MachineOptions::default()
             },
         };

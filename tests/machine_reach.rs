@@ -625,8 +625,8 @@ fn slowed_moves_and_print_time_match_an_independent_count() {
     feeds.insert("Y".into(), 1500.0);
     let job = box_job(1.0, 20.0, [0.0, 1.0]);
     let input = synthetic::gcode(&job, true, 2.0);
-    // the axis speeds, not the head's clearance (collision_check.rs; the check is opt-in):
-    // the default head's block meets the box's first layer on the tilted bed
+    // the axis speeds; the collision check (on by default, collision_check.rs) finds nothing
+    // on this box
     // `--feed xyz` (F = the slicer's, all five axes linear): the firmware slows the moves; the
     // default `tip` lowers F itself so no axis exceeds its limit (machine_emit.rs
     // tip_feed_moves_the_tip_at_the_slicers_speed_on_every_firmware)

@@ -28,7 +28,8 @@
 //! A missing slicer fails the test; with `WARPSLICE_ALLOW_SKIP=1` (local runs only) it prints
 //! how many cases it skipped and why. To reproduce one case: `WARPSLICE_CASES=model:warp,…`
 //! (substrings; add `WARPSLICE_FULL_MATRIX=1` for a case outside the rotation) runs only those,
-//! saying so, `WARPSLICE_KEEP_FAILED=DIR` keeps a failed machine case's G-code and toolpath, and
+//! saying so, `WARPSLICE_PRESETS=all` (or `=a,b`) unwarps each case with those presets instead
+//! of the rotation's, `WARPSLICE_KEEP_FAILED=DIR` keeps a failed machine case's G-code and toolpath, and
 //! `WARPSLICE_DEBUG_WALK=1` prints the lines and toolpath points around a machine walk failure.
 #![cfg(not(target_arch = "wasm32"))]
 
@@ -95,9 +96,18 @@ enum Presets {
     TwoByWarp,
 }
 
-/// The presets case (model `m`, warp `w`) is unwarped with again.
+/// The presets case (model `m`, warp `w`) is unwarped with again (`WARPSLICE_PRESETS=all` or
+/// `=a,b` for a local run: those instead, saying so).
 fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static str> {
     let names = preset_names();
+    if let Ok(only) = std::env::var("WARPSLICE_PRESETS") {
+        println!("WARPSLICE_PRESETS={only}: these presets instead of the rotation's");
+        return names
+            .iter()
+            .copied()
+            .filter(|n| only == "all" || only.split(',').any(|o| o == *n))
+            .collect();
+    }
     let k = names.len();
     match how {
         Presets::ThreeRound => (0..3)
@@ -180,7 +190,7 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
                 let (wname, params) = &warps[wi];
                 let t0 = std::time::Instant::now();
                 let presets = presets_for(presets, mi, wi, nw);
-                let case = Case { kind, e_mode, presets, stem: dir.join(format!("{i}")), slices: &slices };
+                let case = Case { kind, e_mode, presets, stem: dir.join(format!("{i}")), slices: &slices, label: format!("{name} × {wname}") };
                 let r = run_case(&case, bytes, params, &machines);
                 let secs = t0.elapsed().as_secs_f64();
                 match r {
@@ -226,16 +236,16 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     println!("{kind:?} {e_mode:?}: machines (every case unwarped again with each preset)");
     for (name, t) in &machines {
         println!(
-            "  {name:20} printed {:3} refused {:3} (named limit, unreachable pose confirmed): worst tip {:.5} mm, axis {:.4}°, {} points, {} lines",
-            t.printed, t.refused, t.worst_tip, t.worst_axis, t.points, t.lines
+            "  {name:20} printed {:3} refused {:3} (named limit, unreachable pose confirmed), {:3} (collision, confirmed): worst tip {:.5} mm, axis {:.4}°, {} points, {} lines",
+            t.printed, t.refused, t.collided, t.worst_tip, t.worst_axis, t.points, t.lines
         );
         // a preset that refuses everything is broken; one that met only a case or two of this
         // test's rotation (eleven presets share the corpus slots) may have met only poses it
         // cannot reach, each refusal confirmed above, and prints in the generated tests
-        if t.printed == 0 && t.refused >= MIN_CASES_TO_PRINT && !table.is_empty() {
+        if t.printed == 0 && t.refused + t.collided >= MIN_CASES_TO_PRINT && !table.is_empty() {
             failures.push(format!(
                 "{name}: printed none of the cases (refused all {})",
-                t.refused
+                t.refused + t.collided
             ));
         }
     }
@@ -261,6 +271,8 @@ struct Case<'a> {
     presets: Vec<&'static str>,
     stem: std::path::PathBuf,
     slices: &'a SliceCache,
+    /// `model × warp`, for the machine outcomes printed per case.
+    label: String,
 }
 
 /// FNV-1a of the triangles of a binary STL (the 80-byte header, which names the job, aside).
@@ -384,14 +396,19 @@ fn run_case(
         let mut tally = machines.lock().unwrap();
         let t = tally.entry(name).or_default();
         match r {
-            Ok(Some(m)) => {
+            Ok(MachineOutcome::Printed(m, checked)) => {
+                println!("  {} × {name}: {checked}", case.label);
                 t.printed += 1;
                 t.worst_tip = t.worst_tip.max(m.worst_tip);
                 t.worst_axis = t.worst_axis.max(m.worst_axis);
                 t.points += m.points;
                 t.lines += m.lines;
             }
-            Ok(None) => t.refused += 1,
+            Ok(MachineOutcome::Unreachable) => t.refused += 1,
+            Ok(MachineOutcome::Collided(c)) => {
+                println!("  {} × {name}: refused, {c}", case.label);
+                t.collided += 1;
+            }
             Err(e) => t.failure = Some(format!("machine {name}: {e}")),
         }
     }
@@ -409,6 +426,8 @@ fn run_case(
 struct MachineTally {
     printed: usize,
     refused: usize,
+    /// Refused by the collision check, the first finding confirmed by the independent helper.
+    collided: usize,
     worst_tip: f64,
     worst_axis: f64,
     points: usize,
@@ -435,7 +454,8 @@ fn machine_setup(name: &str) -> (MachineSpec, Option<[f64; 2]>) {
 
 /// Unwarp `input` again with the preset `name` and walk its G-code against the core toolpath
 /// (`core_m2o`: the core run's model_to_output; `expect`: the case, its job included).
-/// `Ok(None)`: refused with a named limit, and the core toolpath confirms a pose out of reach.
+/// `Unreachable`: refused with a named limit, and the core toolpath confirms a pose out of
+/// reach; `Collided`: refused by the collision check, confirmed ([`confirm_collision`]).
 fn machine_case(
     name: &str,
     input: &[u8],
@@ -444,7 +464,7 @@ fn machine_case(
     core_m2o: [f64; 3],
     core_e: (f64, f64),
     expect: &common::check::Expect<'_>,
-) -> Result<Option<common::machine::Measured>, String> {
+) -> Result<MachineOutcome, String> {
     let (spec, place) = machine_setup(name);
     // the machine file's kinematics and limits, in the tests' own closed forms
     let limits = common::machine::fk::Limits::from_spec(&spec)?;
@@ -464,32 +484,8 @@ fn machine_case(
     let out = match unwarp_with_stl(input, expect.job, &opts, Some(stl)) {
         Ok(out) => out,
         Err(e) if e.code() == "machine.collision" => {
-            // the collision check (on by default) refused it: the file written anyway
-            // (--allow-collisions) and its first finding, confirmed by the independent helper
-            // (tests/common/collide.rs: the tests' kinematics, bead points, the head's solids)
-            let mut allow = opts.clone();
-            allow.output.allow_collisions = true;
-            let out = unwarp_with_stl(input, expect.job, &allow, Some(stl))
-                .map_err(|e| format!("refused ({e}), and refused again with allow_collisions"))?;
-            let f = out
-                .report
-                .machine
-                .as_ref()
-                .and_then(|m| m.collisions.first().cloned())
-                .ok_or(format!(
-                    "refused ({e}) but no finding with allow_collisions"
-                ))?;
-            let text = String::from_utf8_lossy(&out.gcode);
-            return match common::collide::confirm(
-                &spec,
-                &text,
-                f.line as usize,
-                &f.part,
-                &f.obstacle,
-            ) {
-                Ok(_) => Ok(None),
-                Err(why) => Err(format!("refused ({e}), not confirmed independently: {why}")),
-            };
+            return confirm_collision(&e, &spec, &opts, input, expect.job, stl)
+                .map(MachineOutcome::Collided);
         }
         Err(e) => {
             let text = e.to_string();
@@ -506,7 +502,7 @@ fn machine_case(
                 .filter(|t| !t.travel || place.is_none())
                 .any(|t| limits.out_of_reach(t.p + shift, t.n).is_some());
             return if unreachable {
-                Ok(None)
+                Ok(MachineOutcome::Unreachable)
             } else {
                 Err(format!(
                     "refused ({text}) although every pose of the toolpath is within the machine file's limits"
@@ -514,6 +510,8 @@ fn machine_case(
             };
         }
     };
+    // the collision check is on by default: a written file passed it (or says why not)
+    let checked = collision_clean(&out.report)?;
     let m2o = DVec3::from_array(out.report.model_to_output);
     if (m2o - DVec3::from_array(core_m2o) - shift).length() > 1e-9 {
         return Err(format!(
@@ -564,10 +562,13 @@ fn machine_case(
             common::check::check(expect, input, &out.gcode)
                 .map_err(|e| format!("the cartesian preset's file: {e}"))?;
         }
-        return Ok(Some(common::machine::Measured {
-            points: core.len(),
-            ..Default::default()
-        }));
+        return Ok(MachineOutcome::Printed(
+            common::machine::Measured {
+                points: core.len(),
+                ..Default::default()
+            },
+            checked,
+        ));
     }
     let text = String::from_utf8(out.gcode).map_err(|e| e.to_string())?;
     let lines = common::machine::parse(&text, &axis_names)?;
@@ -582,7 +583,112 @@ fn machine_case(
             .and_then(|()| std::fs::write(stem.with_extension("toolpath"), tp.join("\n")));
         println!("{name}: failed case kept in {dir}: {kept:?}");
     }
-    r.map(Some)
+    r.map(|m| MachineOutcome::Printed(m, checked))
+}
+
+/// What a preset did with a case.
+enum MachineOutcome {
+    /// Written; how the collision check went (clean, or why it did not run).
+    Printed(common::machine::Measured, String),
+    /// Refused with a named limit, a pose out of reach confirmed.
+    Unreachable,
+    /// Refused by the collision check, its first finding confirmed independently.
+    Collided(String),
+}
+
+/// A written machine file passed the collision check (on by default): it ran and found
+/// nothing, or the machine is one the check cannot judge and the report says so.
+fn collision_clean(report: &warpslice::unwarp::UnwarpReport) -> Result<String, String> {
+    let m = report.machine.as_ref().ok_or("no machine report")?;
+    if m.collisions_checked {
+        return match m.collisions.first() {
+            None => Ok("clean (collision check: 0 findings)".into()),
+            Some(f) => Err(format!("written with a collision finding: {f:?}")),
+        };
+    }
+    report
+        .warnings
+        .iter()
+        .find(|w| w.contains("collision check was not run"))
+        .map(|w| format!("written, not checked: {w}"))
+        .ok_or("written without the collision check (on by default) and without saying why".into())
+}
+
+/// The collision check (on by default) refused the file (`refusal`, `machine.collision`, its
+/// first finding in it): the same file written without the check (`check_collisions: false`:
+/// the moves are the same, the check only reads them; cheaper in the matrix than the full
+/// listing of `allow_collisions`, which `tests/collision_check.rs` compares with the refusal)
+/// and the finding confirmed by the independent helper (tests/common/collide.rs: the tests'
+/// kinematics, bead points, the head's solids) on the same output line, the part in the same
+/// obstacle, the depths within [`common::collide::DEPTH_TOLERANCE_MM`].
+fn confirm_collision(
+    refusal: &warpslice::pipeline::Error,
+    spec: &MachineSpec,
+    opts: &UnwarpSettings,
+    input: &[u8],
+    job: &warpslice::job::Job,
+    stl: &[u8],
+) -> Result<String, String> {
+    let (f, total) = match refusal {
+        warpslice::pipeline::Error::Machine(warpslice::machine::MachineError::Collision {
+            finding,
+            total,
+            ..
+        }) => (finding.as_ref().clone(), *total),
+        other => return Err(format!("machine.collision without its finding: {other:?}")),
+    };
+    let mut unchecked = opts.clone();
+    unchecked.output.check_collisions = false;
+    let out = unwarp_with_stl(input, job, &unchecked, Some(stl))
+        .map_err(|e| format!("refused ({refusal}), and without the check: {e}"))?;
+    if !refusal
+        .to_string()
+        .contains(&format!("output line {} ", f.line))
+    {
+        return Err(format!(
+            "the refusal ({refusal}) does not name its finding's line {}",
+            f.line
+        ));
+    }
+    let text = String::from_utf8_lossy(&out.gcode);
+    let c = match common::collide::confirm(spec, &text, f.line as usize, &f.part, &f.obstacle) {
+        Ok(c) => c,
+        // shallower than the helper's bead sampling can see: said so, not called confirmed
+        Err(why) if f.depth_mm <= common::collide::UNSEEN_DEPTH_MM => {
+            return Ok(format!(
+                "NOT re-found, below the helper's resolution ({:.3} ≤ {} mm): line {} (input line {}), layer {}, {} into {}: {why}",
+                f.depth_mm,
+                common::collide::UNSEEN_DEPTH_MM,
+                f.line,
+                f.input_line.map_or("-".into(), |l| l.to_string()),
+                f.layer,
+                f.part,
+                f.obstacle
+            ))
+        }
+        Err(why) => return Err(format!("refused ({refusal}), not confirmed independently: {why}")),
+    };
+    // a box checked as its enclosing cylinder (no head frame in the helper for this machine)
+    // is a larger solid: its depth bounds the checker's from above only
+    let short = f.depth_mm - c.depth_mm > common::collide::DEPTH_TOLERANCE_MM;
+    let over = c.depth_mm - f.depth_mm > common::collide::DEPTH_TOLERANCE_MM && !c.enclosing;
+    if short || over {
+        return Err(format!(
+            "refused ({refusal}): the helper finds the {} in the {} on line {} but {:.3} mm deep, the checker {:.3} mm",
+            f.part, f.obstacle, f.line, c.depth_mm, f.depth_mm
+        ));
+    }
+    Ok(format!(
+        "confirmed: at least {total} finding(s); first line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
+        f.line,
+        f.input_line.map_or("-".into(), |l| l.to_string()),
+        f.layer,
+        f.part,
+        f.obstacle,
+        f.depth_mm,
+        c.depth_mm,
+        if c.enclosing { " (boxes as enclosing cylinders)" } else { "" }
+    ))
 }
 
 /// A machine file's total E vs the 3-axis file's, relative: both write E with 5 decimals and

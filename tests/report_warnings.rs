@@ -38,6 +38,8 @@ fn lib_warnings(g: &str, job: &Job, machine: Option<&str>) -> Vec<String> {
         },
         output: MachineOptions {
             machine: machine.map(|m| warpslice::machine::preset(m).unwrap()),
+            // the warnings, not the head's clearance (collision_check.rs): written anyway
+            allow_collisions: true,
             ..MachineOptions::default()
         },
     };
@@ -54,7 +56,8 @@ fn cli_warnings(d: &Path, job: &Path, g: &str, extra: &[&str]) -> Vec<String> {
     let o = Command::new(CLI)
         .args(["unwarp", input.to_str().unwrap(), "--job"])
         .arg(job)
-        .args(["--offset", "100,100", "-o"])
+        // the warnings, not the head's clearance (collision_check.rs): written anyway
+        .args(["--offset", "100,100", "--allow-collisions", "-o"])
         .arg(d.join("out.gcode"))
         .args(extra)
         .output()

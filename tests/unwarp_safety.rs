@@ -74,8 +74,9 @@ fn settings(
         output: MachineOptions {
             machine,
             flavour,
-            // head moves and line order, not the head's clearance (collision_check.rs; the
-            // check is opt-in): the default head meets the bed on the conic cube's tilted layers
+            // head moves and line order, not the head's clearance (collision_check.rs): the
+            // default head meets the bed on the conic cube's tilted layers, so written anyway
+            allow_collisions: true,
             ..MachineOptions::default()
         },
     }

@@ -247,10 +247,10 @@ async function unwarpFile(msg) {
     let checkPreview = null;
     if (options.machine) {
       try {
-        // With "Check collisions" the unwarp itself checked them and refused a file with any, so
+        // The unwarp itself checked collisions (on by default) and refused a file with any, so
         // the swept check runs again here only to list them when the file was written with
         // `allow_collisions` (costly on a large file); reach and speeds always.
-        const listCollisions = !!options.allow_collisions && !!options.check_collisions;
+        const listCollisions = !!options.allow_collisions && options.check_collisions !== false;
         ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !listCollisions));
       } catch (e) {
         checkError = errReply(e);

@@ -17,8 +17,8 @@
 //! ([`crate::machine::Machine::forward`], [`crate::machine::Machine::head_frame`]), so a
 //! turning table and a turning head are the same question.
 //!
-//! The unwarp runs it on a machine output when asked (`check_collisions`, off by default until
-//! the engine's findings are confirmed on every preset of the real-slicer matrix: README;
+//! The unwarp runs it on every machine output (`check_collisions`, on by default; every refusal
+//! of the real-slicer matrix is confirmed by the independent helper `tests/common/collide.rs`;
 //! `allow_collisions` writes the file and lists the findings instead of refusing it with
 //! [`crate::machine::MachineError::Collision`] at the first one).
 //!

@@ -99,20 +99,42 @@ pub fn unwarp_with_stl(
     stl: Option<&[u8]>,
 ) -> Result<UnwarpOutput, Error> {
     let mut out = unwarper_with_stl(job, settings, stl)?.run(gcode)?;
-    if let Some(mut w) = walker(settings, &mut out.report)? {
-        w.push(&out.gcode)?;
-        let (findings, _) = w.finish()?;
-        let spec = settings
-            .output
-            .machine
-            .as_ref()
-            .expect("a walker has a machine");
-        apply_findings(settings, spec, findings, &mut out.gcode, &mut out.report)?;
+    let mut unsupported = crate::unwarp::UnwarpReport::default();
+    match walker(settings, &mut unsupported)? {
+        Some(mut w) => {
+            w.push(&out.gcode)?;
+            let (findings, _) = w.finish()?;
+            let spec = settings
+                .output
+                .machine
+                .as_ref()
+                .expect("a walker has a machine");
+            apply_findings(settings, spec, findings, &mut out.gcode, &mut out.report)?;
+        }
+        None => out
+            .gcode
+            .extend_from_slice(unchecked_note(settings, &unsupported).as_bytes()),
     }
+    out.report.warnings.extend(unsupported.warnings);
     Ok(out)
 }
 
-/// The collision check's walker when it runs (a machine output with `check_collisions`;
+/// The last comment of a machine file the collision check did not run on (the options said
+/// `check_collisions: false`, or the check cannot judge the machine: `unsupported`'s warning),
+/// so the file itself says that nobody checked the head's clearance; empty for 3-axis output.
+fn unchecked_note(settings: &UnwarpSettings, unsupported: &crate::unwarp::UnwarpReport) -> String {
+    if settings.output.machine.is_none() {
+        return String::new();
+    }
+    let why = match unsupported.warnings.first() {
+        Some(w) => w.clone(),
+        None => "check_collisions is false in the options".to_string(),
+    };
+    format!("; warpslice collision check: NOT RUN ({why}): the head's clearance was not checked\n")
+}
+
+/// The collision check's walker when it runs (a machine output with `check_collisions`, the
+/// default;
 /// see [`crate::collision`]). A machine the check cannot judge (the lathe: its layers are not
 /// graphs over the bed) gets no check, and the report says so in its warnings.
 fn walker(
@@ -233,14 +255,17 @@ pub fn unwarp_stream<R: std::io::Read>(
         progress(n as u64);
     }
     let mut report = u.finish()?;
-    report.warnings.extend(unsupported.warnings);
     let mut chunk = u.take_output();
-    if let (Some(mut w), Some(spec)) = (walker, settings.output.machine.as_ref()) {
-        w.push(&chunk)?;
-        let (findings, _) = w.finish()?;
-        // refused: what was written stays a partial file, the caller reports the error
-        apply_findings(settings, spec, findings, &mut chunk, &mut report)?;
+    match (walker, settings.output.machine.as_ref()) {
+        (Some(mut w), Some(spec)) => {
+            w.push(&chunk)?;
+            let (findings, _) = w.finish()?;
+            // refused: what was written stays a partial file, the caller reports the error
+            apply_findings(settings, spec, findings, &mut chunk, &mut report)?;
+        }
+        _ => chunk.extend_from_slice(unchecked_note(settings, &unsupported).as_bytes()),
     }
+    report.warnings.extend(unsupported.warnings);
     out.write_all(&chunk).map_err(out_err)?;
     out.flush().map_err(out_err)?;
     Ok(report)

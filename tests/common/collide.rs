@@ -6,15 +6,19 @@
 //! beads (not a height field), and a point-in-solid test per part.
 //!
 //! - Material: every extruding move before the finding's line, its tip path sampled every
-//!   [`STEP_MM`] through the kinematics, each sample giving bead points at the tip and ±w/4
-//!   across (horizontally, perpendicular to the path), each also h/2 and h lower (w, h: the
+//!   [`STEP_MM`] through the kinematics, each sample giving bead points at the tip, ±w/4 and
+//!   ±w/2 across (horizontally, perpendicular to the path), each also h/2 and h lower (w, h: the
 //!   slicer's `;WIDTH:`, `;HEIGHT:`; 0.45 and 0.2 mm without them).
 //! - The move: its axes interpolated linearly (as the firmware moves them) at [`POSES`] poses.
 //! - The part at a pose, in the tool frame (origin the tip, z the tool axis n): cone `from ≤ s ≤
 //!   from + length`, `ρ ≤ r_tip + (s − from) tan ψ`; cylinder; box in the frame the machine turns
 //!   (docs/machines.md, src/machine/head.rs module documentation): B head `R_y(B)`, RTN
 //!   `R_z(φ)·R_y(tilt)` with φ the azimuth of n, PAX `R_z(A − offset)·R_y(B)`, cartesian the
-//!   identity; other machines check a box as the cylinder about the tool axis that contains it.
+//!   identity; the machines that turn the part (the head fixed in the machine, its frame the
+//!   machine's axes seen from the part): A/B table `R(b_dir, −B)·R(a_dir, −A)` (seed 004, the
+//!   inverse of the table's turn, as the tests' kinematics writes n), polar `R_z(−C)·R_y(B)`;
+//!   the triple-Z bed and the lathe check a box as the cylinder about the tool axis that
+//!   contains it (a larger solid: such a confirmation is weaker, and says so).
 //! - Contact (docs/machines.md, "Collision check"): a material point inside the part that starts
 //!   at the tip counts only above the contact surface `s > (ρ + w/2)·tan 30°`, and by more than
 //!   a layer height when it is of the move's own layer.
@@ -22,17 +26,60 @@
 //!
 //! A finding is confirmed when some material point (or, for the bed, some point of the part)
 //! is inside the named part at some pose of the move.
+//!
+//! ## Depth
+//! The checker reports the largest vertical overlap of the part with a material column (or the
+//! bed). The helper measures its own: for every material point `q` inside the part at a pose,
+//! the vertical line through `q` enters the part (the nozzle: the part of it above the contact
+//! surface) at `z_in`, found by bisection — the part is convex (a frustum, a box, and for the
+//! nozzle the cone cut by `s − ρ·tan 30° > c`, a superlevel set of a concave function), so the
+//! line meets it in one interval — and the depth is the largest `q.z − z_in`; for the bed, the
+//! bed's top less the lowest boundary point of the part over the bed. The two agree within
+//! [`DEPTH_TOLERANCE_MM`].
 
 use glam::{DMat3, DVec3};
 use warpslice::machine::head::{BedSpec, HeadPart};
 use warpslice::machine::MachineSpec;
 
-use super::machine::fk::Fk;
+use super::machine::fk::{rotate, Fk};
 
 /// Spacing of the bead samples along the path, mm (a quarter of the line width).
 pub const STEP_MM: f64 = 0.1;
 /// Poses per move checked.
 pub const POSES: usize = 400;
+
+/// How far the helper's depth may differ from the checker's, mm. The two sample differently:
+/// - material: the helper's bead points lie every [`STEP_MM`] along, w/4 across and h/2 down,
+///   so the deepest column is within (0.05, w/8) ≈ 0.075 mm of a point horizontally — times
+///   the steepest lower face of a default part, the 40° nozzle cone (1/tan 40° = 1.19):
+///   0.09 mm — and h/2 = 0.1 mm vertically;
+/// - the bead top: the checker's follows the layer's slope across the bead (`src/collision/
+///   bead.rs`), up to (w/2)·tan 30° = 0.13 mm above the helper's flat bead at the edge on the
+///   30° cone layers; and it keeps one top per 0.2 mm cell (≤ 0.14 mm × tan 30° = 0.08 mm);
+/// - the poses: the checker's are at most 0.2 mm of head motion apart, so its largest overlap
+///   may be short of the move's by half a step times (1 + 1.19): 0.22 mm; the helper's 400
+///   poses are closer.
+///
+/// Sum: 0.62 mm, rounded up to 0.65. A depth beyond it on either side is a disagreement.
+pub const DEPTH_TOLERANCE_MM: f64 = 0.65;
+
+/// The shallowest overlap the helper is sure to see, mm: its bead points are within 0.075 mm
+/// horizontally of any bead point (see [`DEPTH_TOLERANCE_MM`]), and a part's lower face rises
+/// at most 1.19 mm per mm (the 40° nozzle cone), so an overlap shallower than 0.075 × 1.19 =
+/// 0.09 mm may lie wholly between the points. A finding shallower than this that the helper
+/// does not re-find is reported as below its resolution, not as confirmed.
+pub const UNSEEN_DEPTH_MM: f64 = 0.09;
+
+/// What the helper found for a finding.
+#[derive(Clone, Debug)]
+pub struct Confirmed {
+    /// The helper's depth (see "Depth" above), mm.
+    pub depth_mm: f64,
+    /// Where and what, for the report.
+    pub what: String,
+    /// The box parts were checked as enclosing cylinders (no head frame for this machine).
+    pub enclosing: bool,
+}
 
 /// A bead point: where, and the layer it was printed in.
 #[derive(Clone, Copy)]
@@ -61,21 +108,42 @@ fn frame(fk: &Fk, axes: &[f64], n: DVec3) -> Option<DMat3> {
             (axes[3] - offset_deg).to_radians(),
             axes[4].to_radians(),
         )),
+        Fk::AbTable { a_dir, b_dir, .. } => {
+            let (a, b) = (axes[3].to_radians(), axes[4].to_radians());
+            let col = |e: DVec3| rotate(rotate(e, *a_dir, -a), *b_dir, -b);
+            Some(DMat3::from_cols(
+                col(DVec3::X),
+                col(DVec3::Y),
+                col(DVec3::Z),
+            ))
+        }
+        Fk::RTheta { .. } => Some(turned(-axes[1].to_radians(), axes[3].to_radians())),
         _ => None,
     }
 }
 
-/// Whether `q` (output frame) is inside `part` posed at tip `p`, axis `n`, frame `r`; for the
-/// tip part also above the contact surface by `press` (mm along the axis).
-fn inside(
-    part: &HeadPart,
+/// A part posed at tip `p`, axis `n`, frame `r`, against beads of width `w`; for the tip part
+/// the contact surface is raised by `press` (mm along the axis).
+struct Posed<'a> {
+    part: &'a HeadPart,
     p: DVec3,
     n: DVec3,
-    r: Option<&DMat3>,
-    q: DVec3,
+    r: Option<&'a DMat3>,
     w: f64,
     press: f64,
-) -> bool {
+}
+
+/// Whether `q` (output frame) is inside the posed part (the tip part: above its contact
+/// surface).
+fn inside(at: &Posed<'_>, q: DVec3) -> bool {
+    let Posed {
+        part,
+        p,
+        n,
+        r,
+        w,
+        press,
+    } = *at;
     let d = q - p;
     let s = n.dot(d);
     let rho = (d.length_squared() - s * s).max(0.0).sqrt();
@@ -203,7 +271,7 @@ pub fn confirm(
     line: usize,
     part: &str,
     obstacle: &str,
-) -> Result<String, String> {
+) -> Result<Confirmed, String> {
     let fk = Fk::from_spec(spec)?;
     let letters: Vec<String> = spec
         .axis_names()
@@ -290,7 +358,7 @@ pub fn confirm(
                     };
                     for j in 0..=k {
                         let (q, _) = fk.forward(&at(j as f64 / k as f64))?;
-                        for c in [-0.25, 0.0, 0.25] {
+                        for c in [-0.5, -0.25, 0.0, 0.25, 0.5] {
                             for dz in [0.0, 0.5, 1.0] {
                                 points.push(Point {
                                     q: q + across * (c * w) - DVec3::Z * (dz * h),
@@ -308,6 +376,31 @@ pub fn confirm(
     Err(format!("line {line} is not a move of the file"))
 }
 
+/// Where the vertical line through `q` (inside the part) enters it from below: bisection
+/// between `q` and `below` mm under it, outside the part (the part and the contact-cut nozzle
+/// are convex, so the line meets them in one interval), to 1e-6 mm.
+fn entry_z(at: &Posed<'_>, q: DVec3, below: f64) -> f64 {
+    let (mut lo, mut hi) = (q.z - below, q.z);
+    while hi - lo > 1e-6 {
+        let mid = 0.5 * (lo + hi);
+        if inside(at, DVec3::new(q.x, q.y, mid)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// The farthest point of `part` from the tip, mm: a point of its rim circles or corners
+/// ([`boundary`] in the tool frame), since every part is convex.
+fn reach(part: &HeadPart) -> f64 {
+    boundary(part, DVec3::ZERO, DVec3::Z, Some(&DMat3::IDENTITY))
+        .iter()
+        .map(|q| q.length())
+        .fold(0.0, f64::max)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn judge(
     fk: &Fk,
@@ -319,41 +412,81 @@ fn judge(
     w: f64,
     h: f64,
     at: &dyn Fn(f64) -> Vec<f64>,
-) -> Result<String, String> {
-    for k in 0..=POSES {
-        let axes = at(k as f64 / POSES as f64);
-        let (p, n) = fk.forward(&axes)?;
-        let r = frame(fk, &axes, n);
+) -> Result<Confirmed, String> {
+    let far = reach(part);
+    let mut best: Option<Confirmed> = None;
+    let mut enclosing = false;
+    // the material near the move: within the part's reach of some pose's tip (poses every
+    // 1/POSES of the move; the tip moves less than a bead sample between two of them on the
+    // matrix's moves, and the margin of a line width covers it)
+    let poses: Vec<(Vec<f64>, DVec3, DVec3)> = (0..=POSES)
+        .map(|k| {
+            let axes = at(k as f64 / POSES as f64);
+            fk.forward(&axes).map(|(p, n)| (axes, p, n))
+        })
+        .collect::<Result<_, _>>()?;
+    let (lo, hi) = poses.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (_, p, _)| (lo.min(*p), hi.max(*p)),
+    );
+    let margin = DVec3::splat(far + w);
+    let near: Vec<&Point> = points
+        .iter()
+        .filter(|pt| pt.q.cmpge(lo - margin).all() && pt.q.cmple(hi + margin).all())
+        .collect();
+    for (axes, p, n) in &poses {
+        let (p, n) = (*p, *n);
+        let r = frame(fk, axes, n);
+        enclosing |= r.is_none() && matches!(part, HeadPart::Box { .. });
+        let mut deepest = |depth: f64, what: String| {
+            if best.as_ref().is_none_or(|b| depth > b.depth_mm) {
+                best = Some(Confirmed {
+                    depth_mm: depth,
+                    what,
+                    enclosing,
+                });
+            }
+        };
         if obstacle == "bed" {
             for q in boundary(part, p, n, r.as_ref()) {
                 if let Some(top) = covers(bed, q) {
-                    if q.z < top - 0.05 {
-                        return Ok(format!(
-                            "the {} reaches {:.3} mm below the bed at {q}",
-                            part.name(),
-                            top - q.z
-                        ));
+                    if q.z < top {
+                        deepest(
+                            top - q.z,
+                            format!("the {} reaches below the bed at {q}", part.name()),
+                        );
                     }
                 }
             }
         } else {
-            for pt in points {
-                if (pt.q - p).length() > 60.0 {
+            for pt in &near {
+                if (pt.q - p).length() > far {
                     continue;
                 }
-                let press = if pt.layer == layer { h } else { 0.0 };
-                if inside(part, p, n, r.as_ref(), pt.q, w, press) {
-                    return Ok(format!(
-                        "bead point {} of layer {} is inside the {} (tip {p}, axis {n})",
-                        pt.q,
-                        pt.layer,
-                        part.name()
-                    ));
+                let at = Posed {
+                    part,
+                    p,
+                    n,
+                    r: r.as_ref(),
+                    w,
+                    press: if pt.layer == layer { h } else { 0.0 },
+                };
+                if inside(&at, pt.q) {
+                    let z_in = entry_z(&at, pt.q, 3.0 * far);
+                    deepest(
+                        pt.q.z - z_in,
+                        format!(
+                            "bead point {} of layer {} is inside the {} (tip {p}, axis {n})",
+                            pt.q,
+                            pt.layer,
+                            part.name()
+                        ),
+                    );
                 }
             }
         }
     }
-    Err(format!(
+    best.ok_or(format!(
         "no {obstacle} inside the {} over the move's {POSES} poses",
         part.name()
     ))

@@ -57,6 +57,12 @@ export function paramRow(p, group, idBase, value) {
     inputs = [sel];
   } else if (p.type === 'bool') {
     inputs = [el('input', { type: 'checkbox', id: ids[0], checked: !!v })];
+    // A switch on by default (the collision check) has no off flag in the CLI (a flag sets it),
+    // so the page cannot switch it off either: shown checked, fixed.
+    if (p.default === true) {
+      inputs[0].checked = true;
+      inputs[0].disabled = true;
+    }
   } else if (ARITY[p.type]) {
     const arr = Array.isArray(v) ? v : [];
     inputs = ids.map((id, k) => numberInput(p, id, arr[k] ?? (Array.isArray(p.default) ? p.default[k] : '')));
@@ -133,7 +139,7 @@ export function writeRow(row, p, v) {
   const inputs = rowInputs(row);
   if (v == null) {
     if (p.type === 'choice') inputs[0].value = '';
-  } else if (p.type === 'bool') inputs[0].checked = v;
+  } else if (p.type === 'bool') inputs[0].checked = p.default === true || v;
   else if (ARITY[p.type]) inputs.forEach((inp, k) => (inp.value = String(v[k])));
   else inputs[0].value = String(v);
   syncSwitch(row);

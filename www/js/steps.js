@@ -2,7 +2,7 @@
 // 4 the G-code back (unwarp), 5 the result and its summary. Each step resets what depends on it.
 import { state } from './state.js';
 import { showFindings, showUnwarpWarnings } from './check.js';
-import { $, baseName, box3, info, setDownload } from './dom.js';
+import { $, baseName, box3, el, info, setDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
 import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
@@ -278,12 +278,30 @@ export async function doUnwarp(file) {
       text.textContent = 'failed';
       setViewMode('model');
       showError(`Cannot unwarp “${file.name}”`, e, 'unwarp');
+      if (e.code === 'machine.collision') offerAllowCollisions(file);
     }
   } finally {
     state.busy = false;
     $('cancel').disabled = true;
     $('gcode-input').disabled = !state.warped;
   }
+}
+
+/**
+ * Under a collision refusal (`machine.collision`, the check on by default): a button that
+ * writes the file anyway and lists every finding — the "Allow collisions" option
+ * (`--allow-collisions`) switched on, and the unwarp run again.
+ */
+function offerAllowCollisions(file) {
+  const allow = document.querySelector('input[data-param="allow_collisions"]');
+  if (!allow) return;
+  const button = el('button', { type: 'button', textContent: 'Write anyway, list findings', 'data-testid': 'allow-collisions-retry' });
+  button.addEventListener('click', () => {
+    allow.checked = true;
+    allow.dispatchEvent(new Event('change', { bubbles: true }));
+    doUnwarp(file);
+  });
+  $('error').append(el('div', {}, button));
 }
 
 export function makeSummary(out, file) {
