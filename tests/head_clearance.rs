@@ -112,7 +112,7 @@ fn collisions(spec: &MachineSpec, gcode: &str, lines: &[usize]) -> Vec<String> {
         for part in parts(spec) {
             for obstacle in ["material", "bed"] {
                 if let Ok(why) = confirm(spec, gcode, l, &part, obstacle) {
-                    found.push(format!("line {l}: {why}"));
+                    found.push(format!("line {l}: {}", why.what));
                 }
             }
         }
