@@ -399,15 +399,13 @@ fn run_case(
             Ok(MachineOutcome::Printed(m, checked)) => {
                 println!("  {} × {name}: {checked}", case.label);
                 t.printed += 1;
-                t.worst_tip = t.worst_tip.max(m.worst_tip);
-                t.worst_axis = t.worst_axis.max(m.worst_axis);
-                t.points += m.points;
-                t.lines += m.lines;
+                t.walked(&m);
             }
             Ok(MachineOutcome::Unreachable) => t.refused += 1,
-            Ok(MachineOutcome::Collided(c)) => {
+            Ok(MachineOutcome::Collided(m, c)) => {
                 println!("  {} × {name}: refused, {c}", case.label);
                 t.collided += 1;
+                t.walked(&m);
             }
             Err(e) => t.failure = Some(format!("machine {name}: {e}")),
         }
@@ -419,6 +417,17 @@ fn run_case(
         shape_section_margin: out.report.shape_section_margin_mm,
         ..st
     }))
+}
+
+impl MachineTally {
+    /// A machine file walked against the core toolpath (written, or refused by the collision
+    /// check and written again without it).
+    fn walked(&mut self, m: &common::machine::Measured) {
+        self.worst_tip = self.worst_tip.max(m.worst_tip);
+        self.worst_axis = self.worst_axis.max(m.worst_axis);
+        self.points += m.points;
+        self.lines += m.lines;
+    }
 }
 
 /// What the presets did over a matrix test.
@@ -481,11 +490,14 @@ fn machine_case(
         },
         spec.clone(),
     );
-    let out = match unwarp_with_stl(input, expect.job, &opts, Some(stl)) {
-        Ok(out) => out,
+    // refused by the collision check: the finding confirmed, and the same file written
+    // without the check is walked below like a written one (the user's `--allow-collisions`
+    // file: its path must be exact too)
+    let (out, collided) = match unwarp_with_stl(input, expect.job, &opts, Some(stl)) {
+        Ok(out) => (out, None),
         Err(e) if e.code() == "machine.collision" => {
-            return confirm_collision(&e, &spec, &opts, input, expect.job, stl)
-                .map(MachineOutcome::Collided);
+            let (out, why) = confirm_collision(&e, &spec, &opts, input, expect.job, stl)?;
+            (out, Some(why))
         }
         Err(e) => {
             let text = e.to_string();
@@ -511,7 +523,10 @@ fn machine_case(
         }
     };
     // the collision check is on by default: a written file passed it (or says why not)
-    let checked = collision_clean(&out.report)?;
+    let checked = match collided {
+        None => Ok(collision_clean(&out.report)?),
+        Some(why) => Err(why),
+    };
     let m2o = DVec3::from_array(out.report.model_to_output);
     if (m2o - DVec3::from_array(core_m2o) - shift).length() > 1e-9 {
         return Err(format!(
@@ -562,7 +577,7 @@ fn machine_case(
             common::check::check(expect, input, &out.gcode)
                 .map_err(|e| format!("the cartesian preset's file: {e}"))?;
         }
-        return Ok(MachineOutcome::Printed(
+        return Ok(outcome(
             common::machine::Measured {
                 points: core.len(),
                 ..Default::default()
@@ -583,7 +598,16 @@ fn machine_case(
             .and_then(|()| std::fs::write(stem.with_extension("toolpath"), tp.join("\n")));
         println!("{name}: failed case kept in {dir}: {kept:?}");
     }
-    r.map(|m| MachineOutcome::Printed(m, checked))
+    r.map(|m| outcome(m, checked))
+}
+
+/// A walked machine file's outcome: written (`Ok`: how the check went) or refused by the
+/// collision check with its finding confirmed (`Err`: what was confirmed).
+fn outcome(m: common::machine::Measured, checked: Result<String, String>) -> MachineOutcome {
+    match checked {
+        Ok(c) => MachineOutcome::Printed(m, c),
+        Err(c) => MachineOutcome::Collided(m, c),
+    }
 }
 
 /// What a preset did with a case.
@@ -592,8 +616,9 @@ enum MachineOutcome {
     Printed(common::machine::Measured, String),
     /// Refused with a named limit, a pose out of reach confirmed.
     Unreachable,
-    /// Refused by the collision check, its first finding confirmed independently.
-    Collided(String),
+    /// Refused by the collision check, its first finding confirmed independently; the file
+    /// written without the check walked like a written one.
+    Collided(common::machine::Measured, String),
 }
 
 /// A written machine file passed the collision check (on by default): it ran and found
@@ -628,7 +653,7 @@ fn confirm_collision(
     input: &[u8],
     job: &warpslice::job::Job,
     stl: &[u8],
-) -> Result<String, String> {
+) -> Result<(warpslice::unwarp::UnwarpOutput, String), String> {
     let (f, total) = match refusal {
         warpslice::pipeline::Error::Machine(warpslice::machine::MachineError::Collision {
             finding,
@@ -655,7 +680,7 @@ fn confirm_collision(
         Ok(c) => c,
         // shallower than the helper's bead sampling can see: said so, not called confirmed
         Err(why) if f.depth_mm <= common::collide::UNSEEN_DEPTH_MM => {
-            return Ok(format!(
+            return Ok((out, format!(
                 "NOT re-found, below the helper's resolution ({:.3} ≤ {} mm): line {} (input line {}), layer {}, {} into {}: {why}",
                 f.depth_mm,
                 common::collide::UNSEEN_DEPTH_MM,
@@ -664,7 +689,7 @@ fn confirm_collision(
                 f.layer,
                 f.part,
                 f.obstacle
-            ))
+            )))
         }
         Err(why) => return Err(format!("refused ({refusal}), not confirmed independently: {why}")),
     };
@@ -678,7 +703,7 @@ fn confirm_collision(
             f.part, f.obstacle, f.line, c.depth_mm, f.depth_mm
         ));
     }
-    Ok(format!(
+    let why = format!(
         "confirmed: at least {total} finding(s); first line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
         f.line,
         f.input_line.map_or("-".into(), |l| l.to_string()),
@@ -688,7 +713,8 @@ fn confirm_collision(
         f.depth_mm,
         c.depth_mm,
         if c.enclosing { " (boxes as enclosing cylinders)" } else { "" }
-    ))
+    );
+    Ok((out, why))
 }
 
 /// A machine file's total E vs the 3-axis file's, relative: both write E with 5 decimals and
