@@ -125,7 +125,10 @@ fn judge(check: Check, misses: Vec<(String, String)>, names: &[&str]) -> Vec<Str
             ));
         }
         if !measured {
-            failures.push(format!("{}: listed in KNOWN_GAPS but not measured", g.model));
+            failures.push(format!(
+                "{}: listed in KNOWN_GAPS but not measured",
+                g.model
+            ));
         }
     }
     failures
@@ -501,22 +504,28 @@ fn solid_fill_extrudes_the_mesh_volume_and_prusaslicers_within_5_percent() {
             100.0 * vs_prusa
         );
         if m.closed && vs_mesh.abs() > VOLUME_TOLERANCE {
-            vs_mesh_misses.push((m.name.clone(), format!(
-                "{}: builtin volume {:.1} mm³ is {:+.2} % of the mesh's {:.1} mm³",
-                m.name,
-                m.builtin_volume,
-                100.0 * vs_mesh,
-                m.mesh_volume
-            )));
+            vs_mesh_misses.push((
+                m.name.clone(),
+                format!(
+                    "{}: builtin volume {:.1} mm³ is {:+.2} % of the mesh's {:.1} mm³",
+                    m.name,
+                    m.builtin_volume,
+                    100.0 * vs_mesh,
+                    m.mesh_volume
+                ),
+            ));
         }
         if vs_prusa.abs() > VOLUME_TOLERANCE {
-            vs_prusa_misses.push((m.name.clone(), format!(
-                "{}: builtin volume {:.1} mm³ is {:+.2} % of PrusaSlicer's {:.1} mm³",
-                m.name,
-                m.builtin_volume,
-                100.0 * vs_prusa,
-                m.prusa_volume
-            )));
+            vs_prusa_misses.push((
+                m.name.clone(),
+                format!(
+                    "{}: builtin volume {:.1} mm³ is {:+.2} % of PrusaSlicer's {:.1} mm³",
+                    m.name,
+                    m.builtin_volume,
+                    100.0 * vs_prusa,
+                    m.prusa_volume
+                ),
+            ));
         }
     }
     let names: Vec<&str> = all.iter().flatten().map(|m| m.name.as_str()).collect();
