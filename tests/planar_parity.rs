@@ -14,70 +14,21 @@ use warpslice::job::fnv1a64;
 use warpslice::pipeline::{slice_builtin, unwarp_with_stl, UnwarpSettings};
 use warpslice::pipeline::{warp_model, WarpOptions};
 use warpslice::planar::Settings;
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+
+#[path = "common/acceptance.rs"]
+mod acceptance;
 
 const GOLDEN: &str = include_str!("golden/planar_parity.txt");
 
 /// The generated parts of the cases (`warpslice::shapes::EXAMPLES`).
 const PARTS: [&str; 2] = ["sphere", "overhang"];
 
-/// The five acceptance warps (the matrix's, tests/common/mod.rs; written out here because
-/// the wasm build of this test does not compile the native-only helpers).
-fn warps() -> Vec<(&'static str, WarpParams)> {
-    let shear = |spec| WarpParams { spec, base: None };
-    vec![
-        (
-            "curved-out-0.3",
-            shear(WarpSpec::Curved {
-                strength: 0.3,
-                direction: Direction::Outward,
-                offset: 0.0,
-                width: 0.0,
-            }),
-        ),
-        (
-            "tilted-out-0.2",
-            shear(WarpSpec::Tilted {
-                strength: 0.2,
-                direction: Direction::Outward,
-                offset: 0.0,
-            }),
-        ),
-        (
-            "conic-out-30",
-            shear(WarpSpec::Conic {
-                angle: 30.0,
-                direction: Direction::Outward,
-                center: [0.0, 0.0],
-            }),
-        ),
-        (
-            "conic-in-30",
-            shear(WarpSpec::Conic {
-                angle: 30.0,
-                direction: Direction::Inward,
-                center: [0.0, 0.0],
-            }),
-        ),
-        (
-            "belt-15-base",
-            WarpParams {
-                spec: WarpSpec::Belt {
-                    angle: 15.0,
-                    toward: [0.0, 1.0],
-                },
-                base: Some([0.6, 10.0]),
-            },
-        ),
-    ]
-}
-
 /// `part warp rel|abs planar-hash unwarped-hash` per case.
 fn compute() -> String {
     let mut out = String::new();
     for part in PARTS {
         let stl = warpslice::mesh::write_stl(&warpslice::shapes::example(part).unwrap(), part);
-        for (name, params) in warps() {
+        for (name, params) in acceptance::acceptance_warps() {
             let w = warp_model(&stl, &WarpOptions::new(params)).unwrap();
             for relative in [true, false] {
                 let settings = Settings {

@@ -478,19 +478,24 @@ fn measured() -> Option<&'static [Result<Measured, String>]> {
     .as_deref()
 }
 
+/// The models measured, and the failures of those that could not be.
+fn split(all: &[Result<Measured, String>]) -> (Vec<&Measured>, Vec<String>) {
+    let (mut ok, mut failures) = (Vec::new(), Vec::new());
+    for r in all {
+        match r {
+            Ok(m) => ok.push(m),
+            Err(e) => failures.push(e.clone()),
+        }
+    }
+    (ok, failures)
+}
+
 #[test]
 fn solid_fill_extrudes_the_mesh_volume_and_prusaslicers_within_5_percent() {
     let Some(all) = measured() else { return };
-    let mut failures = Vec::new();
+    let (ok, mut failures) = split(all);
     let (mut vs_mesh_misses, mut vs_prusa_misses) = (Vec::new(), Vec::new());
-    for r in all {
-        let m = match r {
-            Ok(m) => m,
-            Err(e) => {
-                failures.push(e.clone());
-                continue;
-            }
-        };
+    for m in &ok {
         let vs_mesh = m.builtin_volume / m.mesh_volume - 1.0;
         let vs_prusa = m.builtin_volume / m.prusa_volume - 1.0;
         println!(
@@ -528,7 +533,7 @@ fn solid_fill_extrudes_the_mesh_volume_and_prusaslicers_within_5_percent() {
             ));
         }
     }
-    let names: Vec<&str> = all.iter().flatten().map(|m| m.name.as_str()).collect();
+    let names: Vec<&str> = ok.iter().map(|m| m.name.as_str()).collect();
     failures.extend(judge(Check::VolumeVsMesh, vs_mesh_misses, &names));
     failures.extend(judge(Check::VolumeVsPrusaSlicer, vs_prusa_misses, &names));
     assert!(
@@ -541,16 +546,9 @@ fn solid_fill_extrudes_the_mesh_volume_and_prusaslicers_within_5_percent() {
 #[test]
 fn outer_walls_reach_the_side_surface_as_often_as_prusaslicers() {
     let Some(all) = measured() else { return };
-    let mut failures = Vec::new();
+    let (ok, mut failures) = split(all);
     let mut misses = Vec::new();
-    for r in all {
-        let m = match r {
-            Ok(m) => m,
-            Err(e) => {
-                failures.push(e.clone());
-                continue;
-            }
-        };
+    for m in &ok {
         let (b, p) = (m.builtin_cover.share(), m.prusa_cover.share());
         println!(
             "{:40} side samples {:5}: within a line width of an outer wall: builtin {:6.2} %, PrusaSlicer {:6.2} %",
@@ -568,7 +566,7 @@ fn outer_walls_reach_the_side_surface_as_often_as_prusaslicers() {
             )));
         }
     }
-    let names: Vec<&str> = all.iter().flatten().map(|m| m.name.as_str()).collect();
+    let names: Vec<&str> = ok.iter().map(|m| m.name.as_str()).collect();
     failures.extend(judge(Check::WallsReachTheSurface, misses, &names));
     assert!(
         all.iter().flatten().any(|m| m.prusa_cover.of > 0),
