@@ -143,10 +143,20 @@ const COMBOS: usize = 8;
 
 /// The slicer of a matrix test: one of the real slicers installed on this machine, or the
 /// core's own planar slicer (issue 14: `builtin`, the matrix's fourth slicer).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 enum Slicer {
     Real(SlicerKind),
     Builtin,
+}
+
+/// The slicer's name in the matrix's table ("PrusaSlicer", …, "Builtin").
+impl std::fmt::Debug for Slicer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Slicer::Real(kind) => write!(f, "{kind:?}"),
+            Slicer::Builtin => write!(f, "Builtin"),
+        }
+    }
 }
 
 impl From<SlicerKind> for Slicer {
