@@ -1,9 +1,12 @@
 //! The core issue's acceptance matrix with the real slicers installed on this machine
-//! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them): for each slicer ×
-//! {relative E, absolute E} × the five acceptance warps on the generated parts; and every
-//! corpus model marked `accept` × the five warps, each case with one slicer and E mode in turn
-//! (so every slicer and E mode meets every model; the full product, `WARPSLICE_FULL_MATRIX=1`,
-//! runs all 480 corpus cases, over the suite's budget: see the README for its time):
+//! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them) and the built-in planar
+//! slicer (`builtin`, issue 14: its default settings, checked exactly like the others): for
+//! each slicer × {relative E, absolute E} × the five acceptance warps on the generated parts
+//! (each test leaves out a quarter of them, a different quarter for the two E modes of a
+//! slicer: [`Rotate::AllBut`]); and every corpus model marked `accept` × the five warps, each
+//! case with one slicer and E mode in turn (so every slicer and E mode meets every model; the
+//! full product, `WARPSLICE_FULL_MATRIX=1`, runs every generated case with every slicer and E
+//! mode and all 640 corpus cases, over the suite's budget: see the README for its time):
 //! warp → slice → unwarp, then the independent checker of the written G-code
 //! (tests/common/check.rs: placement, layer surfaces on vertices and chords, segment length, E
 //! per class, travels, retractions, bed) and checks b and e of tests/common. A warp that the acceptance requires to
@@ -76,13 +79,37 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
     d
 }
 
-/// One matrix test: the models, the warps, how the machine presets are chosen, and which
-/// slicer × E-mode slot (0–5) of the corpus rotation this test is (`None`: every case).
+/// One matrix test: the models, the warps, how the machine presets are chosen, and which of
+/// its cases this test runs ([`Rotate`]).
 struct Matrix<'a> {
     models: Vec<(String, Vec<u8>)>,
     warps: Vec<(&'a str, WarpParams)>,
     presets: Presets,
-    rotate: Option<usize>,
+    rotate: Rotate,
+}
+
+/// Which cases i = m·warps + w of a matrix a test runs (`WARPSLICE_FULL_MATRIX=1`: all).
+#[derive(Clone, Copy)]
+enum Rotate {
+    /// The corpus: i mod [`COMBOS`] = slot (each case with one slicer × E mode).
+    OneOf(usize),
+    /// The generated parts: all but i mod [`GENERATED_DROP`] = slot mod [`GENERATED_DROP`], so
+    /// that each case runs with six of the eight slicer × E-mode combinations (every slicer in
+    /// at least one E mode: its two slots drop different cases) and the suite runs as many
+    /// generated cases as with three slicers (6 × 35 = 8 × 35 · 3/4: its 30-minute budget).
+    AllBut(usize),
+}
+
+/// The generated cases a slicer × E-mode test leaves out are one residue modulo this.
+const GENERATED_DROP: usize = 4;
+
+impl Rotate {
+    fn runs(self, i: usize) -> bool {
+        match self {
+            Rotate::OneOf(slot) => i % COMBOS == slot,
+            Rotate::AllBut(slot) => i % GENERATED_DROP != slot % GENERATED_DROP,
+        }
+    }
 }
 
 /// How the machine presets of a case are chosen.
@@ -120,11 +147,90 @@ fn presets_for(how: Presets, m: usize, w: usize, warps: usize) -> Vec<&'static s
 /// A preset that met at least this many cases of one matrix test must print one of them.
 const MIN_CASES_TO_PRINT: usize = 3;
 
-/// Slicer × E-mode combinations the corpus cases rotate through.
-const COMBOS: usize = 6;
+/// Slicer × E-mode combinations the corpus cases rotate through: the three real slicers and
+/// the built-in one ([`Slicer`]), each with relative and absolute E.
+const COMBOS: usize = 8;
+
+/// The slicer of a matrix test: one of the real slicers installed on this machine, or the
+/// core's own planar slicer (issue 14: `builtin`, the matrix's fourth slicer).
+#[derive(Clone, Copy)]
+enum Slicer {
+    Real(SlicerKind),
+    Builtin,
+}
+
+/// The slicer's name in the matrix's table ("PrusaSlicer", …, "Builtin").
+impl std::fmt::Debug for Slicer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Slicer::Real(kind) => write!(f, "{kind:?}"),
+            Slicer::Builtin => write!(f, "Builtin"),
+        }
+    }
+}
+
+impl From<SlicerKind> for Slicer {
+    fn from(kind: SlicerKind) -> Slicer {
+        Slicer::Real(kind)
+    }
+}
+
+impl Slicer {
+    /// Why the slicer cannot run here (the built-in one always can).
+    fn unavailable(self) -> Option<String> {
+        match self {
+            Slicer::Real(kind) => slicer::available(kind).err().map(|e| e.to_string()),
+            Slicer::Builtin => None,
+        }
+    }
+
+    /// Slice the warped STL of `w` (already written to `stl`) into `gcode`.
+    fn slice(
+        self,
+        w: &warpslice::pipeline::WarpOutput,
+        stl: &std::path::Path,
+        gcode: &std::path::Path,
+        e_mode: EMode,
+    ) -> Result<(), String> {
+        match self {
+            Slicer::Real(kind) => {
+                let so = SliceOptions {
+                    slicer: kind,
+                    e_mode,
+                    ..SliceOptions::default()
+                };
+                slicer::slice(stl, gcode, &so)
+                    .map(drop)
+                    .map_err(|e| format!("slice: {e}"))
+            }
+            Slicer::Builtin => slice_builtin_case(w, gcode, e_mode),
+        }
+    }
+}
+
+/// The built-in slicer on a case's warped STL: its default settings (PrusaSlicer's 0.45 mm
+/// line, centred on [`BED_CENTRE`] like the real slicers), the job's layer height and the
+/// case's E mode, written to `gcode`.
+fn slice_builtin_case(
+    w: &warpslice::pipeline::WarpOutput,
+    gcode: &std::path::Path,
+    e_mode: EMode,
+) -> Result<(), String> {
+    let settings = warpslice::planar::Settings {
+        layer_height: w.job.layer_height,
+        first_layer_height: w.job.layer_height,
+        center: BED_CENTRE,
+        use_relative_e_distances: e_mode == EMode::Relative,
+        ..warpslice::planar::Settings::default()
+    };
+    let out = warpslice::pipeline::slice_builtin(&w.stl, &w.job, &settings)
+        .map_err(|e| format!("slice (builtin): {e}"))?;
+    std::fs::write(gcode, out.gcode).map_err(|e| e.to_string())
+}
 
 /// Run every case of one matrix test; print the table; fail with every failed case.
-fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
+fn matrix(kind: impl Into<Slicer>, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
+    let kind = kind.into();
     let Matrix {
         models,
         warps,
@@ -139,23 +245,19 @@ fn matrix(kind: SlicerKind, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
         );
         return;
     }
-    if let Err(e) = slicer::available(kind) {
+    if let Some(e) = kind.unavailable() {
         let n = models.len() * warps.len();
-        common::skip::skip_or_fail(&format!("{n} cases of {kind:?}"), &e.to_string());
+        common::skip::skip_or_fail(&format!("{n} cases of {kind:?}"), &e);
         return;
     }
     let dir = tmpdir(tag);
     let nw = warps.len();
     // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer, over
     // the suite's budget)
-    let rotate = if std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1") {
-        None
-    } else {
-        rotate
-    };
+    let full = std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1");
     let mut cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
-        .filter(|&(m, w)| rotate.is_none_or(|k| (m * nw + w) % COMBOS == k))
+        .filter(|&(m, w)| full || rotate.runs(m * nw + w))
         .collect();
     // WARPSLICE_CASES="model:warp,…" (local reproduction of one case; substrings): only those
     if let Ok(only) = std::env::var("WARPSLICE_CASES") {
@@ -265,7 +367,7 @@ type SliceCache = Mutex<std::collections::HashMap<u64, std::path::PathBuf>>;
 
 /// How one case is run.
 struct Case<'a> {
-    kind: SlicerKind,
+    kind: Slicer,
     e_mode: EMode,
     /// The machine presets this case is unwarped with again.
     presets: Vec<&'static str>,
@@ -311,12 +413,7 @@ fn run_case(
         None => {
             let gcode = stem.with_extension("gcode");
             std::fs::write(&stl, &w.stl).map_err(|e| e.to_string())?;
-            let so = SliceOptions {
-                slicer: kind,
-                e_mode,
-                ..SliceOptions::default()
-            };
-            slicer::slice(&stl, &gcode, &so).map_err(|e| format!("slice: {e}"))?;
+            kind.slice(&w, &stl, &gcode, e_mode)?;
             let _ = std::fs::remove_file(&stl);
             case.slices.lock().unwrap().insert(key, gcode.clone());
             gcode
@@ -751,12 +848,13 @@ fn generated_warps() -> Vec<(&'static str, WarpParams)> {
     w
 }
 
-fn generated<'a>() -> Matrix<'a> {
+/// The generated parts for slicer × E-mode slot `slot` (0–7, as the corpus's).
+fn generated<'a>(slot: usize) -> Matrix<'a> {
     Matrix {
         models: common::generated_models(),
         warps: generated_warps(),
         presets: Presets::ThreeRound,
-        rotate: None,
+        rotate: Rotate::AllBut(slot),
     }
 }
 
@@ -765,7 +863,7 @@ fn corpus<'a>(slot: usize) -> Matrix<'a> {
         models: common::corpus_accept(),
         warps: common::acceptance_warps(),
         presets: Presets::TwoByWarp,
-        rotate: Some(slot),
+        rotate: Rotate::OneOf(slot),
     }
 }
 
@@ -779,16 +877,20 @@ macro_rules! matrix_tests {
 }
 
 matrix_tests! {
-    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, generated();
-    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, generated();
-    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, generated();
-    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, generated();
-    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, generated();
-    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, generated();
+    prusaslicer_relative_generated: SlicerKind::PrusaSlicer, EMode::Relative, generated(0);
+    prusaslicer_absolute_generated: SlicerKind::PrusaSlicer, EMode::Absolute, generated(1);
+    slic3r_relative_generated: SlicerKind::Slic3r, EMode::Relative, generated(2);
+    slic3r_absolute_generated: SlicerKind::Slic3r, EMode::Absolute, generated(3);
+    curaengine_relative_generated: SlicerKind::CuraEngine, EMode::Relative, generated(4);
+    curaengine_absolute_generated: SlicerKind::CuraEngine, EMode::Absolute, generated(5);
     prusaslicer_relative_corpus: SlicerKind::PrusaSlicer, EMode::Relative, corpus(0);
     prusaslicer_absolute_corpus: SlicerKind::PrusaSlicer, EMode::Absolute, corpus(1);
     slic3r_relative_corpus: SlicerKind::Slic3r, EMode::Relative, corpus(2);
     slic3r_absolute_corpus: SlicerKind::Slic3r, EMode::Absolute, corpus(3);
     curaengine_relative_corpus: SlicerKind::CuraEngine, EMode::Relative, corpus(4);
     curaengine_absolute_corpus: SlicerKind::CuraEngine, EMode::Absolute, corpus(5);
+    builtin_relative_generated: Slicer::Builtin, EMode::Relative, generated(6);
+    builtin_absolute_generated: Slicer::Builtin, EMode::Absolute, generated(7);
+    builtin_relative_corpus: Slicer::Builtin, EMode::Relative, corpus(6);
+    builtin_absolute_corpus: Slicer::Builtin, EMode::Absolute, corpus(7);
 }

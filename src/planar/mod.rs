@@ -259,9 +259,11 @@ pub fn slice(mesh: &Mesh, settings: &Settings, header: &str) -> Result<Sliced, P
 
     // 2.–5. per layer
     let settings_json = serde_json::to_string(s).unwrap_or_default();
+    // not "; warpslice …": that prefix marks the lines the unwarp and the machine output add,
+    // which readers of the unwarped file (and the matrix's check e) set apart from the input's
     let mut w = gcode_out::Writer::new(
         s,
-        &format!("{header}\nwarpslice built-in planar slicer, settings: {settings_json}"),
+        &format!("{header}\nbuilt-in planar slicer of warpslice, settings: {settings_json}"),
     );
     let mut at = [bbox.min.x, bbox.min.y];
     for (k, slice) in slices.iter().enumerate() {

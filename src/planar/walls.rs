@@ -7,7 +7,9 @@
 //! touches the one outside it. Each perimeter fills a band `s` wide around its line, so the
 //! infill region is the island offset inward by `d_{N−1} + s/2 = (w − s)/2 + N·s`, and the
 //! lines side by side fill the layer's area
-//! (`Σ length·s·h` = area·h, the solid check's volume model).
+//! (`Σ length·s·h` = area·h, the solid check's volume model). An island narrower than its N
+//! perimeters gets those that fit, and the infill region inside them (N = the fitted count):
+//! a middle strip narrower than a line is still filled, by the infill's short lines.
 //!
 //! An island too thin for its external perimeter (the inward offset by w/2 is empty) gets no
 //! wall and is counted in [`Walls::thin`].
@@ -43,7 +45,10 @@ pub fn walls(region: &Region, perimeters: u32, w: f64, s: f64) -> Walls {
             out.thin += 1;
             continue;
         }
-        let inner = offset(&island, -((w - s) / 2.0 + f64::from(perimeters) * s));
+        // inside the perimeters that fit: an island too narrow for all of them (a 1 mm plate
+        // fits one line a side, not two) leaves its middle to the infill, not empty
+        let fitted = lines.len() as f64;
+        let inner = offset(&island, -((w - s) / 2.0 + fitted * s));
         out.inner.extend(inner);
         out.islands.push(lines);
     }

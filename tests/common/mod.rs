@@ -2,6 +2,7 @@
 //! and the checks a–e of the core issue.
 #![allow(dead_code)]
 
+pub mod acceptance;
 pub mod admissible;
 pub mod check;
 pub mod closed;
@@ -15,6 +16,8 @@ pub mod written;
 
 use std::path::PathBuf;
 
+#[allow(unused_imports)] // not every test binary that includes tests/common uses it
+pub use acceptance::acceptance_warps;
 use glam::DVec3;
 use warpslice::gcode::{Command, GcodeError, ReadOptions, Reader};
 use warpslice::job::Job;
@@ -22,7 +25,7 @@ use warpslice::mesh::Mesh;
 use warpslice::pipeline::WarpOptions;
 use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::UnwarpOutput;
-use warpslice::warp::{Direction, WarpParams, WarpSpec};
+use warpslice::warp::{WarpParams, WarpSpec};
 
 /// `../shared/corpus/stl` next to the repository, if present.
 pub fn corpus_dir() -> Option<PathBuf> {
@@ -47,68 +50,6 @@ pub fn corpus_accept() -> Vec<(String, Vec<u8>)> {
             )
         })
         .collect()
-}
-
-/// The warps of the acceptance matrix: curved outward s = 0.3, tilted outward s = 0.2, conic
-/// 30° outward, conic 30° inward, belt 15° with --base 0.6,10.
-pub fn acceptance_warps() -> Vec<(&'static str, WarpParams)> {
-    vec![
-        (
-            "curved-out-0.3",
-            WarpParams {
-                spec: WarpSpec::Curved {
-                    strength: 0.3,
-                    direction: Direction::Outward,
-                    offset: 0.0,
-                    width: 0.0,
-                },
-                base: None,
-            },
-        ),
-        (
-            "tilted-out-0.2",
-            WarpParams {
-                spec: WarpSpec::Tilted {
-                    strength: 0.2,
-                    direction: Direction::Outward,
-                    offset: 0.0,
-                },
-                base: None,
-            },
-        ),
-        (
-            "conic-out-30",
-            WarpParams {
-                spec: WarpSpec::Conic {
-                    angle: 30.0,
-                    direction: Direction::Outward,
-                    center: [0.0, 0.0],
-                },
-                base: None,
-            },
-        ),
-        (
-            "conic-in-30",
-            WarpParams {
-                spec: WarpSpec::Conic {
-                    angle: 30.0,
-                    direction: Direction::Inward,
-                    center: [0.0, 0.0],
-                },
-                base: None,
-            },
-        ),
-        (
-            "belt-15-base",
-            WarpParams {
-                spec: WarpSpec::Belt {
-                    angle: 15.0,
-                    toward: [0.0, 1.0],
-                },
-                base: Some([0.6, 10.0]),
-            },
-        ),
-    ]
 }
 
 /// The generated meshes of the matrix: the crate's examples and [`finned_block`].
