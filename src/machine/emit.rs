@@ -81,6 +81,14 @@ pub const ROTATE_AROUND_TAG: &str = "; rotate-around";
 /// Trailing comment of the lines of a swing lift ([`SWING_RATE_DEG_PER_MM`]): lift, turn in
 /// the air along the pieces the swing would have printed, set down.
 pub const SWING_TAG: &str = "; swing-lift";
+
+/// Feed of the move laying the filament a region's last lifted pieces carried at the region's
+/// last pose, mm/min (the move has no length: the firmware times it by its E, a prime's pace;
+/// the amount is a few µm of filament).
+pub const CARRIED_E_FEED: f64 = 1200.0;
+
+/// The tag of that line.
+pub const CARRIED_E_TAG: &str = " ; warpslice: filament of the lifted pieces at the region's end";
 /// A piece of a move whose rotary axes turn faster than this per mm of tip path
 /// (the largest |Δ| of one rotary axis over the piece's tip length, °/mm; a piece with no tip
 /// motion turns infinitely fast) is part of a **swing**: the tool axis circles a point less than
@@ -145,6 +153,8 @@ pub struct MachineEmitter {
     report: MachineReport,
     /// Filament of a rotate-around's piece, given to the next extruding piece, mm.
     carry_e: f64,
+    /// The E mode of the last extruding point (relative E), for carried filament laid later.
+    relative_e: bool,
     /// Rotary axes (machine order), for [`swing_runs`].
     rotary: Vec<bool>,
     /// Every written move's axes inside their travel; the range written.
@@ -256,6 +266,7 @@ impl MachineEmitter {
             prev: None,
             last_layer: None,
             carry_e: 0.0,
+            relative_e: false,
             rotary,
             tess: TessellationReport::default(),
             report,
@@ -469,6 +480,45 @@ impl MachineEmitter {
         }
     }
 
+    /// `G1 E… F…`: filament only, the axes where they are (a retraction, a prime, or filament
+    /// carried to a region's end). `f` is the filament feed, mm/min (inverse time: per move).
+    fn write_e_only(&mut self, out: &mut Vec<u8>, de: f64, relative: bool, f: f64, tag: &str) {
+        let v = self.ew.advance(de, relative);
+        out.extend_from_slice(b"G1 E");
+        push_e(out, v);
+        let f = if self.feed_now() == FeedMode::InverseTime {
+            f / de.abs()
+        } else {
+            f
+        };
+        self.write_feed(out, f);
+        self.speeds.add_extruder_move(self.feed_now(), de, f);
+        out.extend_from_slice(tag.as_bytes());
+        out.push(b'\n');
+    }
+
+    /// Filament carried from pieces lifted over (a swing lift or a rotate-around) that no
+    /// extruding piece took before a travel, a retraction or the region's end: laid at the last
+    /// pose, before the head leaves it (a deposit written with the pose's axes, not a prime),
+    /// so the volume is kept. Full matrix, sm_cube × conic-in-30 on rotbot: the region's last
+    /// 0.005 mm of filament was lost before.
+    fn lay_carried_e(&mut self, out: &mut Vec<u8>) -> Result<(), MachineError> {
+        let Some(prev) = self.prev.clone().filter(|_| self.carry_e != 0.0) else {
+            return Ok(());
+        };
+        let e = Some((std::mem::take(&mut self.carry_e), self.relative_e));
+        self.write_g1(
+            out,
+            &prev.axes,
+            &prev.axes,
+            prev.p,
+            e,
+            0.0,
+            CARRIED_E_FEED,
+            CARRIED_E_TAG,
+        )
+    }
+
     /// [`Emitter::point`], with the printed material for lifted turns when known.
     fn point_at(
         &mut self,
@@ -485,18 +535,15 @@ impl MachineEmitter {
                 m.push(next, tp.line);
             }
         }
+        if tp.travel {
+            self.lay_carried_e(out).map_err(EmitError::new)?;
+        } else {
+            // the E mode of the file's extrusions (a travel the unwarp plans itself may say
+            // relative in an absolute file: it writes no E)
+            self.relative_e = relative_e;
+        }
         if tp.travel && tp.e != 0.0 {
-            let v = self.ew.advance(tp.e, relative_e);
-            out.extend_from_slice(b"G1 E");
-            push_e(out, v);
-            let f = if self.feed_now() == FeedMode::InverseTime {
-                tp.f / tp.e.abs()
-            } else {
-                tp.f
-            };
-            self.write_feed(out, f);
-            self.speeds.add_extruder_move(self.feed_now(), tp.e, f);
-            out.push(b'\n');
+            self.write_e_only(out, tp.e, relative_e, tp.f, "");
             return Ok(());
         }
         if !tp.travel && !self.outside {
@@ -862,6 +909,7 @@ impl Emitter for MachineEmitter {
 
     fn end_region(&mut self, out: &mut Vec<u8>) -> Result<(), EmitError> {
         self.start_lines(out);
+        self.lay_carried_e(out).map_err(EmitError::new)?;
         if let Some(prev) = self.prev.clone() {
             if prev.n.angle_between(DVec3::Z) > 0.0 {
                 out.extend_from_slice(b"; warpslice: tool axis back to vertical\n");
