@@ -128,6 +128,10 @@ pub fn example_stl(name: &str) -> Result<Vec<u8>, JsValue> {
 pub struct UnwarpStream {
     inner: Unwarper,
     job: Job,
+    settings: UnwarpSettings,
+    /// What the one-shot unwarp appends when the collision check does not run
+    /// ([`pipeline::unchecked_tail`]), output after `finish`.
+    tail: Vec<u8>,
 }
 
 #[wasm_bindgen]
@@ -140,6 +144,8 @@ impl UnwarpStream {
         Ok(UnwarpStream {
             inner: pipeline::unwarper(&job, &settings).map_err(js)?,
             job,
+            settings,
+            tail: Vec::new(),
         })
     }
     /// Register to the bead against the job's warped STL (the bytes `warp` returned; checked
@@ -167,7 +173,9 @@ impl UnwarpStream {
     /// The output written so far (drains it).
     #[wasm_bindgen(js_name = takeOutput)]
     pub fn take_output(&mut self) -> Vec<u8> {
-        self.inner.take_output()
+        let mut out = self.inner.take_output();
+        out.append(&mut self.tail);
+        out
     }
     /// The toolpath collected so far (drains it), 10 numbers per point:
     /// x y z nx ny nz e layer travel(0/1) feature-index.
@@ -192,8 +200,13 @@ impl UnwarpStream {
         v
     }
     /// End of pass 2: the report. Drain `takeOutput` once more after it.
+    /// The collision check is the worker's (on the written file, `CheckStream`); when it does
+    /// not run, the file ends and the report warns as the CLI's do.
     pub fn finish(&mut self) -> Result<JsValue, JsValue> {
-        let r = self.inner.finish().map_err(js)?;
+        let mut r = self.inner.finish().map_err(js)?;
+        let (note, warnings) = pipeline::unchecked_tail(&self.settings).map_err(js)?;
+        r.warnings.extend(warnings);
+        self.tail = note.into_bytes();
         to_js(&r)
     }
 }

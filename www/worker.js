@@ -245,16 +245,23 @@ async function unwarpFile(msg) {
     let check = null;
     let checkError = null;
     let checkPreview = null;
+    const checkCollisions = options.check_collisions !== false;
     if (options.machine) {
       try {
-        // The unwarp itself checked collisions (on by default) and refused a file with any, so
-        // the swept check runs again here only to list them when the file was written with
-        // `allow_collisions` (costly on a large file); reach and speeds always.
-        const listCollisions = !!options.allow_collisions && options.check_collisions !== false;
-        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !listCollisions));
+        // The streamed unwarp does not sweep the head itself (the CLI's one-shot unwarp does):
+        // the collision check (on by default) runs here, on the written file, with the code of
+        // `warpslice check`; reach and speeds always.
+        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !checkCollisions));
       } catch (e) {
         checkError = errReply(e);
       }
+    }
+    // A collision refuses the file unless `allow_collisions` (the CLI's machine.collision).
+    const hit = checkCollisions && !options.allow_collisions ? (check?.findings ?? []).find((f) => f.kind === 'collision' && f.collision) : null;
+    if (hit) {
+      const c = hit.collision;
+      const at = c.at.map((v) => v.toFixed(3)).join(', ');
+      throw coded('machine.collision', `machine ${check.machine ?? machineText(options.machine)}: output line ${hit.line} (layer ${hit.layer}): the ${c.part} goes ${c.depth_mm.toFixed(3)} mm into the ${c.obstacle} at (${at}) (${check.counts.collision} collision finding(s) in the file); lower the warp's tilt, move the part (place), give the machine's real head in its JSON "head", or write it anyway (allow_collisions) to list every finding`);
     }
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];

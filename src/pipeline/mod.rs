@@ -19,8 +19,8 @@ mod warp_step;
 
 pub use builtin_step::slice_builtin;
 pub use unwarp_step::{
-    unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl, warped_mesh,
-    UnwarpSettings, STREAM_CHUNK,
+    unchecked_tail, unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl,
+    warped_mesh, UnwarpSettings, STREAM_CHUNK,
 };
 pub use warp_step::{
     input_to_model, warp_model, warp_model_capped, AnchorMode, WarpOptions, WarpOutput, WarpReport,

@@ -119,6 +119,18 @@ pub fn unwarp_with_stl(
     Ok(out)
 }
 
+/// For a streamed unwarp whose caller runs the collision check on the written file itself (the
+/// web worker, with `crate::check`'s code): what [`unwarp_with_stl`] adds when the check does
+/// not run — the file's last comment and the report's warnings (the lathe: "not run"; the
+/// options: `check_collisions: false`); nothing when the check runs.
+pub fn unchecked_tail(settings: &UnwarpSettings) -> Result<(String, Vec<String>), Error> {
+    let mut unsupported = crate::unwarp::UnwarpReport::default();
+    Ok(match walker(settings, &mut unsupported)? {
+        Some(_) => (String::new(), Vec::new()),
+        None => (unchecked_note(settings, &unsupported), unsupported.warnings),
+    })
+}
+
 /// The last comment of a machine file the collision check did not run on (the options said
 /// `check_collisions: false`, or the check cannot judge the machine: `unsupported`'s warning),
 /// so the file itself says that nobody checked the head's clearance; empty for 3-axis output.
