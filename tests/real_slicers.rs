@@ -341,13 +341,16 @@ fn matrix(kind: impl Into<Slicer>, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
             "  {name:20} printed {:3} refused {:3} (named limit, unreachable pose confirmed), {:3} (collision, confirmed): worst tip {:.5} mm, axis {:.4}°, {} points, {} lines",
             t.printed, t.refused, t.collided, t.worst_tip, t.worst_axis, t.points, t.lines
         );
-        // a preset that refuses everything is broken; one that met only a case or two of this
+        // a preset that refuses everything at a named limit is broken; one that met only a case or two of this
         // test's rotation (eleven presets share the corpus slots) may have met only poses it
         // cannot reach, each refusal confirmed above, and prints in the generated tests
-        if t.printed == 0 && t.refused + t.collided >= MIN_CASES_TO_PRINT && !table.is_empty() {
+        // (a case refused by the collision check, confirmed, was written again without the
+        // check and walked like a printed one: the default head meeting every cone of a test on
+        // PAX or the 3Z bed is not a broken preset)
+        if t.printed + t.collided == 0 && t.refused >= MIN_CASES_TO_PRINT && !table.is_empty() {
             failures.push(format!(
-                "{name}: printed none of the cases (refused all {})",
-                t.refused + t.collided
+                "{name}: printed none of the cases (refused all {} at a named limit)",
+                t.refused
             ));
         }
     }
