@@ -480,23 +480,6 @@ impl MachineEmitter {
         }
     }
 
-    /// `G1 E… F…`: filament only, the axes where they are (a retraction, a prime, or filament
-    /// carried to a region's end). `f` is the filament feed, mm/min (inverse time: per move).
-    fn write_e_only(&mut self, out: &mut Vec<u8>, de: f64, relative: bool, f: f64, tag: &str) {
-        let v = self.ew.advance(de, relative);
-        out.extend_from_slice(b"G1 E");
-        push_e(out, v);
-        let f = if self.feed_now() == FeedMode::InverseTime {
-            f / de.abs()
-        } else {
-            f
-        };
-        self.write_feed(out, f);
-        self.speeds.add_extruder_move(self.feed_now(), de, f);
-        out.extend_from_slice(tag.as_bytes());
-        out.push(b'\n');
-    }
-
     /// Filament carried from pieces lifted over (a swing lift or a rotate-around) that no
     /// extruding piece took before a travel, a retraction or the region's end: laid at the last
     /// pose, before the head leaves it (a deposit written with the pose's axes, not a prime),
@@ -543,7 +526,17 @@ impl MachineEmitter {
             self.relative_e = relative_e;
         }
         if tp.travel && tp.e != 0.0 {
-            self.write_e_only(out, tp.e, relative_e, tp.f, "");
+            let v = self.ew.advance(tp.e, relative_e);
+            out.extend_from_slice(b"G1 E");
+            push_e(out, v);
+            let f = if self.feed_now() == FeedMode::InverseTime {
+                tp.f / tp.e.abs()
+            } else {
+                tp.f
+            };
+            self.write_feed(out, f);
+            self.speeds.add_extruder_move(self.feed_now(), tp.e, f);
+            out.push(b'\n');
             return Ok(());
         }
         if !tp.travel && !self.outside {
