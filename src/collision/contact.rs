@@ -128,6 +128,30 @@ impl ContactSurface {
         Some(rho * (1.0 + t * sin_t) + self.half_width * t * sin_t)
     }
 
+    /// The tip the surface is placed at.
+    pub fn tip(&self) -> DVec3 {
+        self.p
+    }
+
+    /// Whether the rule applies at this pose (the tool's tilt below `90° − β_max`, where the
+    /// part above the surface is one interval of a vertical line; steeper, every overlap counts:
+    /// [`ContactSurface::depth_above`]).
+    pub fn applies(&self) -> bool {
+        self.monotone
+    }
+
+    /// The surface moved back along the tool axis so that the region above it contains every
+    /// point within `delta` (mm) of the region above this one: `v = s − (ρ + c)·T` changes by at
+    /// most `|∇v| = √(1 + T²)` per mm moved (its gradient is `n − T·ρ̂`), so the tip moves by
+    /// `−delta·√(1 + T²)·n`. With [`super::solid::Posed::dilated`] it bounds the nozzle's depth
+    /// over a stretch of poses whose points move at most `delta` (`crate::collision::sweep`).
+    pub fn grown(&self, delta: f64) -> ContactSurface {
+        ContactSurface {
+            p: self.p - self.n * (delta * (1.0 + self.tan_beta * self.tan_beta).sqrt()),
+            ..*self
+        }
+    }
+
     /// The same pose against a plane (the bed): no half bead (w = 0).
     pub fn for_plane(&self) -> ContactSurface {
         ContactSurface {

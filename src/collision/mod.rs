@@ -29,7 +29,15 @@
 //! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
 //! the height field whose highest top is under the floor at the block's least distance from
 //! the tip's path; per pose only cells within the tip radius under which the part can reach the
-//! highest material are visited. [`Checker::exhaustive`] switches every bound off: the law test
+//! highest material are visited. Every other move (the head turns, or a box part translates)
+//! finds the cells a part may reach once per **stretch** of its checked poses whose points stay
+//! within [`sweep::STRETCH_MM`] of the stretch's first pose: that pose's solid grown by the
+//! stretch's largest displacement ([`solid::Posed::dilated`]), and for the nozzle above its
+//! contact surface moved back by the same ([`contact::ContactSurface::grown`]), contains the
+//! part and its counted region at every pose of the stretch; each pose then visits only those
+//! cells (law test `a_stretch_lists_every_cell_any_of_its_poses_reaches` in `sweep.rs`, against
+//! each pose's own columns). Each part is checked only at the poses its own reach needs
+//! (`checked_poses`). [`Checker::exhaustive`] switches every bound off: the law test
 //! in `tests/collision_check.rs` compares the findings. The
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
 //! --machine`.

@@ -304,6 +304,44 @@ impl Posed {
         }
     }
 
+    /// A solid that contains every point within `delta` (mm, ≥ 0) of this one (the solid
+    /// grown by a ball of radius `delta`, enclosed):
+    /// - frustum: the axial range grows by `delta` at both ends and the radius by
+    ///   `delta·√(1 + k²)` at every s (the side line `ρ = r0 + k (s − s0)` moved outward by
+    ///   `delta` along its normal moves by `delta / cos α = delta·√(1 + k²)` in ρ, α the
+    ///   half-angle); written with its origin at the new lower end (`s0 = 0`), so that
+    ///   [`Posed::floor_at`] and [`Posed::radius_below`] apply to it;
+    /// - box: every face moved outward by `delta` (the box grown by a cube ⊇ the ball).
+    ///
+    /// A part at every pose of a stretch of a move whose points move at most `delta` from a
+    /// reference pose lies inside the reference pose's solid grown by `delta`
+    /// (`crate::collision::sweep`, the cells a stretch of poses may reach).
+    pub fn dilated(&self, delta: f64) -> Posed {
+        match *self {
+            Posed::Frustum {
+                o,
+                a,
+                s0,
+                s1,
+                r0,
+                k,
+            } => Posed::Frustum {
+                o: o + a * (s0 - delta),
+                a,
+                s0: 0.0,
+                s1: s1 - s0 + 2.0 * delta,
+                r0: r0 - k * delta + delta * (1.0 + k * k).sqrt(),
+                k,
+            },
+            Posed::Box { o, r, min, max } => Posed::Box {
+                o,
+                r,
+                min: min - DVec3::splat(delta),
+                max: max + DVec3::splat(delta),
+            },
+        }
+    }
+
     /// The distance from `q` to the solid (0 inside): exact for both shapes, so a lower bound.
     pub fn distance(&self, q: DVec3) -> f64 {
         match *self {

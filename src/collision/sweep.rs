@@ -8,8 +8,11 @@
 //! [`SAMPLE_STEP_MM`]: the bound `|Δtip| + R·θ` (R the farthest head point from the tip, θ the
 //! rotation angle between the two frames; the angle between the tool axes when the frame is
 //! unknown) is checked for every pair, doubling the samples until it holds (at most
-//! [`MAX_SAMPLES`]; the report counts moves that hit it). So a bead of a line width (≥ 0.4 mm)
-//! cannot pass between two samples of a head part.
+//! [`MAX_SAMPLES`]; the report counts moves that hit it). Each part is then checked at as few
+//! of these poses as keep its own points within the step between two checked poses (its own
+//! reach in the bound: the 4.5 mm nozzle turning with a 55 mm head needs a fraction of the
+//! samples; `checked_poses`). So a bead of a line width (≥ 0.4 mm) cannot pass between two
+//! checked poses of a head part.
 //!
 //! ## Depth
 //! For each sampled pose and part, every height-field cell under the part: the vertical line
@@ -42,6 +45,13 @@ pub const CONTACT_TOLERANCE_MM: f64 = 0.05;
 /// The layer height when the G-code gives none (`;HEIGHT:`), mm: the slicers' usual 0.2 mm
 /// (and `../shared/tools/slice.sh`'s).
 pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
+/// Largest displacement of a part's points within one stretch of poses whose reachable cells
+/// are found once ([`Checker::cells_near`]: the part at the stretch's first pose grown by it),
+/// mm. Larger: fewer searches of the height field, but longer lists checked at every pose
+/// (the nozzle's grown face takes in the layer it rides on): on the PrusaSlicer idler, conic
+/// 30°, 0.3 mm was the best of 0.15–2.5 for the long RTN/RotBot nozzles and within 15 % of the
+/// best for the PAX head (`cargo run --release --example bench`, section 3).
+pub const STRETCH_MM: f64 = 0.3;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
 /// Most axes of a machine the check reads (the presets have 3 to 6; a pose is interpolated on
@@ -185,6 +195,45 @@ struct Pose {
     frame: Option<DMat3>,
 }
 
+/// Upper bound of the displacement between poses `a` and `b` of any head point within `reach`
+/// of the tip, mm: `|Δtip| + reach·θ`, θ the angle of the rotation between the two frames (a
+/// point at distance ρ ≤ reach from the tip moves by at most `2ρ sin(θ/2) ≤ ρθ` about it), or
+/// the angle between the tool axes when the frame is unknown (the solids are then of
+/// revolution about the axis: [`Part::pose`]).
+fn displacement(a: &Pose, b: &Pose, reach: f64) -> f64 {
+    let theta = match (&a.frame, &b.frame) {
+        (Some(ra), Some(rb)) => {
+            let r = *rb * ra.transpose();
+            let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) * 0.5).clamp(-1.0, 1.0);
+            num::acos(c)
+        }
+        _ => a.n.angle_between(b.n),
+    };
+    (b.p - a.p).length() + reach * theta
+}
+
+/// Which of a move's sampled poses a part is checked at: the first and the last, and between
+/// them as few as keep every two consecutive checked poses within [`SAMPLE_STEP_MM`] for the
+/// part's own points ([`displacement`] with the part's reach). The samples are dense enough
+/// for the farthest head point; a short part (the nozzle, 4.5 mm against the heat sink's 55 mm)
+/// turning with the head needs fewer: a pose is kept when the next one is beyond the step from
+/// the last kept one, so every pair of consecutive kept poses is within the step (the pair
+/// `(last, k)` passed that test one pose earlier; an adjacent pair is within it by the
+/// sampling, unless the move is under-sampled, which the stats count).
+fn checked_poses(poses: &[Pose], reach: f64) -> Vec<bool> {
+    let n = poses.len();
+    let mut keep = vec![false; n];
+    let mut last = 0;
+    for k in 0..n {
+        if k == 0 || k + 1 == n || displacement(&poses[last], &poses[k + 1], reach) > SAMPLE_STEP_MM
+        {
+            keep[k] = true;
+            last = k;
+        }
+    }
+    keep
+}
+
 /// The collision checker of one machine: head, bed, material printed so far.
 pub struct Checker {
     machine: Box<dyn Machine>,
@@ -319,15 +368,7 @@ impl Checker {
 
     /// Upper bound of the displacement of any head point between two poses, mm.
     fn displacement(&self, a: &Pose, b: &Pose) -> f64 {
-        let theta = match (&a.frame, &b.frame) {
-            (Some(ra), Some(rb)) => {
-                let r = *rb * ra.transpose();
-                let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) * 0.5).clamp(-1.0, 1.0);
-                num::acos(c)
-            }
-            _ => a.n.angle_between(b.n),
-        };
-        (b.p - a.p).length() + self.reach * theta
+        displacement(a, b, self.reach)
     }
 
     /// Check the move from axes `from` to `to` (output line `line`, layer `layer`); findings
@@ -395,18 +436,28 @@ impl Checker {
             poses = next;
             n = n2;
         }
+        // per part, the poses it is checked at (its own reach sets the step)
         let start = usize::from(!include_start);
-        let poses = &poses[start..];
+        let checked: Vec<Vec<bool>> = self
+            .parts
+            .iter()
+            .map(|part| {
+                let mut keep = checked_poses(&poses, part.reach);
+                keep[..start].fill(false);
+                keep
+            })
+            .collect();
         // per part, over the whole move: can it reach the material or the bed at all? (the
         // union of its boxes against the material's block maxima and the bed's top)
         let tol = CONTACT_TOLERANCE_MM;
         let reachable: Vec<(bool, bool)> = self
             .parts
             .iter()
-            .map(|part| {
+            .zip(&checked)
+            .map(|(part, keep)| {
                 let (mut lo, mut hi) =
                     (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-                for pose in poses {
+                for (pose, _) in poses.iter().zip(keep).filter(|(_, &k)| k) {
                     let (l, h) = part.pose(pose.p, pose.n, pose.frame.as_ref()).aabb();
                     lo = lo.min(l);
                     hi = hi.max(h);
@@ -421,24 +472,69 @@ impl Checker {
                 )
             })
             .collect();
-        // a translation (the pose fixed): the cells each frustum part can reach over the
-        // whole move, found once
+        // the cells a part may reach, found once for many poses: over the whole move for a
+        // frustum part that translates (the pose fixed, `swept_cells`), else over stretches
+        // of its checked poses whose points stay within STRETCH_MM of the stretch's first
+        // (`cells_near`); `lists[list_of[part][pose]]`
         let fixed = !self.exhaustive && p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
-        let swept: Vec<Option<Vec<SweptCell>>> = self
-            .parts
-            .iter()
-            .zip(&reachable)
-            .map(|(part, &(mat, _))| {
-                (fixed && mat)
-                    .then(|| self.swept_cells(part, &p0, &p1))
-                    .flatten()
-            })
-            .collect();
+        let mut lists: Vec<Vec<SweptCell>> = Vec::new();
+        let mut list_of: Vec<Vec<Option<usize>>> = vec![vec![None; poses.len()]; self.parts.len()];
+        for (pi, part) in self.parts.iter().enumerate() {
+            if self.exhaustive || !reachable[pi].0 {
+                continue;
+            }
+            let idx: Vec<usize> = (0..poses.len()).filter(|&k| checked[pi][k]).collect();
+            if fixed {
+                // a box that translates: each pose's own scan (its candidates would be every
+                // cell near the box's lower faces over the whole stretch)
+                if let Some(cells) = self.swept_cells(part, &p0, &p1) {
+                    for &k in &idx {
+                        list_of[pi][k] = Some(lists.len());
+                    }
+                    lists.push(cells);
+                }
+                continue;
+            }
+            let mut i = 0;
+            while i < idx.len() {
+                let first = &poses[idx[i]];
+                let (mut j, mut delta) = (i + 1, 0.0f64);
+                while let Some(&k) = idx.get(j) {
+                    let d = displacement(first, &poses[k], part.reach);
+                    if d > STRETCH_MM {
+                        break;
+                    }
+                    delta = delta.max(d);
+                    j += 1;
+                }
+                // the contact surface bounds the nozzle's depth only where it applies at every
+                // pose of the stretch (a steeper pose counts its whole overlap)
+                let contact = part.tip
+                    && idx[i..j].iter().all(|&k| {
+                        ContactSurface::new(poses[k].p, poses[k].n, self.max_width).applies()
+                    });
+                for &k in &idx[i..j] {
+                    list_of[pi][k] = Some(lists.len());
+                }
+                lists.push(self.cells_near(part, first, delta, contact));
+                i = j;
+            }
+        }
         let mut found: Vec<CollisionFinding> = Vec::new();
-        for pose in poses {
+        for (k, pose) in poses.iter().enumerate().skip(start) {
             self.stats.samples += 1;
-            for ((part, &(mut mat, bed)), cells) in self.parts.iter().zip(&reachable).zip(&swept) {
-                if cells.as_ref().is_some_and(|c| c.is_empty()) {
+            for (((part, &(mut mat, bed)), keep), list) in self
+                .parts
+                .iter()
+                .zip(&reachable)
+                .zip(&checked)
+                .zip(&list_of)
+            {
+                if !keep[k] {
+                    continue;
+                }
+                let cells = list[k].map(|id| lists[id].as_slice());
+                if cells.is_some_and(|c| c.is_empty()) {
                     mat = false;
                 }
                 if !mat && !bed {
@@ -449,7 +545,7 @@ impl Checker {
                     .tip
                     .then(|| ContactSurface::new(pose.p, pose.n, self.max_width));
                 for (obstacle, depth, at, _) in
-                    self.penetrations(&solid, contact.as_ref(), mat, cells.as_deref(), bed)
+                    self.penetrations(&solid, contact.as_ref(), mat, cells, bed)
                 {
                     match found
                         .iter_mut()
@@ -688,6 +784,79 @@ impl Checker {
         Some(cells)
     }
 
+    /// The material cells `part` may reach at any pose whose points are within `delta` of
+    /// their places at pose `at` (the part there grown by `delta`, [`Posed::dilated`], contains
+    /// it at every such pose): the cells whose vertical line through the centre enters the
+    /// grown solid more than [`CONTACT_TOLERANCE_MM`] below the material's top. A pose's
+    /// overlap at a cell is at most `h − z_in` of its own solid, whose `z_in` is at least the
+    /// grown solid's, so no cell left out can give a finding. With `contact` (the nozzle, its
+    /// contact rule applying at every pose of the stretch) only the part of the grown column
+    /// above the grown contact surface counts ([`ContactSurface::grown`]): a pose's counted
+    /// region (inside the part and above its surface) lies within `delta` of the reference
+    /// pose's, so inside both grown regions.
+    fn cells_near(&self, part: &Part, at: &Pose, delta: f64, contact: bool) -> Vec<SweptCell> {
+        let tol = CONTACT_TOLERANCE_MM;
+        let solid = part.pose(at.p, at.n, at.frame.as_ref()).dilated(delta);
+        let contact = contact.then(|| ContactSurface::new(at.p, at.n, self.max_width).grown(delta));
+        let (lo, hi) = solid.aabb();
+        let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
+        let m = self.material.max_over((x0, y0, x1, y1)) - tol;
+        let r = match (
+            solid.radius_below(m),
+            contact.and_then(|c| c.radius_below(m)),
+        ) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        if let (Some(r), Posed::Frustum { o, .. }) = (r, solid) {
+            (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+            (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+        }
+        let zlow = lo.z;
+        let mut cells = Vec::new();
+        self.material.for_cells_above(
+            (x0, y0, x1, y1),
+            zlow + tol,
+            |c, r, top| {
+                // under the floors at the block's least horizontal distance from the tips (they
+                // grow with the distance), or out of the solid's reach
+                let near = |o: DVec3| ((c - o.truncate()).length() - r).max(0.0);
+                let floor = match (&contact, solid) {
+                    (Some(k), Posed::Frustum { o, .. }) => solid
+                        .floor_at_distance(near(o))
+                        .max(k.floor_at_distance(near(k.tip()))),
+                    (None, Posed::Frustum { o, .. }) => solid.floor_at_distance(near(o)),
+                    _ => f64::NEG_INFINITY,
+                };
+                top - floor <= tol
+                    || solid.distance(DVec3::new(c.x, c.y, 0.5 * (zlow + top)))
+                        > r.hypot(0.5 * (top - zlow))
+            },
+            |i, j, h, bead| {
+                let (x, y) = (centre(i), centre(j));
+                let floor = match &contact {
+                    Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
+                    None => solid.floor_at(x, y),
+                };
+                if h - floor <= tol {
+                    return;
+                }
+                let Some((zi, zo)) = solid.column(x, y) else {
+                    return;
+                };
+                let top = h.min(zo);
+                let d = match &contact {
+                    Some(c) => c.depth_above(x, y, zi, top),
+                    None => top - zi,
+                };
+                if d > tol {
+                    cells.push(SweptCell { x, y, h, bead });
+                }
+            },
+        );
+        cells
+    }
+
     /// The cross slope of the bead piece from `p0` to `p1` printed with tool axis `n`, width
     /// `w` ([`super::bead`]): the layer's, read from the material at `±w·h` beside the piece's
     /// middle, bounded by the tool face's.
@@ -732,5 +901,295 @@ impl Checker {
             prev = next;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::spec::preset;
+
+    /// A small deterministic generator (the tests need no crate for it).
+    struct Lcg(u64);
+    impl Lcg {
+        fn unit(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, a: f64, b: f64) -> f64 {
+            a + (b - a) * self.unit()
+        }
+    }
+
+    /// The largest displacement of the part's points between poses `a` and `b`, by brute force
+    /// (not [`displacement`]'s bound): a rigid motion moves the points of a convex solid most at
+    /// its extreme points (|M q − q| is convex in q), the box's corners or the frustum's two
+    /// rim circles (720 points each; the chord error r·(1 − cos 0.25°) ≤ 1e-5·r is added).
+    fn brute_displacement(part: &Part, a: &Pose, b: &Pose) -> f64 {
+        let sa = part.pose(a.p, a.n, a.frame.as_ref());
+        let sb = part.pose(b.p, b.n, b.frame.as_ref());
+        let mut best: f64 = 0.0;
+        match (sa, sb) {
+            (Posed::Box { o, r, min, max }, Posed::Box { o: o2, r: r2, .. }) => {
+                for c in 0..8 {
+                    let l = DVec3::new(
+                        if c & 1 == 0 { min.x } else { max.x },
+                        if c & 2 == 0 { min.y } else { max.y },
+                        if c & 4 == 0 { min.z } else { max.z },
+                    );
+                    best = best.max(((o2 + r2 * l) - (o + r * l)).length());
+                }
+            }
+            (
+                Posed::Frustum {
+                    o,
+                    a: ax,
+                    s0,
+                    s1,
+                    r0,
+                    k,
+                },
+                Posed::Frustum { o: o2, a: ax2, .. },
+            ) => {
+                // the frames: the tool axis and a perpendicular carried by the head frame when
+                // known (else the solid is of revolution and any matching perpendicular does)
+                let perp = |n: DVec3, f: Option<&DMat3>| match f {
+                    Some(m) => (m.x_axis - n * n.dot(m.x_axis)).normalize(),
+                    None => n.any_orthonormal_vector(),
+                };
+                let (u1, u2) = (perp(ax, a.frame.as_ref()), perp(ax2, b.frame.as_ref()));
+                let (v1, v2) = (ax.cross(u1), ax2.cross(u2));
+                for (s, rad) in [(s0, r0), (s1, r0 + k * (s1 - s0))] {
+                    for i in 0..720 {
+                        let t = (i as f64 * 0.5).to_radians();
+                        let (c, sn) = (t.cos(), t.sin());
+                        let q1 = o + ax * s + (u1 * c + v1 * sn) * rad;
+                        let q2 = o2 + ax2 * s + (u2 * c + v2 * sn) * rad;
+                        best = best.max((q2 - q1).length() + 1e-5 * rad);
+                    }
+                }
+            }
+            _ => unreachable!("a part keeps its shape"),
+        }
+        best
+    }
+
+    /// Law of the stretch bound ([`Checker::cells_near`]): every cell that any pose of a stretch
+    /// reaches (its own solid's column entering more than the tolerance below the material's top,
+    /// above its own contact surface for the nozzle) is listed for the stretch's first pose
+    /// grown by the stretch's largest displacement. Random turning moves over a printed pad of
+    /// 12 layers on four heads (B head, PAX, RTN, Open5x table); the depth at every cell is
+    /// computed per pose from the pose's own solid, without the growth, the floors or the block
+    /// bounds.
+    #[test]
+    fn a_stretch_lists_every_cell_any_of_its_poses_reaches() {
+        let mut rng = Lcg(7);
+        let tol = CONTACT_TOLERANCE_MM;
+        let mut reached_total = 0;
+        for name in [
+            "fullcontrol-prusa-b",
+            "pax-5axis",
+            "rtn-slicer4rtn",
+            "open5x-ab",
+        ] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let centre_xy = if name == "open5x-ab" {
+                DVec3::ZERO
+            } else {
+                DVec3::new(100.0, 100.0, 0.0)
+            };
+            let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
+            // the pad: 12 layers of lines 0.45 apart, 10 mm square, printed vertically
+            let mut beads = Vec::new();
+            for layer in 1..=12 {
+                let z = 0.2 * layer as f64;
+                for row in 0..22 {
+                    let y = centre_xy.y - 5.0 + 0.45 * row as f64;
+                    let a = at(DVec3::new(centre_xy.x - 5.0, y, z), DVec3::Z, None);
+                    let b = at(DVec3::new(centre_xy.x + 5.0, y, z), DVec3::Z, Some(&a));
+                    beads.push((layer, a, b));
+                }
+            }
+            for (layer, a, b) in &beads {
+                ck.layer = *layer;
+                ck.deposit(a, b, 0.45).unwrap();
+            }
+            ck.layer = 13;
+            let mut reached = 0;
+            for _ in 0..60 {
+                // a short move that turns the tool by up to 6°, the tip at or just above the
+                // pad's top, tilted up to 35°
+                let tilt = |r: &mut Lcg| {
+                    let (t, az) = (
+                        r.range(0.0, 35f64.to_radians()),
+                        r.range(0.0, std::f64::consts::TAU),
+                    );
+                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+                };
+                let p0 = centre_xy
+                    + DVec3::new(
+                        rng.range(-6.0, 6.0),
+                        rng.range(-6.0, 6.0),
+                        rng.range(2.2, 2.8),
+                    );
+                let p1 = p0
+                    + DVec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-0.4, 0.1),
+                    );
+                let n0 = tilt(&mut rng);
+                let n1 = (n0 + DVec3::new(rng.range(-0.05, 0.05), rng.range(-0.05, 0.05), 0.0))
+                    .normalize();
+                let a0 = at(p0, n0, None);
+                let a1 = at(p1, n1, Some(&a0));
+                let poses: Vec<Pose> = (0..=24)
+                    .map(|k| ck.pose_between(&a0, &a1, k as f64 / 24.0).unwrap())
+                    .collect();
+                for part in &ck.parts {
+                    // the stretch: poses while the brute-force displacement from the first
+                    // stays within STRETCH_MM
+                    let first = poses[0];
+                    let mut delta: f64 = 0.0;
+                    let mut stretch = vec![first];
+                    for p in &poses[1..] {
+                        let d = brute_displacement(part, &first, p);
+                        if d > STRETCH_MM {
+                            break;
+                        }
+                        delta = delta.max(d);
+                        stretch.push(*p);
+                    }
+                    let contact = part.tip
+                        && stretch
+                            .iter()
+                            .all(|p| ContactSurface::new(p.p, p.n, ck.max_width).applies());
+                    let listed: std::collections::HashSet<(i64, i64)> = ck
+                        .cells_near(part, &first, delta, contact)
+                        .iter()
+                        .map(|c| (cell_of(c.x), cell_of(c.y)))
+                        .collect();
+                    for pose in &stretch {
+                        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+                        let surface = part
+                            .tip
+                            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
+                        let (lo, hi) = solid.aabb();
+                        for j in cell_of(lo.y)..=cell_of(hi.y) {
+                            for i in cell_of(lo.x)..=cell_of(hi.x) {
+                                let h = ck.material.height(i, j);
+                                let (x, y) = (centre(i), centre(j));
+                                let Some((zi, zo)) = solid.column(x, y) else {
+                                    continue;
+                                };
+                                let top = h.min(zo);
+                                let d = match &surface {
+                                    Some(c) => c.depth_above(x, y, zi, top),
+                                    None => top - zi,
+                                };
+                                if d > tol {
+                                    reached += 1;
+                                    assert!(
+                                        listed.contains(&(i, j)),
+                                        "{name}, {}: the cell ({x:.1}, {y:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
+                                        part.name,
+                                        pose.p,
+                                        first.p
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            reached_total += reached;
+        }
+        // the moves must reach material, or the law says nothing
+        assert!(
+            reached_total > 100,
+            "only {reached_total} cells reached in all"
+        );
+    }
+
+    /// Law of the per-part sampling ([`checked_poses`]): between two consecutive poses a part
+    /// is checked at, none of its points moves more than [`SAMPLE_STEP_MM`] (measured by brute
+    /// force at its extreme points), the move's first and last poses are checked, and a short
+    /// part (the nozzle) is checked at fewer poses than the farthest one. Random moves that
+    /// turn the PAX and B heads by up to 20°, sampled as `check_move` samples them.
+    #[test]
+    fn each_part_is_checked_at_poses_its_own_points_move_at_most_a_step_between() {
+        let mut rng = Lcg(11);
+        for name in ["pax-5axis", "fullcontrol-prusa-b", "rtn-slicer4rtn"] {
+            let spec = preset(name).unwrap();
+            let ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let (mut nozzle, mut farthest) = (0, 0);
+            for _ in 0..40 {
+                let tilt = |r: &mut Lcg| {
+                    let (t, az) = (
+                        r.range(0.0, 30f64.to_radians()),
+                        r.range(0.0, std::f64::consts::TAU),
+                    );
+                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+                };
+                let p0 = DVec3::new(
+                    rng.range(80.0, 120.0),
+                    rng.range(80.0, 120.0),
+                    rng.range(1.0, 20.0),
+                );
+                let p1 = p0
+                    + DVec3::new(
+                        rng.range(-3.0, 3.0),
+                        rng.range(-3.0, 3.0),
+                        rng.range(-1.0, 1.0),
+                    );
+                let a0 = m.inverse(p0, tilt(&mut rng), None).unwrap();
+                let a1 = m.inverse(p1, tilt(&mut rng), Some(&a0)).unwrap();
+                // check_move's sampling: every head point within the step between neighbours
+                let (q0, q1) = (ck.pose(&a0).unwrap(), ck.pose(&a1).unwrap());
+                let n = ((ck.displacement(&q0, &q1) / SAMPLE_STEP_MM).ceil() as usize).max(1) * 4;
+                let poses: Vec<Pose> = (0..=n)
+                    .map(|k| ck.pose_between(&a0, &a1, k as f64 / n as f64).unwrap())
+                    .collect();
+                let counts: Vec<usize> = ck
+                    .parts
+                    .iter()
+                    .map(|part| {
+                        let keep = checked_poses(&poses, part.reach);
+                        assert!(
+                            keep[0] && keep[n],
+                            "{name}, {}: the ends are checked",
+                            part.name
+                        );
+                        let kept: Vec<&Pose> = poses
+                            .iter()
+                            .zip(&keep)
+                            .filter(|(_, &k)| k)
+                            .map(|(p, _)| p)
+                            .collect();
+                        for w in kept.windows(2) {
+                            let d = tests::brute_displacement(part, w[0], w[1]);
+                            assert!(
+                                d <= SAMPLE_STEP_MM + 1e-9,
+                                "{name}, {}: {d:.4} mm between two checked poses",
+                                part.name
+                            );
+                        }
+                        kept.len()
+                    })
+                    .collect();
+                nozzle += counts[0];
+                farthest += counts.iter().copied().max().unwrap();
+            }
+            assert!(
+                nozzle < farthest,
+                "{name}: the nozzle checked at {nozzle} poses, the farthest part at {farthest}"
+            );
+        }
     }
 }
