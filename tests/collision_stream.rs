@@ -3,9 +3,10 @@
 //! (`pipeline::CheckedUnwarper`, under the wasm `UnwarpStream`) judge their output as the
 //! one-shot unwarp does. With `allow_collisions` the streamed file is the one-shot's byte for
 //! byte, findings listed at its end; without it both refuse with the same `machine.collision`
-//! message. The case: the synthetic slicer's 20 mm cube warped conic 30° outward, on the
-//! cartesian preset, whose default heater block (14 mm towards +X, 4.5 mm up) meets the cone's
-//! rising layers (as in tests/collision_check.rs).
+//! message. The case: the synthetic slicer's 16 mm cube (infill lines 4 mm apart: a small
+//! file, 4000-odd findings) warped conic 30° outward, on the cartesian preset, whose default
+//! heater block (14 mm towards +X, 4.5 mm up) meets the cone's rising layers (as in
+//! tests/collision_check.rs, where the cube is 20 mm).
 //!
 //! The oracles do not come from the code under test: the listed findings are counted against
 //! a fresh whole-file walk of the written body (`collision::check_gcode`, not the stream's
@@ -47,8 +48,8 @@ impl Read for Trickle<'_> {
 
 /// The case: (job, slicer G-code).
 fn case() -> (Job, Vec<u8>) {
-    let w = synthetic::conic_cube();
-    let g = synthetic::gcode(&w.job, true, 1.0).into_bytes();
+    let w = synthetic::conic_cube_of(16.0);
+    let g = synthetic::gcode(&w.job, true, 4.0).into_bytes();
     (w.job, g)
 }
 
