@@ -276,11 +276,30 @@ impl CheckStream {
     /// The last line and the report (the stream is spent after it; `takePath` gives the last
     /// points).
     pub fn finish(&mut self) -> Result<JsValue, JsValue> {
+        self.finish_with(None)
+    }
+    /// `finish` of a check with `skip_collisions` of a machine file whose collisions the
+    /// unwarp that wrote it found (`UnwarpStream.finish`'s `report.machine.collisions`): the
+    /// report lists them as its own ([`crate::check::CheckStream::finish_with_collisions`]).
+    #[wasm_bindgen(js_name = finishWithCollisions)]
+    pub fn finish_with_collisions(&mut self, collisions: JsValue) -> Result<JsValue, JsValue> {
+        let found: Vec<crate::emit::CollisionFinding> = serde_wasm_bindgen::from_value(collisions)
+            .map_err(|e| bad_options(&format!("check: collisions: {e}")))?;
+        self.finish_with(Some(&found))
+    }
+    fn finish_with(
+        &mut self,
+        found: Option<&[crate::emit::CollisionFinding]>,
+    ) -> Result<JsValue, JsValue> {
         let s = self
             .inner
             .take()
             .ok_or_else(|| bad_options("check: finish was called already"))?;
-        let (r, rest) = s.finish().map_err(js)?;
+        let (r, rest) = match found {
+            Some(found) => s.finish_with_collisions(found),
+            None => s.finish(),
+        }
+        .map_err(js)?;
         self.rest = rest;
         to_js(&r)
     }

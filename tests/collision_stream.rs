@@ -240,3 +240,55 @@ fn streamed_unwarp_refuses_a_collision_with_the_one_shots_message() {
         }
     }
 }
+
+/// After a streamed unwarp the browser checks the written file for reach and speeds only
+/// (`skip_collisions`: the unwarp walked it already) and hands the check the unwarp's
+/// collisions (`CheckStream::finish_with_collisions`): the report is the full check's of the
+/// same file — counts, the list in its order (also when `max_findings` cuts it), the parts, the
+/// warnings — but for the input lines the unwarp knows and the samples it does not count.
+#[test]
+fn a_check_given_the_unwarps_collisions_reports_as_the_full_check_of_the_file() {
+    use warpslice::check::{check, CheckOptions, CheckStream};
+    let (job, g) = case();
+    let out = unwarp(&g, &job, &settings(true)).unwrap();
+    let found = &out.report.machine.as_ref().unwrap().collisions;
+    // checked for the same machine with a slow Z (the head and so the collisions unchanged):
+    // speed findings on the conic layers' moves, between and on the collisions' lines
+    let mut spec = preset("cartesian").unwrap();
+    spec.max_feed = Some([("Z".to_string(), 120.0)].into_iter().collect());
+    for max_findings in [CheckOptions::default().max_findings, 7, 1] {
+        let full = check(
+            &out.gcode,
+            &spec,
+            &CheckOptions {
+                max_findings,
+                ..CheckOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(full.counts.collision as usize, found.len());
+        assert!(full.counts.speed > 0, "speed findings too");
+        let mut s = CheckStream::new(
+            &spec,
+            &CheckOptions {
+                max_findings,
+                skip_collisions: true,
+                ..CheckOptions::default()
+            },
+        )
+        .unwrap();
+        s.push(&out.gcode).unwrap();
+        let (mut merged, _) = s.finish_with_collisions(found).unwrap();
+        for f in &mut merged.findings {
+            if let Some(c) = f.collision.as_mut() {
+                assert!(
+                    c.input_line.is_some(),
+                    "the unwarp's finding has its input line"
+                );
+                c.input_line = None;
+            }
+        }
+        merged.collision_samples = full.collision_samples;
+        assert_eq!(merged, full, "max_findings {max_findings}");
+    }
+}
