@@ -9,7 +9,7 @@
 //! it is fed in, so a streamed output is judged as the whole file is: the same findings, the
 //! same refusal, the same bytes.
 
-use super::unwarp_step::{unwarper, warped_mesh, UnwarpSettings};
+use super::unwarp_step::{unwarper_with_stl, UnwarpSettings};
 use super::Error;
 use crate::collision::Walker;
 use crate::emit::CollisionFinding;
@@ -35,7 +35,8 @@ pub struct CheckedUnwarper {
     walker: Option<Walker>,
     /// The check could not run (the machine it cannot judge): the report's warnings.
     unsupported: Vec<String>,
-    /// `check_collisions` was off (the note says so).
+    /// The file's last comment when a machine output is not checked (`check_collisions`
+    /// off, or a machine the check cannot judge).
     note: Option<String>,
     /// Output walked and not yet taken.
     out: Vec<u8>,
@@ -51,17 +52,14 @@ impl std::fmt::Debug for CheckedUnwarper {
 }
 
 impl CheckedUnwarper {
-    /// The unwarp for `settings` ([`unwarper`]), registered to the bead against the job's
+    /// The unwarp for `settings` ([`super::unwarper`]), registered to the bead against the job's
     /// warped STL when it is given, with the collision check its machine options ask for.
     pub fn new(
         job: &Job,
         settings: &UnwarpSettings,
         stl: Option<&[u8]>,
     ) -> Result<CheckedUnwarper, Error> {
-        let mut inner = unwarper(job, settings)?;
-        if let Some(stl) = stl {
-            inner.set_warped_mesh(warped_mesh(job, stl)?);
-        }
+        let inner = unwarper_with_stl(job, settings, stl)?;
         let mut unsupported = Vec::new();
         let walker = walker(settings, &mut unsupported)?;
         let note = match (&settings.output.machine, &walker) {
