@@ -120,13 +120,11 @@ fn unwarp_stream_with_allow_collisions_writes_the_one_shots_bytes_and_lists_ever
 fn unwarp_stream_refuses_a_collision_with_the_one_shots_error() {
     let (job, g) = case();
     let one_shot = wasm::unwarp(&g, &job, &options(false))
-        .err()
-        .expect("the one-shot unwarp refuses the colliding file");
+        .expect_err("the one-shot unwarp refuses the colliding file");
     let (code, message) = thrown(&one_shot);
     assert_eq!(code, "machine.collision", "{message}");
-    let streamed = stream(&g, &job, &options(false))
-        .err()
-        .expect("UnwarpStream refuses the colliding file");
+    let streamed =
+        stream(&g, &job, &options(false)).expect_err("UnwarpStream refuses the colliding file");
     let (scode, smessage) = thrown(&streamed);
     assert_eq!(scode, code);
     assert_eq!(smessage, message);
