@@ -9,7 +9,6 @@ use wasm_bindgen::prelude::*;
 use crate::error::Coded;
 use crate::job::Job;
 use crate::pipeline::{self, UnwarpSettings, WarpOptions};
-use crate::unwarp::Unwarper;
 
 /// A JS `Error` with the core's message and its stable code (`error.code`, see
 /// [`crate::error`]): the page keys its advice by the code, never by the message.
@@ -123,15 +122,14 @@ pub fn example_stl(name: &str) -> Result<Vec<u8>, JsValue> {
 }
 
 /// Streaming unwarp for the web worker: `scan` every chunk, `endScan`, `push` every chunk
-/// again draining `takeOutput`, then `finish`. Memory stays bounded by the chunk size.
+/// again draining `takeOutput`, then `finish`. Memory stays bounded by the chunk size. The
+/// output goes through the core's collision check as it streams
+/// ([`pipeline::CheckedUnwarper`], the CLI's code): `finish` refuses with `machine.collision`
+/// or, with `allow_collisions`, ends the file with the findings, as the CLI does.
 #[wasm_bindgen]
 pub struct UnwarpStream {
-    inner: Unwarper,
+    inner: pipeline::CheckedUnwarper,
     job: Job,
-    settings: UnwarpSettings,
-    /// What the one-shot unwarp appends when the collision check does not run
-    /// ([`pipeline::unchecked_tail`]), output after `finish`.
-    tail: Vec<u8>,
 }
 
 #[wasm_bindgen]
@@ -142,10 +140,8 @@ impl UnwarpStream {
         let job = Job::from_json(job_json).map_err(js)?;
         let settings = unwarp_settings(options_json)?;
         Ok(UnwarpStream {
-            inner: pipeline::unwarper(&job, &settings).map_err(js)?,
+            inner: pipeline::CheckedUnwarper::new(&job, &settings, None).map_err(js)?,
             job,
-            settings,
-            tail: Vec::new(),
         })
     }
     /// Register to the bead against the job's warped STL (the bytes `warp` returned; checked
@@ -173,9 +169,7 @@ impl UnwarpStream {
     /// The output written so far (drains it).
     #[wasm_bindgen(js_name = takeOutput)]
     pub fn take_output(&mut self) -> Vec<u8> {
-        let mut out = self.inner.take_output();
-        out.append(&mut self.tail);
-        out
+        self.inner.take_output()
     }
     /// The toolpath collected so far (drains it), 10 numbers per point:
     /// x y z nx ny nz e layer travel(0/1) feature-index.
@@ -199,14 +193,11 @@ impl UnwarpStream {
         }
         v
     }
-    /// End of pass 2: the report. Drain `takeOutput` once more after it.
-    /// The collision check is the worker's (on the written file, `CheckStream`); when it does
-    /// not run, the file ends and the report warns as the CLI's do.
+    /// End of pass 2: the report (its `machine.collisions` with `allow_collisions`), or the
+    /// core's refusal (`machine.collision`, the CLI's message). Drain `takeOutput` once more
+    /// after it.
     pub fn finish(&mut self) -> Result<JsValue, JsValue> {
-        let mut r = self.inner.finish().map_err(js)?;
-        let (note, warnings) = pipeline::unchecked_tail(&self.settings).map_err(js)?;
-        r.warnings.extend(warnings);
-        self.tail = note.into_bytes();
+        let r = self.inner.finish().map_err(js)?;
         to_js(&r)
     }
 }
@@ -285,11 +276,30 @@ impl CheckStream {
     /// The last line and the report (the stream is spent after it; `takePath` gives the last
     /// points).
     pub fn finish(&mut self) -> Result<JsValue, JsValue> {
+        self.finish_with(None)
+    }
+    /// `finish` of a check with `skip_collisions` of a machine file whose collisions the
+    /// unwarp that wrote it found (`UnwarpStream.finish`'s `report.machine.collisions`): the
+    /// report lists them as its own ([`crate::check::CheckStream::finish_with_collisions`]).
+    #[wasm_bindgen(js_name = finishWithCollisions)]
+    pub fn finish_with_collisions(&mut self, collisions: JsValue) -> Result<JsValue, JsValue> {
+        let found: Vec<crate::emit::CollisionFinding> = serde_wasm_bindgen::from_value(collisions)
+            .map_err(|e| bad_options(&format!("check: collisions: {e}")))?;
+        self.finish_with(Some(&found))
+    }
+    fn finish_with(
+        &mut self,
+        found: Option<&[crate::emit::CollisionFinding]>,
+    ) -> Result<JsValue, JsValue> {
         let s = self
             .inner
             .take()
             .ok_or_else(|| bad_options("check: finish was called already"))?;
-        let (r, rest) = s.finish().map_err(js)?;
+        let (r, rest) = match found {
+            Some(found) => s.finish_with_collisions(found),
+            None => s.finish(),
+        }
+        .map_err(js)?;
         self.rest = rest;
         to_js(&r)
     }

@@ -1,6 +1,7 @@
 // The heavy work, off the page's thread: warping, the streaming two-pass unwarp of a G-code
-// File read in slices (never one big string), and `warpslice check` of a machine G-code (after a
-// machine unwarp, and the page's "Check a G-code" mode). Messages in: {id, op, ...}; out: {id, type, ...}.
+// File read in slices (never one big string; the core checks its collisions as it streams), and
+// `warpslice check` of a machine G-code (reach and speeds after a machine unwarp, and the page's
+// "Check a G-code" mode). Messages in: {id, op, ...}; out: {id, type, ...}.
 import init, * as ws from './pkg/warpslice.js';
 
 const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
@@ -136,9 +137,10 @@ function markHits(pv, report) {
  * `warpslice check` of a File or Blob for `machine` (a preset name or a machine JSON text),
  * streamed in CHUNK slices: `{ report, preview }` (the preview only with `withPath`: points with
  * their file lines, collisions flagged). `onProgress(done, total)` after each slice;
- * `skipCollisions`: reach and speeds only.
+ * `skipCollisions`: reach and speeds only; `collisions`: with it, the collisions the unwarp that
+ * wrote the file found (its report's `machine.collisions`), listed as the check's own.
  */
-async function checkFile(file, machine, withPath, onProgress = () => {}, skipCollisions = false) {
+async function checkFile(file, machine, withPath, onProgress = () => {}, skipCollisions = false, collisions = null) {
   const total = file.size;
   const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath, skip_collisions: skipCollisions }));
   const preview = withPath ? new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS))) : null;
@@ -153,7 +155,7 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
       drain();
       onProgress(Math.min(total, off + CHUNK), total);
     }
-    const report = stream.finish();
+    const report = collisions ? stream.finishWithCollisions(collisions) : stream.finish();
     drain();
     let pv = null;
     if (preview) {
@@ -235,33 +237,26 @@ async function unwarpFile(msg) {
       if (parts.length > 16) parts.splice(0, parts.length, new Blob(parts));
       post('unwarp', total + Math.min(total, off + CHUNK));
     }
+    // The core's collision check ran on the output as it streamed (the CLI's code): a collision
+    // throws its `machine.collision` error here unless `allow_collisions`, which lists the
+    // findings at the end of the file and in `report.machine.collisions`.
     const report = stream.finish();
     drain();
     const blob = new Blob(parts, { type: 'text/x-gcode' });
-    // The machine file through `warpslice check` (the same reach, collision and speed checks
-    // as the CLI's): the findings with the output's line numbers, for the page.
-    // Its path (file lines, collisions flagged) is a second preview the page switches to when a
-    // finding is clicked (the unwarp's own preview has no output lines).
+    // The machine file through `warpslice check` for reach and axis speeds (the collisions are
+    // the unwarp's, handed over, not walked twice): the findings with the output's line numbers,
+    // for the page. Its path (file lines, collisions flagged) is a second preview the page
+    // switches to when a finding is clicked (the unwarp's own preview has no output lines).
     let check = null;
     let checkError = null;
     let checkPreview = null;
-    const checkCollisions = options.check_collisions !== false;
     if (options.machine) {
       try {
-        // The streamed unwarp does not sweep the head itself (the CLI's one-shot unwarp does):
-        // the collision check (on by default) runs here, on the written file, with the code of
-        // `warpslice check`; reach and speeds always.
-        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, !checkCollisions));
+        const found = report.machine?.collisions_checked ? report.machine.collisions : null;
+        ({ report: check, preview: checkPreview } = await checkFile(blob, machineText(options.machine), true, () => {}, true, found));
       } catch (e) {
         checkError = errReply(e);
       }
-    }
-    // A collision refuses the file unless `allow_collisions` (the CLI's machine.collision).
-    const hit = checkCollisions && !options.allow_collisions ? (check?.findings ?? []).find((f) => f.kind === 'collision' && f.collision) : null;
-    if (hit) {
-      const c = hit.collision;
-      const at = c.at.map((v) => v.toFixed(3)).join(', ');
-      throw coded('machine.collision', `machine ${check.machine ?? machineText(options.machine)}: output line ${hit.line} (layer ${hit.layer}): the ${c.part} goes ${c.depth_mm.toFixed(3)} mm into the ${c.obstacle} at (${at}) (${check.counts.collision} collision finding(s) in the file); lower the warp's tilt, move the part (place), give the machine's real head in its JSON "head", or write it anyway (allow_collisions) to list every finding`);
     }
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];

@@ -168,6 +168,42 @@ impl CheckReport {
         self.counts.reach == 0 && self.counts.collision == 0
     }
 
+    /// The collision findings `found` (file order) of a walk this check left out
+    /// (`skip_collisions`) over the same file, with the `head_parts` it checked: counted, and
+    /// listed where the check's own walk lists them — in line order, on one line after its
+    /// reach findings and before its speed finding — up to `max_findings` in all; the skip's
+    /// warning goes. `collision_samples` stays 0 (the walk's count is not known here).
+    pub fn merge_collisions(
+        &mut self,
+        found: &[CollisionFinding],
+        head_parts: Vec<String>,
+        max_findings: usize,
+    ) {
+        let rank = |k: FindingKind| match k {
+            FindingKind::Reach => 0,
+            FindingKind::Collision => 1,
+            FindingKind::Speed => 2,
+        };
+        self.collisions_checked = true;
+        self.head_parts = head_parts;
+        self.counts.collision = found.len() as u64;
+        self.warnings
+            .retain(|w| w != super::stream::SKIPPED_COLLISIONS);
+        self.findings
+            .extend(found.iter().take(max_findings).map(|c| Finding {
+                kind: FindingKind::Collision,
+                line: c.line,
+                layer: c.layer,
+                axis: None,
+                value: None,
+                limit: None,
+                collision: Some(c.clone()),
+            }));
+        // stable: the collisions of one line keep the walk's order
+        self.findings.sort_by_key(|f| (f.line, rank(f.kind)));
+        self.findings.truncate(max_findings);
+    }
+
     /// One line: counts, time, filament, tilt.
     pub fn summary(&self) -> String {
         let c = &self.counts;

@@ -22,6 +22,7 @@ use super::options::CheckOptions;
 use super::report::{CheckReport, Finding, FindingCounts, FindingKind, TILT_BINS, TILT_BIN_DEG};
 use super::CheckError;
 use crate::collision::{walk_line, AxisReader, Checker, ReadLine};
+use crate::emit::CollisionFinding;
 use crate::machine::length_rule::LengthRule;
 use crate::machine::reach::Reach;
 use crate::machine::speed::AxisSpeeds;
@@ -29,6 +30,9 @@ use crate::machine::{AxisLimit, FeedMode, Machine, MachineError, MachineSpec};
 
 /// Arc lines named in the warnings, at most (the count is always given).
 pub const ARC_WARNINGS_LISTED: usize = 5;
+
+/// The warning of a check told to leave the collisions out (`skip_collisions`).
+pub const SKIPPED_COLLISIONS: &str = "collisions not checked (skip_collisions)";
 
 /// One point of the checked tip path (the preview's).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +69,9 @@ pub struct CheckStream {
     path: Vec<PathPoint>,
     /// The axis letters (the reader's: first letter of each axis name).
     letters: Vec<u8>,
+    /// `skip_collisions` left out a check that could run: the head parts it would have
+    /// checked ([`CheckStream::finish_with_collisions`]).
+    skipped_parts: Option<Vec<String>>,
 }
 
 impl std::fmt::Debug for CheckStream {
@@ -90,21 +97,24 @@ impl CheckStream {
             tilt_bin_deg: TILT_BIN_DEG,
             ..CheckReport::default()
         };
+        let head_parts = || -> Result<Vec<String>, MachineError> {
+            Ok(spec
+                .head()?
+                .parts
+                .iter()
+                .map(|p| p.name().to_string())
+                .collect())
+        };
+        let mut skipped_parts = None;
         let checker = match Checker::new(spec) {
             Ok(_) if options.skip_collisions => {
-                report
-                    .warnings
-                    .push("collisions not checked (skip_collisions)".to_string());
+                report.warnings.push(SKIPPED_COLLISIONS.to_string());
+                skipped_parts = Some(head_parts()?);
                 None
             }
             Ok(c) => {
                 report.collisions_checked = true;
-                report.head_parts = spec
-                    .head()?
-                    .parts
-                    .iter()
-                    .map(|p| p.name().to_string())
-                    .collect();
+                report.head_parts = head_parts()?;
                 Some(c)
             }
             Err(e @ MachineError::CollisionUnsupported { .. }) => {
@@ -135,6 +145,7 @@ impl CheckStream {
                 .map(|l| l.name.bytes().next().unwrap_or(b'?').to_ascii_uppercase())
                 .collect(),
             limits,
+            skipped_parts,
         })
     }
 
@@ -175,6 +186,25 @@ impl CheckStream {
     /// The findings counted so far (every line read is judged), for a progress display.
     pub fn counts(&self) -> FindingCounts {
         self.report.counts
+    }
+
+    /// [`CheckStream::finish`] of a check told to `skip_collisions` on a file whose collisions
+    /// were found by the unwarp that wrote it (the same walker over the same lines,
+    /// `crate::pipeline::CheckedUnwarper`; `found` in file order): the report then reads as a
+    /// check that ran them ([`CheckReport::merge_collisions`]), without walking the file twice.
+    /// A check that did not skip them (it found its own), or that cannot judge the machine,
+    /// gives `finish`'s report.
+    pub fn finish_with_collisions(
+        mut self,
+        found: &[CollisionFinding],
+    ) -> Result<(CheckReport, Vec<PathPoint>), CheckError> {
+        let parts = self.skipped_parts.take();
+        let max = self.options.max_findings;
+        let (mut r, path) = self.finish()?;
+        if let Some(parts) = parts {
+            r.merge_collisions(found, parts, max);
+        }
+        Ok((r, path))
     }
 
     /// The last line (without a newline) and the report.

@@ -12,15 +12,17 @@ use crate::mesh::MeshError;
 use crate::warp::WarpError;
 
 mod builtin_step;
+mod checked_unwarp;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod files;
 mod unwarp_step;
 mod warp_step;
 
 pub use builtin_step::slice_builtin;
+pub use checked_unwarp::CheckedUnwarper;
 pub use unwarp_step::{
-    unchecked_tail, unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl,
-    warped_mesh, UnwarpSettings, STREAM_CHUNK,
+    unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl, warped_mesh,
+    UnwarpSettings, STREAM_CHUNK,
 };
 pub use warp_step::{
     input_to_model, warp_model, warp_model_capped, AnchorMode, WarpOptions, WarpOutput, WarpReport,

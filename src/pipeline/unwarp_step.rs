@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::checked_unwarp::CheckedUnwarper;
 use super::Error;
 use crate::job::{Job, JobError};
 use crate::machine::{MachineOptions, MachineSpec};
@@ -91,126 +92,25 @@ pub fn unwarp(gcode: &[u8], job: &Job, settings: &UnwarpSettings) -> Result<Unwa
     unwarp_with_stl(gcode, job, settings, None)
 }
 
-/// [`unwarp`], registered to the bead against the job's warped STL when it is given.
+/// [`unwarp`], registered to the bead against the job's warped STL when it is given. The
+/// output goes through the collision check ([`CheckedUnwarper`]).
 pub fn unwarp_with_stl(
     gcode: &[u8],
     job: &Job,
     settings: &UnwarpSettings,
     stl: Option<&[u8]>,
 ) -> Result<UnwarpOutput, Error> {
-    let mut out = unwarper_with_stl(job, settings, stl)?.run(gcode)?;
-    let mut unsupported = crate::unwarp::UnwarpReport::default();
-    match walker(settings, &mut unsupported)? {
-        Some(mut w) => {
-            w.push(&out.gcode)?;
-            let (findings, _) = w.finish()?;
-            let spec = settings
-                .output
-                .machine
-                .as_ref()
-                .expect("a walker has a machine");
-            apply_findings(settings, spec, findings, &mut out.gcode, &mut out.report)?;
-        }
-        None => out
-            .gcode
-            .extend_from_slice(unchecked_note(settings, &unsupported).as_bytes()),
-    }
-    out.report.warnings.extend(unsupported.warnings);
-    Ok(out)
-}
-
-/// For a streamed unwarp whose caller runs the collision check on the written file itself (the
-/// web worker, with `crate::check`'s code): what [`unwarp_with_stl`] adds when the check does
-/// not run — the file's last comment and the report's warnings (the lathe: "not run"; the
-/// options: `check_collisions: false`); nothing when the check runs.
-pub fn unchecked_tail(settings: &UnwarpSettings) -> Result<(String, Vec<String>), Error> {
-    let mut unsupported = crate::unwarp::UnwarpReport::default();
-    Ok(match walker(settings, &mut unsupported)? {
-        Some(_) => (String::new(), Vec::new()),
-        None => (unchecked_note(settings, &unsupported), unsupported.warnings),
+    let mut u = CheckedUnwarper::new(job, settings, stl)?;
+    u.scan(gcode)?;
+    let registration = u.end_scan()?;
+    u.push(gcode)?;
+    let report = u.finish()?;
+    Ok(UnwarpOutput {
+        gcode: u.take_output(),
+        report,
+        registration,
+        toolpath: u.take_toolpath(),
     })
-}
-
-/// The last comment of a machine file the collision check did not run on (the options said
-/// `check_collisions: false`, or the check cannot judge the machine: `unsupported`'s warning),
-/// so the file itself says that nobody checked the head's clearance; empty for 3-axis output.
-fn unchecked_note(settings: &UnwarpSettings, unsupported: &crate::unwarp::UnwarpReport) -> String {
-    if settings.output.machine.is_none() {
-        return String::new();
-    }
-    let why = match unsupported.warnings.first() {
-        Some(w) => w.clone(),
-        None => "check_collisions is false in the options".to_string(),
-    };
-    format!("; warpslice collision check: NOT RUN ({why}): the head's clearance was not checked\n")
-}
-
-/// The collision check's walker when it runs (a machine output with `check_collisions`, the
-/// default;
-/// see [`crate::collision`]). A machine the check cannot judge (the lathe: its layers are not
-/// graphs over the bed) gets no check, and the report says so in its warnings.
-fn walker(
-    settings: &UnwarpSettings,
-    report: &mut crate::unwarp::UnwarpReport,
-) -> Result<Option<crate::collision::Walker>, Error> {
-    let Some(spec) = settings.output.machine.as_ref() else {
-        return Ok(None);
-    };
-    if !settings.output.checks_collisions() {
-        return Ok(None);
-    }
-    match crate::collision::Walker::new(spec) {
-        Ok(mut w) => {
-            // a refusal needs only the first finding
-            w.stop_at_first(!settings.output.allow_collisions);
-            Ok(Some(w))
-        }
-        Err(crate::machine::MachineError::CollisionUnsupported { machine, reason }) => {
-            report.warnings.push(format!(
-                "machine {machine}: the collision check was not run: {reason}; check the head's clearance yourself"
-            ));
-            Ok(None)
-        }
-        Err(e) => Err(e.into()),
-    }
-}
-
-/// The collision check's verdict: refuse (`machine.collision`) unless `allow_collisions`;
-/// otherwise every finding goes into the machine report and as a comment at the end of the
-/// output.
-fn apply_findings(
-    settings: &UnwarpSettings,
-    spec: &MachineSpec,
-    findings: Vec<crate::emit::CollisionFinding>,
-    out: &mut Vec<u8>,
-    report: &mut crate::unwarp::UnwarpReport,
-) -> Result<(), Error> {
-    let mut findings = findings;
-    if let Some(m) = report.machine.as_ref() {
-        for f in &mut findings {
-            f.input_line = m.input_lines.of(f.line);
-        }
-    }
-    if !settings.output.allow_collisions {
-        if let Some(e) = crate::collision::refusal(&spec.name, &findings) {
-            return Err(e.into());
-        }
-    }
-    for f in &findings {
-        out.extend_from_slice(
-            format!(
-                "; warpslice collision: line {} layer {}: {} into {} by {:.3} mm at ({:.3}, {:.3}, {:.3}){}\n",
-                f.line, f.layer, f.part, f.obstacle, f.depth_mm, f.at[0], f.at[1], f.at[2],
-                f.input_line.map(|l| format!(" (input line {l})")).unwrap_or_default()
-            )
-            .as_bytes(),
-        );
-    }
-    if let Some(m) = report.machine.as_mut() {
-        m.collisions_checked = true;
-        m.collisions = findings;
-    }
-    Ok(())
 }
 
 /// Read size of [`unwarp_stream`], bytes.
@@ -238,9 +138,7 @@ pub fn unwarp_stream<R: std::io::Read>(
         what: "output".to_string(),
         message: e.to_string(),
     };
-    let mut u = unwarper_with_stl(job, settings, stl)?;
-    let mut unsupported = crate::unwarp::UnwarpReport::default();
-    let mut walker = walker(settings, &mut unsupported)?;
+    let mut u = CheckedUnwarper::new(job, settings, stl)?;
     let mut buf = vec![0u8; STREAM_CHUNK];
     let mut f = open().map_err(io)?;
     loop {
@@ -259,26 +157,12 @@ pub fn unwarp_stream<R: std::io::Read>(
             break;
         }
         u.push(&buf[..n])?;
-        let chunk = u.take_output();
-        if let Some(w) = walker.as_mut() {
-            w.push(&chunk)?;
-        }
-        out.write_all(&chunk).map_err(out_err)?;
+        out.write_all(&u.take_output()).map_err(out_err)?;
         progress(n as u64);
     }
-    let mut report = u.finish()?;
-    let mut chunk = u.take_output();
-    match (walker, settings.output.machine.as_ref()) {
-        (Some(mut w), Some(spec)) => {
-            w.push(&chunk)?;
-            let (findings, _) = w.finish()?;
-            // refused: what was written stays a partial file, the caller reports the error
-            apply_findings(settings, spec, findings, &mut chunk, &mut report)?;
-        }
-        _ => chunk.extend_from_slice(unchecked_note(settings, &unsupported).as_bytes()),
-    }
-    report.warnings.extend(unsupported.warnings);
-    out.write_all(&chunk).map_err(out_err)?;
+    // refused: what was written stays a partial file, the caller reports the error
+    let report = u.finish()?;
+    out.write_all(&u.take_output()).map_err(out_err)?;
     out.flush().map_err(out_err)?;
     Ok(report)
 }

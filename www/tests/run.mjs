@@ -474,6 +474,85 @@ try {
     await warpSettled();
   });
 
+  await test('a colliding machine file (open5x-ab, conic 30°): the page refuses with the core\'s machine.collision message, and written anyway it is the CLI\'s --allow-collisions file, findings listed', async () => {
+    // The default head's heater block meets the 30° cone on the A/B table (the CLI's refusal is
+    // checked first, so the case tests something). The page's streamed unwarp runs the core's
+    // collision check itself: its refusal is the core's message (the CLI prints it after the
+    // file name), and with allow_collisions its file ends with the CLI's finding comments.
+    const dir = join(TMP, 'collision');
+    mkdirSync(dir, { recursive: true });
+    const p = join(dir, 'cylinder.stl');
+    writeFileSync(p, wasm.example_stl('cylinder'));
+    await tid('model-input').setInputFiles(p);
+    await warpSettled();
+    // the machine first (a preset brings its own warp), then the 30° cone
+    await tid('machine-select').selectOption('open5x-ab');
+    await warpSettled();
+    await tid('warp-select').selectOption('conic');
+    await page.locator('#p-conic-angle').fill('30');
+    await page.locator('#p-conic-angle').dispatchEvent('change');
+    await page.locator('#p-conic-direction').selectOption('outward');
+    // the A/B table turns about the origin: the part goes there
+    await tid('place-on').setChecked(true);
+    await page.locator('#p-place-x').fill('0');
+    await page.locator('#p-place-y').fill('0');
+    await page.locator('#p-place-y').dispatchEvent('change');
+    await warpSettled();
+    const warp = JSON.parse(readFileSync(await download('job-download', join(dir, 'W.job.json')).then(() => join(dir, 'W.job.json')))).warp.spec;
+    assert(warp.kind === 'conic' && warp.angle === 30 && warp.direction === 'outward', `the 30° cone: ${JSON.stringify(warp)}`);
+    await download('warped-download', join(dir, 'W.stl'));
+    await download('job-download', join(dir, 'W.job.json'));
+    slice(join(dir, 'W.stl'), join(dir, 'W.gcode'));
+    const cliArgs = (extra, out) => ['unwarp', join(dir, 'W.gcode'), '--job', join(dir, 'W.job.json'), '--stl', join(dir, 'W.stl'), '--machine', 'open5x-ab', '--place', '0,0', ...extra, '-o', join(dir, out)];
+    const refused = spawnSync(CLI, cliArgs([], 'C.out.gcode'), { encoding: 'utf8' });
+    assert(refused.status !== 0 && /machine\.collision|into the/.test(refused.stderr), `the CLI refuses the case: ${refused.status} ${refused.stderr}`);
+    await tid('gcode-input').setInputFiles(join(dir, 'W.gcode'));
+    const err = await shownError();
+    assert(err.code === 'machine.collision', `the page refuses with machine.collision: ${JSON.stringify(err)}`);
+    assert(err.message.startsWith('machine open5x-ab: output line '), `the core's message: ${err.message}`);
+    assert(refused.stderr.trim() === `error: ${join(dir, 'W.gcode')}: ${err.message}`, `the page's message is the CLI's:\n page: ${err.message}\n CLI:  ${refused.stderr.trim()}`);
+    await screenshot('collision-refused');
+    // "Write anyway, list findings": allow_collisions on, the unwarp again
+    await tid('allow-collisions-retry').click();
+    await page.waitForFunction(() => {
+      const pr = document.querySelector('[data-testid="progress"]');
+      const e = document.querySelector('[data-testid="error"]');
+      return pr.dataset.done === '1' || !e.hidden;
+    }, null, { timeout: 600000 });
+    assert(!(await tid('error').isVisible()), `written anyway: ${await tid('error').innerText().catch(() => '')}`);
+    sh(CLI, cliArgs(['--allow-collisions'], 'C.allow.gcode'));
+    const cli = readFileSync(join(dir, 'C.allow.gcode'));
+    const out = await download('result-download', join(dir, 'B.allow.gcode'));
+    assert(out.equals(cli), `allow_collisions: browser G-code (${out.length} B, ${sha(out)}) differs from the CLI's (${cli.length} B, ${sha(cli)})`);
+    const listed = cli.toString().split('\n').filter((l) => l.startsWith('; warpslice collision: line ')).length;
+    assert(listed > 0, 'the CLI\'s file lists its findings');
+    // the findings shown are warpslice check's of the same file (collisions included: the
+    // page hands the unwarp's findings to its reach-and-speed check instead of walking twice)
+    const r = spawnSync(CLI, ['check', join(dir, 'C.allow.gcode'), '--machine', 'open5x-ab', '--json'], { maxBuffer: 1 << 28 });
+    assert(r.status === 1, `check finds the collisions: exit ${r.status}: ${r.stderr}`);
+    const rep = JSON.parse(r.stdout.toString());
+    assert(rep.counts.collision === listed, `check of the file: ${rep.counts.collision} collisions, ${listed} listed`);
+    const shown = await tid('findings').getAttribute('data-count');
+    assert(shown === String(rep.counts.reach + rep.counts.collision + rep.counts.speed), `the page shows ${shown} findings, warpslice check ${JSON.stringify(rep.counts)}`);
+    const lines = await tid('findings').locator('[data-line]').evaluateAll((es) => es.map((e) => `${e.dataset.kind}:${e.dataset.line}`));
+    const want = rep.findings.slice(0, lines.length).map((f) => `${f.kind}:${f.line}`);
+    assert(lines.length > 0 && JSON.stringify(lines) === JSON.stringify(want), `finding lines ${lines} vs ${want}`);
+    const text = await tid('findings').innerText();
+    assert(!text.includes('collisions not checked'), `the findings say the collisions were checked: ${text}`);
+    // a click on a collision finding shows the checked file's preview, its collisions in red
+    const hit = tid('findings').locator('button[data-kind="collision"]').first();
+    assert((await hit.count()) === 1, 'a collision finding is a button');
+    await hit.click();
+    assert((await tid('findings').getAttribute('data-preview')) === 'check', 'the checked output\'s preview is shown');
+    const red = Number(await page.locator('#canvas-wrap').getAttribute('data-collision-segments'));
+    assert(red > 0, `the preview draws the collisions in red: ${red} segments`);
+    await screenshot('collision-allowed');
+    await page.locator('input[data-param="allow_collisions"]').uncheck();
+    await tid('place-on').setChecked(false);
+    await tid('machine-select').selectOption('cartesian');
+    await warpSettled();
+  });
+
   await test('moving bed (open5x-ab): the machine-coordinates toggle shows the head in X Y Z and the bed at its pose', async () => {
     const dir = join(TMP, 'machine-frame');
     mkdirSync(dir, { recursive: true });
