@@ -27,6 +27,13 @@ export const state = {
    * debounce of an edit.
    */
   custom: { text: null, machine: null, error: null, valid: null, seq: 0, pending: null, timer: 0 },
+  /**
+   * The running one-click slice (`builtin.js`): `id` of its worker call, `phase` (`slice`, then
+   * `unwarp`), `cancelAsked`; null when none runs.
+   */
+  slice: null,
+  /** Built-in slicer settings the form has no row for, sent as given (`slicer-form.js`). */
+  slicerExtra: {},
   /** The worker and its pending requests (`worker-client.js`). */
   rpc: { worker: null, nextId: 1, pending: new Map() },
   /** three.js handles (`view.js`): renderer, scene, camera, controls, groups, `dirty`. */
