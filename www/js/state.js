@@ -34,8 +34,8 @@ export const state = {
   slice: null,
   /** Built-in slicer settings the form has no row for, sent as given (`slicer-form.js`). */
   slicerExtra: {},
-  /** The worker and its pending requests (`worker-client.js`). */
-  rpc: { worker: null, nextId: 1, pending: new Map() },
+  /** The worker, its pending requests and how many were started (`worker-client.js`). */
+  rpc: { worker: null, nextId: 1, pending: new Map(), starts: 0 },
   /** three.js handles (`view.js`): renderer, scene, camera, controls, groups, `dirty`. */
   view: {},
   /** The toolpath preview (`preview.js`): the worker's buffers, the built geometry, layers. */

@@ -249,6 +249,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
   const text = $('progress-text');
   prog.removeAttribute('data-done');
   prog.removeAttribute('data-cancelled');
+  prog.removeAttribute('data-step');
   prog.removeAttribute('data-worker-bytes');
   text.textContent = 'reading…';
   const t0 = performance.now();
@@ -269,6 +270,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
       if (ev.type === 'progress') {
         prog.value = ev.done / ev.total;
         prog.dataset.phase = ev.phase;
+        prog.dataset.step = `${ev.done}/${ev.total}`;
         prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
         text.textContent = ev.phase === 'slice'
           ? `slicing: layer ${Math.ceil(ev.done / 2)} of ${ev.layers} ${ev.done <= ev.layers ? 'cut' : 'written'}`

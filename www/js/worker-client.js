@@ -29,6 +29,8 @@ function startWorker() {
     rpc.pending.clear();
   };
   rpc.worker = worker;
+  // how many workers this page started (a cancel that ends the worker starts a new one next)
+  document.body.dataset.workerStarts = String(++rpc.starts);
 }
 
 /**
