@@ -97,13 +97,14 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
     let job = Job::from_json(job_json).map_err(js)?;
     let settings = unwarp_settings(options_json)?;
     let out = pipeline::unwarp(gcode, &job, &settings).map_err(js)?;
+    gcode_and_report(&out.gcode, &out.report)
+}
+
+/// `{ gcode: Uint8Array, report: object }`, what `unwarp` and `BuiltinSlice.finish` return.
+fn gcode_and_report<R: serde::Serialize>(gcode: &[u8], report: &R) -> Result<JsValue, JsValue> {
     let obj = js_sys::Object::new();
-    set(
-        &obj,
-        "gcode",
-        &js_sys::Uint8Array::from(out.gcode.as_slice()).into(),
-    )?;
-    set(&obj, "report", &to_js(&out.report)?)?;
+    set(&obj, "gcode", &js_sys::Uint8Array::from(gcode).into())?;
+    set(&obj, "report", &to_js(report)?)?;
     Ok(obj.into())
 }
 
@@ -643,14 +644,7 @@ impl BuiltinSlice {
             .take()
             .ok_or_else(|| bad_options("builtin slice: finish was called already"))?;
         let out = s.finish().map_err(js)?;
-        let obj = js_sys::Object::new();
-        set(
-            &obj,
-            "gcode",
-            &js_sys::Uint8Array::from(out.gcode.as_bytes()).into(),
-        )?;
-        set(&obj, "report", &to_js(&out.report)?)?;
-        Ok(obj.into())
+        gcode_and_report(out.gcode.as_bytes(), &out.report)
     }
     fn slicing(&mut self) -> Result<&mut crate::planar::Slicing, JsValue> {
         self.inner

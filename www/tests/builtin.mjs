@@ -231,6 +231,8 @@ export async function builtinTests(ctx) {
     }
     // the core's own refusal of the settings JSON (its code; its message names the key)
     assert(code === 'planar.settings-json', `code ${code}`);
+    const advice = await page.locator('[data-testid="error-advice"]').getAttribute('data-advice');
+    assert(advice === 'planar.settings-json', `the advice of its code, not of the unwarp: ${advice}`);
     const cliErr = cliError(['run', stl, '--slicer', 'builtin', '--set', 'fill_densty=35', '--warp', 'conic', '-o', join(dir, 'unknown.gcode')]);
     assert(shown.includes('unknown field `fill_densty`') && cliErr.includes('unknown field `fill_densty`'), `page “${shown}”, CLI “${cliErr}”, core ${want?.message}`);
     await screenshot('builtin-unknown-key');
