@@ -43,7 +43,11 @@ fn warped(name: &str) -> (Vec<u8>, String) {
 fn stepped_to_the_end_it_writes_the_natively_recorded_planar_gcode() {
     for (warp, rel) in [("conic-out-30", true), ("curved-out-0.3", false)] {
         let (stl, job) = warped(warp);
-        let settings = if rel { "" } else { r#"{"use_relative_e_distances": false}"# };
+        let settings = if rel {
+            ""
+        } else {
+            r#"{"use_relative_e_distances": false}"#
+        };
         let mut s = wasm::BuiltinSlice::new(&stl, &job, settings).unwrap();
         let mut done = 0.0;
         let (total, layers) = loop {
@@ -66,7 +70,12 @@ fn stepped_to_the_end_it_writes_the_natively_recorded_planar_gcode() {
         assert_eq!(get(&report, "layers").as_f64(), Some(layers));
         let want = GOLDEN
             .lines()
-            .find(|l| l.starts_with(&format!("sphere {warp} {} ", if rel { "rel" } else { "abs" })))
+            .find(|l| {
+                l.starts_with(&format!(
+                    "sphere {warp} {} ",
+                    if rel { "rel" } else { "abs" }
+                ))
+            })
             .and_then(|l| l.split_whitespace().nth(3))
             .unwrap();
         assert_eq!(format!("{:016x}", fnv1a64(&gcode)), want, "sphere × {warp}");
@@ -81,9 +90,21 @@ fn bad_settings_are_refused_with_the_cores_codes() {
     let (stl, job) = warped("conic-out-30");
     assert!(wasm::BuiltinSlice::new(&stl, &job, r#"{"fill_density": 35}"#).is_ok());
     for (settings, code, names) in [
-        (r#"{"fill_densty": 35}"#, "planar.settings-json", vec!["fill_densty"]),
-        (r#"{"fill_density": 135}"#, "planar.setting", vec!["fill_density", "135"]),
-        (r#"{"layer_height": 0.3}"#, "planar.layer-height", vec!["layer_height", "0.3"]),
+        (
+            r#"{"fill_densty": 35}"#,
+            "planar.settings-json",
+            vec!["fill_densty"],
+        ),
+        (
+            r#"{"fill_density": 135}"#,
+            "planar.setting",
+            vec!["fill_density", "135"],
+        ),
+        (
+            r#"{"layer_height": 0.3}"#,
+            "planar.layer-height",
+            vec!["layer_height", "0.3"],
+        ),
         ("[1, 2]", "planar.settings-json", vec!["JSON object"]),
     ] {
         let (c, m) = code_of(wasm::BuiltinSlice::new(&stl, &job, settings).err().unwrap());
