@@ -168,7 +168,7 @@ impl Settings {
         given: serde_json::Map<String, serde_json::Value>,
         context: &str,
     ) -> Result<(), PlanarError> {
-        let Ok(serde_json::Value::Object(mut map)) = serde_json::to_value(&*self) else {
+        let Ok(serde_json::Value::Object(mut map)) = serde_json::to_value(*self) else {
             return Err(PlanarError::SettingsJson {
                 message: "the settings could not be written as JSON".to_string(),
             });
