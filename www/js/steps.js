@@ -272,8 +272,9 @@ export async function runToResult({ file = null, what, request, again, onEvent =
         prog.dataset.phase = ev.phase;
         prog.dataset.step = `${ev.done}/${ev.total}`;
         prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
-        text.textContent = ev.phase === 'slice'
-          ? `slicing: layer ${Math.ceil(ev.done / 2)} of ${ev.layers} ${ev.done <= ev.layers ? 'cut' : 'written'}`
+        // the slice: `layers` cuts, then `layers` layers written (two steps per layer)
+        const slicing = ev.done <= ev.layers ? `slicing: cut layer ${ev.done} of ${ev.layers}` : `slicing: wrote layer ${ev.done - ev.layers} of ${ev.layers}`;
+        text.textContent = ev.phase === 'slice' ? slicing
           : `${ev.phase === 'scan' ? 'finding the part' : 'unwarping'} ${Math.round((100 * ev.done) / ev.total)} %`;
       }
     });
@@ -283,6 +284,8 @@ export async function runToResult({ file = null, what, request, again, onEvent =
     prog.dataset.done = '1';
     prog.dataset.ms = String(Math.round(performance.now() - t0));
     state.result = out;
+    // the job of this run (a change of the form meanwhile re-warps: state.warped is the new one)
+    out.job = args.job;
     if (sliced) out.sliced = sliced;
     const name = baseName(file.name);
     // the built-in slicer's planar G-code (the CLI's `run --keep-sliced`)
@@ -369,7 +372,7 @@ export function makeSummary(out, file) {
     cli: { warp: cliWarp, unwarp: cliUnwarp, run: cliRun },
     slicer: out.sliced ? { settings: slicerSettings(), report: sr, ms: out.sliced.ms } : undefined,
     machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',
-    warp: JSON.parse(state.warped.job).warp,
+    warp: JSON.parse(out.job).warp,
     gcode_in: file.name,
     bytes_in: file.size,
     bytes_out: out.bytes,
