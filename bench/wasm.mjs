@@ -1,6 +1,6 @@
 // The benchmark's work in Node wasm (run by scripts/bench-wasm.sh after `cargo run --release
 // --example bench`, which leaves its inputs in target/bench-inputs/).
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 import { performance } from 'node:perf_hooks';
 import { createRequire } from 'node:module';
 
@@ -40,3 +40,22 @@ const [tu, res] = best(3, () => {
 });
 const mb = gcode.length / 1e6;
 console.log(`wasm unwarp (streaming): ${mb.toFixed(1)} MB → ${(res.bytes / 1e6).toFixed(1)} MB (${res.r.lines_out} lines) in ${tu.toFixed(3)} s = ${(mb / tu).toFixed(1)} MB/s input, ${(res.r.lines_out / tu / 1e6).toFixed(2)} M lines/s; peak RSS ${mib(peakRss)}`);
+
+// The built-in slicer on the warped sphere of examples/builtin_bench.rs (60 mm, 225 000 triangles,
+// conic 30° outward and subdivided), stepped one layer at a time as the web worker does.
+const bstl = `${dir}/builtin-sphere-conic30.stl`;
+if (existsSync(bstl)) {
+  const wstl = readFileSync(bstl);
+  const bjob = readFileSync(`${dir}/builtin-sphere-conic30.job.json`, 'utf8');
+  const [tb, sliced] = best(1, () => {
+    const s = new ws.BuiltinSlice(wstl, bjob, '');
+    let p;
+    do p = s.step(); while (p.done < p.total);
+    const out = s.finish();
+    s.free();
+    return { layers: p.layers, bytes: out.gcode.length };
+  });
+  console.log(`wasm builtin slice: ${tb.toFixed(3)} s, ${(wstl.length - 84) / 50} triangles, ${sliced.layers} layers, ${(sliced.bytes / 1e6).toFixed(1)} MB of G-code; peak RSS ${mib(peakRss)}`);
+} else {
+  console.log('wasm builtin slice: not run (no target/bench-inputs/builtin-sphere-conic30.stl: run `cargo run --release --example builtin_bench` first)');
+}

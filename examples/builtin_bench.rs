@@ -6,8 +6,9 @@
 //! single-threaded) and, when installed, by PrusaSlicer (the matrix's command line,
 //! `warpslice::slicer::slice`) from the same warped STL; both wall times are printed side by
 //! side with the machine's load average (the figures are from a shared machine). The issue's
-//! target: at most 5 s natively. The warped STL is left in `target/bench-inputs/` for a wasm
-//! run.
+//! target: at most 5 s natively. The warped STL and its job are left in `target/bench-inputs/`
+//! for the same slice in Node wasm (`bash scripts/bench-wasm.sh`, which runs this with
+//! `--no-prusaslicer`: the builtin only).
 
 fn main() {
     #[cfg(not(target_arch = "wasm32"))]
@@ -69,6 +70,16 @@ mod native {
         let _ = std::fs::create_dir_all(&dir);
         let path = dir.join("builtin-sphere-conic30.stl");
         std::fs::write(&path, &w.stl).expect("write warped STL");
+        // its job too: scripts/bench-wasm.sh slices the same warped STL in wasm
+        std::fs::write(
+            dir.join("builtin-sphere-conic30.job.json"),
+            w.job.to_json_pretty(),
+        )
+        .expect("write job");
+        // `--no-prusaslicer`: the builtin only (scripts/bench-wasm.sh's rounds)
+        if std::env::args().any(|a| a == "--no-prusaslicer") {
+            return;
+        }
         if let Err(e) = slicer::available(SlicerKind::PrusaSlicer) {
             println!("PrusaSlicer: not run ({e})");
             return;

@@ -96,13 +96,14 @@ pub fn unwarp(gcode: &[u8], job_json: &str, options_json: &str) -> Result<JsValu
     let job = Job::from_json(job_json).map_err(js)?;
     let settings = unwarp_settings(options_json)?;
     let out = pipeline::unwarp(gcode, &job, &settings).map_err(js)?;
+    gcode_and_report(&out.gcode, &out.report)
+}
+
+/// `{ gcode: Uint8Array, report: object }`, what `unwarp` and `BuiltinSlice.finish` return.
+fn gcode_and_report<R: serde::Serialize>(gcode: &[u8], report: &R) -> Result<JsValue, JsValue> {
     let obj = js_sys::Object::new();
-    set(
-        &obj,
-        "gcode",
-        &js_sys::Uint8Array::from(out.gcode.as_slice()).into(),
-    )?;
-    set(&obj, "report", &to_js(&out.report)?)?;
+    set(&obj, "gcode", &js_sys::Uint8Array::from(gcode).into())?;
+    set(&obj, "report", &to_js(report)?)?;
     Ok(obj.into())
 }
 
@@ -614,4 +615,50 @@ pub fn suggest(stl: &[u8], machine: &str, options_json: &str) -> Result<JsValue,
     };
     let r = crate::suggest::suggest(&model, &spec, &options).map_err(js)?;
     to_js(&r)
+}
+
+// ── The built-in slicer, one layer per step (`pipeline::start_builtin`) ──────────────────────
+
+/// The built-in planar slicer of a job's warped STL for the web worker: `step()` until it
+/// says `done == total` (a step cuts or writes one layer; the worker posts the progress and
+/// stops between steps when cancelled), then `finish()` for the planar G-code.
+#[wasm_bindgen]
+pub struct BuiltinSlice {
+    inner: Option<crate::planar::Slicing>,
+}
+
+#[wasm_bindgen]
+impl BuiltinSlice {
+    /// `stl`: the warped STL `warp` returned; `job_json`: its job; `settings_json`: the
+    /// built-in slicer's settings, the JSON of the CLI's `--slicer-settings` (keys left out
+    /// keep their defaults, both layer heights default to the job's; `""` for none). Unknown
+    /// keys are `planar.settings-json`, bad values `planar.setting`, layer heights other than
+    /// the warp's `planar.layer-height`.
+    #[wasm_bindgen(constructor)]
+    pub fn new(stl: &[u8], job_json: &str, settings_json: &str) -> Result<BuiltinSlice, JsValue> {
+        let job = Job::from_json(job_json).map_err(js)?;
+        let settings = pipeline::builtin_settings(&job, settings_json).map_err(js)?;
+        let inner = pipeline::start_builtin(stl, &job, &settings).map_err(js)?;
+        Ok(BuiltinSlice { inner: Some(inner) })
+    }
+    /// One step: `{ done, total, layers }` after it.
+    pub fn step(&mut self) -> Result<JsValue, JsValue> {
+        let s = self.slicing()?;
+        let p = s.step().map_err(js)?;
+        to_js(&p)
+    }
+    /// The steps left, then `{ gcode: Uint8Array, report: object }` (the slice is spent).
+    pub fn finish(&mut self) -> Result<JsValue, JsValue> {
+        let s = self
+            .inner
+            .take()
+            .ok_or_else(|| bad_options("builtin slice: finish was called already"))?;
+        let out = s.finish().map_err(js)?;
+        gcode_and_report(out.gcode.as_bytes(), &out.report)
+    }
+    fn slicing(&mut self) -> Result<&mut crate::planar::Slicing, JsValue> {
+        self.inner
+            .as_mut()
+            .ok_or_else(|| bad_options("builtin slice: the slice is finished"))
+    }
 }

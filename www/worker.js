@@ -48,6 +48,11 @@ self.onmessage = async (ev) => {
       self.postMessage({ id: msg.id, type: 'done', stl: out.stl, job: out.job, report: out.report, surfaces }, [out.stl.buffer, surfaces.buffer]);
     } else if (msg.op === 'unwarp') {
       await unwarpFile(msg);
+    } else if (msg.op === 'builtin') {
+      await sliceHereAndUnwarp(msg);
+    } else if (msg.op === 'cancel') {
+      // between two layers of a running `builtin` slice, that slice stops (`sliceHereAndUnwarp`)
+      cancelled.add(msg.target);
     } else if (msg.op === 'check') {
       // Check a G-code (any tool's) for a machine: the report, and the preview with file lines.
       const t0 = performance.now();
@@ -282,4 +287,49 @@ async function unwarpFile(msg) {
   } finally {
     stream.free();
   }
+}
+
+// ── The one-click path: the built-in slicer, then the unwarp above ──────────────────────────
+
+/** Ids of `builtin` requests the page cancelled (`cancel` op); checked between layers. */
+const cancelled = new Set();
+/** Longest the slice runs without letting a message (a cancel) in, ms. */
+const YIELD_EVERY_MS = 40;
+
+/**
+ * `builtin` op: the warped STL and its job (`warpedStl`, `job`) sliced by the core's built-in
+ * slicer with `settings` (the JSON object of the CLI's `--slicer-settings`, sent as it is: the
+ * core names unknown keys and bad values), one layer per step with a `progress` message (phase
+ * `slice`) after each; a `cancel` for this id stops it between layers (reply `cancelled`). The
+ * planar G-code (a File, the CLI's `run --keep-sliced`) and the slicer's report go to the page
+ * in a `sliced` message; then it goes through `unwarpFile` as a dropped G-code does.
+ */
+async function sliceHereAndUnwarp(msg) {
+  const { id } = msg;
+  const t0 = performance.now();
+  const slicer = new ws.BuiltinSlice(new Uint8Array(msg.warpedStl), msg.job, JSON.stringify(msg.settings ?? {}));
+  let out;
+  try {
+    let rested = performance.now();
+    for (;;) {
+      if (cancelled.delete(id)) {
+        self.postMessage({ id, type: 'cancelled' });
+        return;
+      }
+      const p = slicer.step();
+      self.postMessage({ id, type: 'progress', phase: 'slice', done: p.done, total: p.total, layers: p.layers, workerBytes: wasmBytes() });
+      if (p.done >= p.total) break;
+      if (performance.now() - rested > YIELD_EVERY_MS) {
+        await new Promise((r) => setTimeout(r, 0)); // a queued `cancel` runs here
+        rested = performance.now();
+      }
+    }
+    out = slicer.finish();
+  } finally {
+    slicer.free();
+  }
+  const sliced = new File([out.gcode], msg.slicedName || 'sliced.gcode', { type: 'text/x-gcode' });
+  // the planar G-code (the CLI's `run --keep-sliced`) and the slicer's report, then the unwarp
+  self.postMessage({ id, type: 'sliced', sliced, report: out.report, ms: performance.now() - t0 });
+  await unwarpFile({ ...msg, file: sliced });
 }

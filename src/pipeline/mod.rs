@@ -18,7 +18,7 @@ pub mod files;
 mod unwarp_step;
 mod warp_step;
 
-pub use builtin_step::slice_builtin;
+pub use builtin_step::{builtin_settings, slice_builtin, start_builtin};
 pub use checked_unwarp::CheckedUnwarper;
 pub use unwarp_step::{
     unwarp, unwarp_stream, unwarp_with_stl, unwarper, unwarper_with_stl, warped_mesh,

@@ -20,8 +20,9 @@ use super::order::RETRACT_BEFORE_TRAVEL;
 use super::{Path, Role, Settings};
 
 /// Writes one G-code file; tracks the nozzle, E and what was extruded.
-pub struct Writer<'a> {
-    s: &'a Settings,
+pub struct Writer {
+    /// The settings (a copy: a [`super::slicing::Slicing`] keeps its writer between layers).
+    s: Settings,
     out: String,
     at: Option<[f64; 2]>,
     z: f64,
@@ -47,11 +48,11 @@ fn num(v: f64, decimals: usize) -> String {
     }
 }
 
-impl<'a> Writer<'a> {
+impl Writer {
     /// A writer with the start G-code written.
-    pub fn new(s: &'a Settings, header: &str) -> Writer<'a> {
+    pub fn new(s: &Settings, header: &str) -> Writer {
         let mut w = Writer {
-            s,
+            s: *s,
             out: String::with_capacity(1 << 16),
             at: None,
             z: 0.0,

@@ -18,6 +18,8 @@
 //! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel;
 //!    [`gcode_out`]: the G-code.
 //!
+//! [`slicing`] runs these one layer per step (progress and cancel between layers).
+//!
 //! The mesh is moved in X and Y so that the centre of its bounding box is at `center` (the bed
 //! centre, as PrusaSlicer and Slic3r place parts; the shift is in [`SliceReport::shift`] and the
 //! pipeline's registration finds it exactly); in Z the layers count from its lowest point.
@@ -49,12 +51,13 @@ pub mod region;
 pub mod section;
 pub mod settings;
 pub mod skins;
+pub mod slicing;
 pub mod walls;
 
 pub use settings::Settings;
+pub use slicing::{Progress, Slicing};
 
 use crate::mesh::Mesh;
-use region::{offset, Region};
 
 /// What a printed line is, with PrusaSlicer's `;TYPE:` label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -208,181 +211,8 @@ pub fn layer_top(s: &Settings, k: usize) -> f64 {
     s.first_layer_height + k as f64 * s.layer_height
 }
 
-/// Slice `mesh` with `settings`; `header` goes into the file's first comment lines.
+/// Slice `mesh` with `settings`; `header` goes into the file's first comment lines (the
+/// steps of [`Slicing`] run to the end).
 pub fn slice(mesh: &Mesh, settings: &Settings, header: &str) -> Result<Sliced, PlanarError> {
-    settings.validate()?;
-    let s = settings;
-    let bbox = mesh.bbox();
-    let centre = bbox.center();
-    let shift = glam::DVec3::new(s.center[0] - centre.x, s.center[1] - centre.y, 0.0);
-    let mut placed = mesh.clone();
-    placed.translate(shift);
-    let mesh = &placed;
-    let bbox = mesh.bbox();
-    let (base, top) = (bbox.min.z, bbox.max.z);
-    let mut report = SliceReport {
-        shift: [shift.x, shift.y],
-        ..SliceReport::default()
-    };
-
-    // 1. cross-sections
-    let mut slices: Vec<Region> = Vec::new();
-    let mut heights: Vec<(f64, f64)> = Vec::new(); // (top z above the bed, layer height)
-    for k in 0.. {
-        let h = if k == 0 {
-            s.first_layer_height
-        } else {
-            s.layer_height
-        };
-        let z = layer_top(s, k);
-        let cut = base + z - h / 2.0;
-        if cut >= top {
-            break;
-        }
-        let sec = section::section(mesh, cut);
-        report.repaired_loops += sec.repaired;
-        report.dropped_chains += sec.dropped;
-        let loops: Vec<region::Contour> = sec
-            .loops
-            .iter()
-            .map(|l| region::simplify_closed(l, region::RESOLUTION))
-            .collect();
-        slices.push(region::union_loops(&loops));
-        heights.push((z, h));
-    }
-    report.layers = slices.len();
-    if slices.iter().all(|r| r.is_empty()) {
-        return Err(PlanarError::NothingToPrint {
-            layers: slices.len(),
-        });
-    }
-
-    // 2.–5. per layer
-    let settings_json = serde_json::to_string(s).unwrap_or_default();
-    // not "; warpslice …": that prefix marks the lines the unwarp and the machine output add,
-    // which readers of the unwarped file (and the matrix's check e) set apart from the input's
-    let mut w = gcode_out::Writer::new(
-        s,
-        &format!("{header}\nbuilt-in planar slicer of warpslice, settings: {settings_json}"),
-    );
-    let mut at = [bbox.min.x, bbox.min.y];
-    for (k, slice) in slices.iter().enumerate() {
-        let (z, h) = heights[k];
-        let sp = s.spacing(h);
-        let walls = walls::walls(slice, s.perimeters, s.extrusion_width, sp);
-        report.thin_islands += walls.thin;
-        let sk = skins::skins(
-            &slices,
-            &walls.inner,
-            k,
-            s.top_solid_layers,
-            s.bottom_solid_layers,
-        );
-        w.layer(z, h);
-        let first = k == 0;
-        let speed = |v: f64| if first { s.first_layer_speed } else { v };
-        if first {
-            for p in order::nearest_neighbour(first_layer_extras(slice, s, h), &mut at) {
-                w.path(&p, h, speed(s.perimeter_speed));
-            }
-        }
-        for group in perimeter_groups(&walls, s.external_perimeters_first) {
-            for p in order::nearest_neighbour(group, &mut at) {
-                w.path(&p, h, speed(s.perimeter_speed));
-            }
-        }
-        let angle = s.fill_angle + if k % 2 == 1 { 90.0 } else { 0.0 };
-        let fills = [
-            (Role::SolidInfill, &sk.solid, sp),
-            (Role::TopSolidInfill, &sk.top, sp),
-            (
-                Role::InternalInfill,
-                &sk.sparse,
-                if s.fill_density > 0.0 {
-                    sp / (s.fill_density / 100.0)
-                } else {
-                    0.0
-                },
-            ),
-        ];
-        for (role, region, pitch) in fills {
-            let lines: Vec<Path> = infill::rectilinear(region, angle, pitch)
-                .into_iter()
-                .map(|l| Path {
-                    role,
-                    points: l.to_vec(),
-                    closed: false,
-                })
-                .collect();
-            for p in order::nearest_neighbour(lines, &mut at) {
-                w.path(&p, h, speed(s.infill_speed));
-            }
-        }
-    }
-    report.filament_mm = w.filament_mm;
-    report.volume_mm3 = w.filament_mm * s.filament_area();
-    report.retractions = w.retractions;
-    Ok(Sliced {
-        gcode: w.finish(),
-        report,
-    })
-}
-
-/// Perimeter loops in print order groups: inner ones first (innermost first) and the external
-/// one last, or the reverse with `external_first`.
-fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>> {
-    let levels = walls.islands.iter().map(Vec::len).max().unwrap_or(0);
-    let mut groups: Vec<Vec<Path>> = (0..levels)
-        .map(|i| {
-            let role = if i == 0 {
-                Role::ExternalPerimeter
-            } else {
-                Role::Perimeter
-            };
-            walls
-                .islands
-                .iter()
-                .filter_map(|isl| isl.get(i))
-                .flatten()
-                .map(|c| order::loop_path(role, c.clone()))
-                .collect()
-        })
-        .collect();
-    if !external_first {
-        groups.reverse();
-    }
-    groups
-}
-
-/// Brim loops (outward from the first layer, `brim_width` wide) and skirt loops
-/// (`skirt_distance` beyond the first layer and brim), outer contours only.
-fn first_layer_extras(first: &Region, s: &Settings, h: f64) -> Vec<Path> {
-    let (wd, sp) = (s.extrusion_width, s.spacing(h));
-    let mut paths = Vec::new();
-    let brim_loops = (s.brim_width / sp).ceil() as usize;
-    for j in 0..brim_loops {
-        let ring = offset(first, wd / 2.0 + j as f64 * sp);
-        paths.extend(
-            ring.iter()
-                .filter_map(|shape| shape.first())
-                .map(|outer| order::loop_path(Role::Brim, outer.clone())),
-        );
-    }
-    // the brim's outer edge, from the part's
-    let brim_edge = match brim_loops {
-        0 => 0.0,
-        n => wd + (n - 1) as f64 * sp,
-    };
-    for j in 0..s.skirts as usize {
-        let ring = offset(
-            first,
-            brim_edge + s.skirt_distance + wd / 2.0 + j as f64 * sp,
-        );
-        paths.extend(
-            ring.iter()
-                .filter_map(|shape| shape.first())
-                .map(|outer| order::loop_path(Role::Skirt, outer.clone())),
-        );
-    }
-    paths
+    Slicing::new(mesh, settings, header)?.finish()
 }

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use super::PlanarError;
 
 /// Every setting of the built-in slicer. Lengths mm, speeds mm/s, temperatures °C.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Settings {
     /// Height of every layer after the first, mm.
@@ -105,6 +105,16 @@ pub const MAX_WIDTH_PER_NOZZLE: f64 = 2.5;
 pub const MAX_CENTER: f64 = crate::tolerance::MAX_PLACEMENT_MM;
 
 impl Settings {
+    /// The defaults with both layer heights `h` (a warp's layer height: `warpslice run` and
+    /// the page start from these).
+    pub fn for_layers(h: f64) -> Settings {
+        Settings {
+            layer_height: h,
+            first_layer_height: h,
+            ..Settings::default()
+        }
+    }
+
     /// Settings from a JSON object (keys left out keep their defaults). Unknown keys and
     /// wrong types are [`PlanarError::SettingsJson`] with serde's message; values out of range
     /// are [`PlanarError::Setting`].
@@ -158,7 +168,7 @@ impl Settings {
         given: serde_json::Map<String, serde_json::Value>,
         context: &str,
     ) -> Result<(), PlanarError> {
-        let Ok(serde_json::Value::Object(mut map)) = serde_json::to_value(&*self) else {
+        let Ok(serde_json::Value::Object(mut map)) = serde_json::to_value(*self) else {
             return Err(PlanarError::SettingsJson {
                 message: "the settings could not be written as JSON".to_string(),
             });

@@ -7,13 +7,15 @@
 import { state } from './state.js';
 import { doCheck } from './check.js';
 import { $ } from './dom.js';
-import { call, cancelWorker } from './worker-client.js';
+import { call } from './worker-client.js';
 import { showError } from './errors.js';
 import { buildForms, buildWarpParams, enforceLimits, seedCustomJson } from './forms.js';
 import { loadSettings, readSettings, saveHash, settingsFromHash } from './settings.js';
 import { doUnwarp, doWarp, loadModel, onMachineChange, refreshCustom, scheduleWarp } from './steps.js';
 import { initView, showModel } from './view.js';
 import { buildToolpath, onLayerChange, setViewMode } from './preview.js';
+import { cancelRun, doSliceHere } from './builtin.js';
+import { applySlicerSettings, buildSlicerForm } from './slicer-form.js';
 
 function dropZone(zone, input, onFile) {
   zone.addEventListener('dragover', (e) => {
@@ -61,6 +63,7 @@ async function main() {
   state.schema = init.schema;
   $('version').textContent = `v${init.schema.version}`;
   buildForms();
+  buildSlicerForm();
   await loadSettings(settingsFromHash() ?? {});
   onMachineChange();
   await refreshCustom();
@@ -112,7 +115,21 @@ async function main() {
   $('warp-button').addEventListener('click', doWarp);
   $('show-warped').addEventListener('change', showModel);
   $('show-layers').addEventListener('change', showModel);
-  $('cancel').addEventListener('click', () => cancelWorker());
+  $('cancel').addEventListener('click', cancelRun);
+  $('slice-here').addEventListener('click', doSliceHere);
+  $('slicer-settings').addEventListener('change', saveHash);
+  // the CLI's --slicer-settings FILE: its keys over the core's defaults
+  $('slicer-settings-import').addEventListener('change', async (e) => {
+    const f = e.target.files?.[0];
+    e.target.value = '';
+    if (!f) return;
+    try {
+      applySlicerSettings(JSON.parse(await f.text()));
+      saveHash();
+    } catch (err) {
+      showError('Cannot read these slicer settings', { code: 'page.settings', message: err.message });
+    }
+  });
   $('view-mode').addEventListener('change', (e) => setViewMode(e.target.value));
   $('color-mode').addEventListener('change', buildToolpath);
   $('show-travel').addEventListener('change', buildToolpath);

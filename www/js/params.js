@@ -58,8 +58,9 @@ export function paramRow(p, group, idBase, value) {
   } else if (p.type === 'bool') {
     inputs = [el('input', { type: 'checkbox', id: ids[0], checked: !!v })];
     // A switch on by default (the collision check) has no off flag in the CLI (a flag sets it),
-    // so the page cannot switch it off either: shown checked, fixed.
-    if (p.default === true) {
+    // so the page cannot switch it off either: shown checked, fixed. (A value without a flag,
+    // a built-in slicer setting, is `--set key=false` on the CLI: it can be switched off.)
+    if (p.default === true && p.flag) {
       inputs[0].checked = true;
       inputs[0].disabled = true;
     }
@@ -139,7 +140,7 @@ export function writeRow(row, p, v) {
   const inputs = rowInputs(row);
   if (v == null) {
     if (p.type === 'choice') inputs[0].value = '';
-  } else if (p.type === 'bool') inputs[0].checked = p.default === true || v;
+  } else if (p.type === 'bool') inputs[0].checked = (p.default === true && !!p.flag) || v;
   else if (ARITY[p.type]) inputs.forEach((inp, k) => (inp.value = String(v[k])));
   else inputs[0].value = String(v);
   syncSwitch(row);

@@ -2,13 +2,15 @@
 //   { machine: preset name, machine_json: custom machine JSON text | null,
 //     warp: { kind, …the warp's parameters },            // the core's warp spec
 //     <warp option key>: value, …,                       // base, max_edge, tolerance, layer_height, anchor
-//     unwarp: { <unwarp option key, dotted = nested>: value, … } }   // the core's UnwarpOptions
+//     unwarp: { <unwarp option key, dotted = nested>: value, … },    // the core's UnwarpOptions
+//     slicer: { <built-in slicer setting>: value, … } }   // keys that differ from the core's defaults
 // Every key comes from the schema; a value that is not valid for its Param is ignored.
 import { state } from './state.js';
 import { $ } from './dom.js';
 import { getPath, readRow, setPath, validValue, writeRow } from './params.js';
 import { buildWarpParams, enforceLimits, rows, showMachine, warpSchema } from './forms.js';
 import { customOn, describeCustom, machineArgument, presetMachine } from './machines.js';
+import { applySlicerSettings, slicerSettings } from './slicer-form.js';
 
 /** The form as a settings object. */
 export function readSettings() {
@@ -17,6 +19,7 @@ export function readSettings() {
   for (const { row, p } of rows('warp_options')) setPath(s, p.key, readRow(row, p));
   s.unwarp = {};
   for (const { row, p } of rows('unwarp_options')) setPath(s.unwarp, p.key, readRow(row, p));
+  s.slicer = slicerSettings();
   return s;
 }
 
@@ -43,6 +46,7 @@ export function applySettings(s) {
     const v = s.unwarp ? getPath(s.unwarp, p.key) : undefined;
     if (v !== undefined) writeRow(row, p, v);
   }
+  if (s.slicer !== undefined) applySlicerSettings(s.slicer);
   enforceLimits();
 }
 

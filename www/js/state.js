@@ -27,8 +27,15 @@ export const state = {
    * debounce of an edit.
    */
   custom: { text: null, machine: null, error: null, valid: null, seq: 0, pending: null, timer: 0 },
-  /** The worker and its pending requests (`worker-client.js`). */
-  rpc: { worker: null, nextId: 1, pending: new Map() },
+  /**
+   * The running one-click slice (`builtin.js`): `id` of its worker call, `phase` (`slice`, then
+   * `unwarp`), `cancelAsked`; null when none runs.
+   */
+  slice: null,
+  /** Built-in slicer settings the form has no row for, sent as given (`slicer-form.js`). */
+  slicerExtra: {},
+  /** The worker, its pending requests and how many were started (`worker-client.js`). */
+  rpc: { worker: null, nextId: 1, pending: new Map(), starts: 0 },
   /** three.js handles (`view.js`): renderer, scene, camera, controls, groups, `dirty`. */
   view: {},
   /** The toolpath preview (`preview.js`): the worker's buffers, the built geometry, layers. */

@@ -6,6 +6,7 @@ import { $, baseName, box3, el, info, setDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
 import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
+import { slicerCliArgs, slicerSettings } from './slicer-form.js';
 import { buildWarpParams, enforceLimits, showMachine } from './forms.js';
 import { currentMachine, customOn, customSpec, customText, describeCustom, forgetCustom, machineViewArgument } from './machines.js';
 import { clearGroup, showModel, SURFACE_GRID } from './view.js';
@@ -61,6 +62,7 @@ export function resetWarp() {
   $('warp-info').replaceChildren();
   showWarpWarnings(null);
   $('gcode-input').disabled = true;
+  $('slice-here').disabled = true;
   resetResult();
   showWarnings();
 }
@@ -73,6 +75,7 @@ export function resetResult() {
   setDownload('result-download', null);
   setDownload('summary-download', null);
   setDownload('config-download', null);
+  setDownload('sliced-download', null);
   $('summary').replaceChildren();
   showFindings(null);
   showUnwarpWarnings(null);
@@ -119,6 +122,7 @@ export async function doWarp() {
     setDownload('warped-download', new Blob([out.stl], { type: 'model/stl' }), `${name}.warped.stl`);
     setDownload('job-download', new Blob([out.job], { type: 'application/json' }), `${name}.warped.job.json`);
     $('gcode-input').disabled = false;
+    $('slice-here').disabled = false;
   } catch (e) {
     if (seq !== state.warpSeq) return;
     $('warp-info').textContent = '';
@@ -213,6 +217,23 @@ export function scheduleWarp() {
 
 // Step 4: the G-code back.
 export async function doUnwarp(file) {
+  return runToResult({
+    file,
+    what: `unwarp “${file.name}”`,
+    request: (args, onEvent) => call('unwarp', { file, ...args }, [], onEvent),
+    again: () => doUnwarp(file),
+  });
+}
+
+/**
+ * A run that ends in a machine G-code (step 4's unwarp of a dropped file, or step 3's built-in
+ * slice + unwarp, `builtin.js`): `request(args, onEvent)` calls the worker with the job, the
+ * warped STL, the unwarp options and the machine frame in `args`; its progress drives the bar
+ * (phases `slice`, `scan`, `unwarp`); a `sliced` event names the planar G-code (`file` until
+ * then); `onEvent` also gets every event. Then the result: downloads, summary, preview, checks.
+ * `again()` runs it once more (the collision refusal's "write anyway").
+ */
+export async function runToResult({ file = null, what, request, again, onEvent = null }) {
   if (!state.warped) {
     showError('Warp a model first', { code: 'page.no-warp', message: 'The G-code is unwarped with the job of the warped model (steps 1–2).' });
     return;
@@ -223,9 +244,12 @@ export async function doUnwarp(file) {
   state.busy = true;
   $('cancel').disabled = false;
   $('gcode-input').disabled = true;
+  $('slice-here').disabled = true;
   const prog = $('progress');
   const text = $('progress-text');
   prog.removeAttribute('data-done');
+  prog.removeAttribute('data-cancelled');
+  prog.removeAttribute('data-step');
   prog.removeAttribute('data-worker-bytes');
   text.textContent = 'reading…';
   const t0 = performance.now();
@@ -235,11 +259,23 @@ export async function doUnwarp(file) {
     const m = currentMachine();
     const options = unwarpOptions();
     const machineFrame = m.moving_bed ? { machine: machineViewArgument(), name: m.name } : null;
-    const out = await call('unwarp', { file, job: state.warped.job, warpedStl: state.warped.stl, options, machineFrame }, [], (ev) => {
+    const args = { job: state.warped.job, warpedStl: state.warped.stl, options, machineFrame };
+    let sliced = null;
+    const out = await request(args, (ev) => {
+      onEvent?.(ev);
+      if (ev.type === 'sliced') {
+        file = ev.sliced;
+        sliced = { report: ev.report, ms: ev.ms };
+      }
       if (ev.type === 'progress') {
         prog.value = ev.done / ev.total;
+        prog.dataset.phase = ev.phase;
+        prog.dataset.step = `${ev.done}/${ev.total}`;
         prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), ev.workerBytes || 0));
-        text.textContent = `${ev.phase === 'scan' ? 'finding the part' : 'unwarping'} ${Math.round((100 * ev.done) / ev.total)} %`;
+        // the slice: `layers` cuts, then `layers` layers written (two steps per layer)
+        const slicing = ev.done <= ev.layers ? `slicing: cut layer ${ev.done} of ${ev.layers}` : `slicing: wrote layer ${ev.done - ev.layers} of ${ev.layers}`;
+        text.textContent = ev.phase === 'slice' ? slicing
+          : `${ev.phase === 'scan' ? 'finding the part' : 'unwarping'} ${Math.round((100 * ev.done) / ev.total)} %`;
       }
     });
     prog.value = 1;
@@ -248,7 +284,12 @@ export async function doUnwarp(file) {
     prog.dataset.done = '1';
     prog.dataset.ms = String(Math.round(performance.now() - t0));
     state.result = out;
+    // the job of this run (a change of the form meanwhile re-warps: state.warped is the new one)
+    out.job = args.job;
+    if (sliced) out.sliced = sliced;
     const name = baseName(file.name);
+    // the built-in slicer's planar G-code (the CLI's `run --keep-sliced`)
+    setDownload('sliced-download', sliced ? file : null, file.name);
     setDownload('result-download', out.blob, `${name}.${m.name}.gcode`);
     if (out.config) {
       // the firmware configuration the G-code needs, ready to paste (the CLI's --config-out)
@@ -274,16 +315,18 @@ export async function doUnwarp(file) {
     prog.value = 0;
     if (e.cancelled) {
       text.textContent = 'cancelled';
+      prog.dataset.cancelled = '1';
     } else {
       text.textContent = 'failed';
       setViewMode('model');
-      showError(`Cannot unwarp “${file.name}”`, e, 'unwarp');
-      if (e.code === 'machine.collision') offerAllowCollisions(file);
+      showError(`Cannot ${what}`, e, 'unwarp');
+      if (e.code === 'machine.collision') offerAllowCollisions(again);
     }
   } finally {
     state.busy = false;
     $('cancel').disabled = true;
     $('gcode-input').disabled = !state.warped;
+    $('slice-here').disabled = !state.warped;
   }
 }
 
@@ -292,14 +335,14 @@ export async function doUnwarp(file) {
  * writes the file anyway and lists every finding — the "Allow collisions" option
  * (`--allow-collisions`) switched on, and the unwarp run again.
  */
-function offerAllowCollisions(file) {
+function offerAllowCollisions(again) {
   const allow = document.querySelector('input[data-param="allow_collisions"]');
   if (!allow) return;
   const button = el('button', { type: 'button', textContent: 'Write anyway, list findings', 'data-testid': 'allow-collisions-retry' });
   button.addEventListener('click', () => {
     allow.checked = true;
     allow.dispatchEvent(new Event('change', { bubbles: true }));
-    doUnwarp(file);
+    again();
   });
   $('error').append(el('div', {}, button));
 }
@@ -319,13 +362,17 @@ export function makeSummary(out, file) {
   const cli = cliArgs();
   const cliWarp = ['warpslice', 'warp', state.stlName, ...cli.warp, '-o', `${base}.warped.stl`];
   const cliUnwarp = ['warpslice', 'unwarp', file.name, '--job', `${base}.warped.job.json`, '--stl', `${base}.warped.stl`, ...cli.unwarp, '-o', `${baseName(file.name)}.${m.name}.gcode`];
+  // sliced here: the one command that warps, slices with the built-in slicer and unwarps
+  const cliRun = out.sliced ? ['warpslice', 'run', state.stlName, '--slicer', 'builtin', ...slicerCliArgs(), ...cli.warp, ...cli.unwarp, '-o', `${base}.${m.name}.gcode`] : undefined;
+  const sr = out.sliced?.report;
   return {
     machine: s.machine,
     machine_json: customOn() ? customSpec() : undefined,
     settings: s,
-    cli: { warp: cliWarp, unwarp: cliUnwarp },
+    cli: { warp: cliWarp, unwarp: cliUnwarp, run: cliRun },
+    slicer: out.sliced ? { settings: slicerSettings(), report: sr, ms: out.sliced.ms } : undefined,
     machine_output: r.machine ? `${r.machine.machine} (${r.machine.flavour})` : '3-axis',
-    warp: JSON.parse(state.warped.job).warp,
+    warp: JSON.parse(out.job).warp,
     gcode_in: file.name,
     bytes_in: file.size,
     bytes_out: out.bytes,
@@ -345,7 +392,8 @@ export function makeSummary(out, file) {
         : 'none (3-axis: straight moves)',
       placement: `offset ${r.translation.map((v) => v.toFixed(2)).join(', ')} mm, residual ${r.residual.toExponential(2)}`,
       'output size': `${(out.bytes / 1e6).toFixed(2)} MB`,
-      'command line': `${commandLine(cliWarp)}; (slice); ${commandLine(cliUnwarp)}`,
+      ...(sr ? { 'sliced here': `${sr.layers} layers, ${sr.volume_mm3.toFixed(1)} mm³ in ${sr.filament_mm.toFixed(1)} mm of filament, ${sr.retractions} retractions${sr.repaired_loops + sr.dropped_chains + sr.thin_islands ? `; repairs: ${sr.repaired_loops} open cross-sections closed, ${sr.dropped_chains} left out, ${sr.thin_islands} islands too thin for a perimeter` : ''} (${(out.sliced.ms / 1000).toFixed(1)} s)` } : {}),
+      'command line': cliRun ? commandLine(cliRun) : `${commandLine(cliWarp)}; (slice); ${commandLine(cliUnwarp)}`,
     },
   };
 }

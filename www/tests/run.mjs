@@ -21,6 +21,7 @@ import { fileURLToPath } from 'node:url';
 import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
 import { offlineRoundTrip } from './offline.mjs';
+import { builtinTests } from './builtin.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -1275,6 +1276,9 @@ try {
     await warpSettled();
     assert((await tid('warp-warnings').locator('li').count()) === 0, 'no warp warnings for a clean cube');
   });
+
+  // the one-click path: the built-in slicer in the worker, every preset (tests/builtin.mjs)
+  await builtinTests({ page, context, url, test, tid, assert, sh, CLI, TMP, wasm, schema, download, warpSettled, screenshot, sha });
 
   await test('no request left 127.0.0.1 and no console errors', async () => {
     assert(outside.length === 0, `requests outside 127.0.0.1: ${outside.slice(0, 5).join(', ')}`);

@@ -16,10 +16,8 @@ pub fn settings(
     relative_e: bool,
 ) -> Result<Settings, String> {
     let mut s = Settings {
-        layer_height,
-        first_layer_height: layer_height,
         use_relative_e_distances: relative_e,
-        ..Settings::default()
+        ..Settings::for_layers(layer_height)
     };
     if let Some(f) = file {
         s.apply_json(&read_text(f)?)
