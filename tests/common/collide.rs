@@ -45,8 +45,14 @@ use super::machine::fk::{rotate, Fk};
 
 /// Spacing of the bead samples along the path, mm (a quarter of the line width).
 pub const STEP_MM: f64 = 0.1;
-/// Poses per move checked.
+/// Poses per move computed; the part is judged at those of them whose points moved at least
+/// [`POSE_STEP_MM`] since the last judged one (and at the first and last).
 pub const POSES: usize = 400;
+/// Least motion of any point of the judged part between two judged poses, mm (a quarter of a
+/// bead sample, [`STEP_MM`]): a rigid motion moves the part's points by at most
+/// `|Δtip| + reach·θ` (θ the angle between the frames, or between the tool axes when the frame
+/// is unknown), so skipped poses lie within it of a judged one.
+pub const POSE_STEP_MM: f64 = 0.025;
 
 /// How far the helper's depth may differ from the checker's, mm. The two sample differently:
 /// - material: the helper's bead points lie every [`STEP_MM`] along, w/4 across and h/2 down,
@@ -131,6 +137,10 @@ struct Posed<'a> {
     r: Option<&'a DMat3>,
     w: f64,
     press: f64,
+    /// tan 30° (the contact surface's slope).
+    t30: f64,
+    /// The cone's tan ψ (0 for other parts).
+    tan_psi: f64,
 }
 
 /// Whether `q` (output frame) is inside the posed part (the tip part: above its contact
@@ -143,22 +153,22 @@ fn inside(at: &Posed<'_>, q: DVec3) -> bool {
         r,
         w,
         press,
+        t30,
+        tan_psi,
     } = *at;
     let d = q - p;
     let s = n.dot(d);
     let rho = (d.length_squared() - s * s).max(0.0).sqrt();
-    let t30 = 30f64.to_radians().tan();
     match part {
         HeadPart::Cone {
             tip_radius_mm,
-            half_angle_deg,
             length_mm,
             from_mm,
             ..
         } => {
             let inside = s >= *from_mm
                 && s <= from_mm + length_mm
-                && rho <= tip_radius_mm + (s - from_mm) * half_angle_deg.to_radians().tan();
+                && rho <= tip_radius_mm + (s - from_mm) * tan_psi;
             let tip = *from_mm <= 0.0;
             inside && (!tip || s > (rho + w / 2.0) * t30 + press)
         }
@@ -434,9 +444,31 @@ fn judge(
         .iter()
         .filter(|pt| pt.q.cmpge(lo - margin).all() && pt.q.cmple(hi + margin).all())
         .collect();
-    for (axes, p, n) in &poses {
+    let t30 = 30f64.to_radians().tan();
+    let tan_psi = match part {
+        HeadPart::Cone { half_angle_deg, .. } => half_angle_deg.to_radians().tan(),
+        _ => 0.0,
+    };
+    let mut last: Option<(DVec3, DVec3, Option<DMat3>)> = None;
+    for (k, (axes, p, n)) in poses.iter().enumerate() {
         let (p, n) = (*p, *n);
         let r = frame(fk, axes, n);
+        // judged when its points moved POSE_STEP_MM since the last judged pose (the ends always)
+        if let (Some((lp, ln, lr)), true) = (&last, k > 0 && k < POSES) {
+            let theta = match (lr, &r) {
+                (Some(a), Some(b)) => {
+                    let m = *b * a.transpose();
+                    ((m.x_axis.x + m.y_axis.y + m.z_axis.z - 1.0) / 2.0)
+                        .clamp(-1.0, 1.0)
+                        .acos()
+                }
+                _ => ln.angle_between(n),
+            };
+            if (p - *lp).length() + far * theta < POSE_STEP_MM {
+                continue;
+            }
+        }
+        last = Some((p, n, r));
         enclosing |= r.is_none() && matches!(part, HeadPart::Box { .. });
         let mut deepest = |depth: f64, what: String| {
             if best.as_ref().is_none_or(|b| depth > b.depth_mm) {
@@ -470,6 +502,8 @@ fn judge(
                     r: r.as_ref(),
                     w,
                     press: if pt.layer == layer { h } else { 0.0 },
+                    t30,
+                    tan_psi,
                 };
                 if inside(&at, pt.q) {
                     let z_in = entry_z(&at, pt.q, 3.0 * far);
