@@ -128,11 +128,6 @@ impl ContactSurface {
         Some(rho * (1.0 + t * sin_t) + self.half_width * t * sin_t)
     }
 
-    /// The tip the surface is placed at.
-    pub fn tip(&self) -> DVec3 {
-        self.p
-    }
-
     /// Whether the rule applies at this pose (the tool's tilt below `90° − β_max`, where the
     /// part above the surface is one interval of a vertical line; steeper, every overlap counts:
     /// [`ContactSurface::depth_above`]).

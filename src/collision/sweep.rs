@@ -818,19 +818,8 @@ impl Checker {
             (x0, y0, x1, y1),
             zlow + tol,
             |c, r, top| {
-                // under the floors at the block's least horizontal distance from the tips (they
-                // grow with the distance), or out of the solid's reach
-                let near = |o: DVec3| ((c - o.truncate()).length() - r).max(0.0);
-                let floor = match (&contact, solid) {
-                    (Some(k), Posed::Frustum { o, .. }) => solid
-                        .floor_at_distance(near(o))
-                        .max(k.floor_at_distance(near(k.tip()))),
-                    (None, Posed::Frustum { o, .. }) => solid.floor_at_distance(near(o)),
-                    _ => f64::NEG_INFINITY,
-                };
-                top - floor <= tol
-                    || solid.distance(DVec3::new(c.x, c.y, 0.5 * (zlow + top)))
-                        > r.hypot(0.5 * (top - zlow))
+                let c = DVec3::new(c.x, c.y, 0.5 * (zlow + top));
+                solid.distance(c) > r.hypot(0.5 * (top - zlow))
             },
             |i, j, h, bead| {
                 let (x, y) = (centre(i), centre(j));
