@@ -31,8 +31,15 @@ pub struct Job {
     pub stl_z_offset: f64,
     /// Bounding box of the warped part in STL coordinates (anchor excluded).
     pub warped_bbox: Aabb,
-    /// Intended layer height (and anchor thickness), mm.
+    /// Intended layer height (and anchor thickness), mm: the slicer's vertical layer height.
     pub layer_height: f64,
+    /// With `--layer-thickness`: the layer thickness along the tool axis asked, mm
+    /// ([`crate::warp::thickness`]; `layer_height` was computed from it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_thickness: Option<f64>,
+    /// With `--layer-thickness`: the tilt where that thickness holds, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness_at_tilt_deg: Option<f64>,
     /// Thickness of the removable anchor slab under the warped part, or `None` if the warped
     /// bottom is flat and needs none. The slicer's first layer holds only the anchor (and
     /// skirt/brim); unwarp drops the anchor's extrusions.

@@ -218,15 +218,25 @@ pub fn run_with(
     observer.start("slicing", 0);
     let sliced = match slice {
         SliceWith::Real(opts) => {
+            // the job's: computed from --layer-thickness when given
             let opts = SliceOptions {
-                layer_height: warp.layer_height,
+                layer_height: w.job.layer_height,
                 ..opts.clone()
             };
             crate::slicer::slice(&files.warped, &files.sliced, &opts)
                 .map(Sliced::Real)
                 .map_err(Error::from)
         }
-        SliceWith::Builtin(s) => super::slice_builtin(&w.stl, &w.job, s).and_then(|out| {
+        SliceWith::Builtin(s) => {
+            // --layer-thickness computed the layers' height: the slice's layers are the job's
+            let mut s = *s;
+            if warp.layer_thickness.is_some() {
+                s.layer_height = w.job.layer_height;
+                s.first_layer_height = w.job.layer_height;
+            }
+            super::slice_builtin(&w.stl, &w.job, &s)
+        }
+        .and_then(|out| {
             std::fs::write(&files.sliced, &out.gcode).map_err(io(&files.sliced))?;
             Ok(Sliced::Builtin(out.report))
         }),

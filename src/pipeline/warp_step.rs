@@ -42,6 +42,15 @@ pub struct WarpOptions {
     /// `--anchor auto|on|off`.
     #[serde(default)]
     pub anchor: AnchorMode,
+    /// `--layer-thickness`, mm: the layer thickness wanted along the tool axis; when given, the
+    /// vertical `layer_height` is computed from it ([`crate::warp::thickness`]) and replaces
+    /// the one given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_thickness: Option<f64>,
+    /// `--thickness-at-tilt`, degrees: where `layer_thickness` holds (default: at the model's
+    /// largest tilt). Shear warps only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness_at_tilt: Option<f64>,
 }
 
 fn default_max_edge() -> f64 {
@@ -90,6 +99,8 @@ impl WarpOptions {
             tolerance: DEFAULT_TOLERANCE,
             layer_height: DEFAULT_LAYER_HEIGHT,
             anchor: AnchorMode::Auto,
+            layer_thickness: None,
+            thickness_at_tilt: None,
         }
     }
 }
@@ -124,6 +135,18 @@ pub const WARP_OPTION_PARAMS: &[Param] = &[
         .choices(&["auto", "on", "off"])
         .default(ParamDefault::Text("auto"))
         .help("a removable one-layer slab under a warped bottom that is not flat"),
+    Param::number("layer_thickness", "--layer-thickness", "Layer thickness")
+        .unit("mm")
+        .range(Some(0.0), None, (true, false))
+        .step(0.01)
+        .optional()
+        .help("the layer thickness along the tool axis; the layer height to slice with is computed from it (h = t/cos tilt on shear warps, Slicer4RTN's conic layer height) and replaces --layer-height"),
+    Param::number("thickness_at_tilt", "--thickness-at-tilt", "Thickness at tilt")
+        .unit("deg")
+        .range(Some(0.0), Some(90.0), (false, true))
+        .step(1.0)
+        .optional()
+        .help("with --layer-thickness: the tilt where the thickness holds (default: the model's largest tilt; shear warps only)"),
 ];
 
 /// What the warp step did.
@@ -141,10 +164,29 @@ pub struct WarpReport {
     pub largest_tilt_deg: f64,
     /// Triangles written (part + anchor).
     pub triangles_out: usize,
+    /// The layer height to slice with, mm (the job's; computed from `layer_thickness` when
+    /// given).
+    #[serde(default)]
+    pub layer_height: f64,
+    /// With `--layer-thickness`: the thickness along the tool axis, the tilt where it holds
+    /// (degrees) and `|∇T_z|` there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_thickness: Option<LayerThickness>,
     /// What the user should look at although the STL was written: what the STL reader
     /// tolerated in the model (`model: …`, also in `mesh.warnings`), a capped subdivision.
     #[serde(default)]
     pub warnings: Vec<String>,
+}
+
+/// What `--layer-thickness` asked and gave ([`crate::warp::thickness`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LayerThickness {
+    /// The thickness along the tool axis asked, mm.
+    pub thickness: f64,
+    /// The tilt from vertical where it holds, degrees.
+    pub at_tilt_deg: f64,
+    /// `|∇T_z|` there: vertical layer height = thickness × factor (before rounding).
+    pub factor: f64,
 }
 
 /// Result of the warp step.
@@ -167,6 +209,28 @@ fn check_positive(name: &'static str, v: f64) -> Result<(), Error> {
             value: v.to_string(),
             allowed: "a positive number (mm)",
         })
+    }
+}
+
+/// The named error of a `--layer-thickness` that gives no layer height.
+fn thickness_error(e: crate::warp::thickness::ThicknessError) -> Error {
+    use crate::warp::thickness::ThicknessError as T;
+    match e {
+        T::Thickness(v) => Error::Option {
+            name: "layer-thickness",
+            value: v.to_string(),
+            allowed: "a positive number (mm)",
+        },
+        T::Tilt(v) => Error::Option {
+            name: "thickness-at-tilt",
+            value: v.to_string(),
+            allowed: "a tilt from 0 up to (not including) 90 degrees",
+        },
+        T::TiltOfRadialWarp => Error::Option {
+            name: "thickness-at-tilt",
+            value: "given".into(),
+            allowed: "only with a shear warp (curved, tilted, conic, belt): the cylindrical and spherical warps' layers are as thick as the layer height at every tilt; leave it out",
+        },
     }
 }
 
@@ -261,16 +325,35 @@ pub fn warp_model_capped(
         .map(|&p| warp.tool_axis(p).z)
         .fold(1.0, f64::min);
     let largest_tilt_deg = crate::num::deg(crate::num::acos(min_nz.clamp(-1.0, 1.0)));
+    let (layer_height, layer_thickness) = match opts.layer_thickness {
+        None => (opts.layer_height, None),
+        Some(t) => {
+            let v = crate::warp::thickness::vertical_layer_height(
+                &*warp,
+                params.spec.is_shear(),
+                &model.vertices,
+                t,
+                opts.thickness_at_tilt,
+            )
+            .map_err(thickness_error)?;
+            let lt = LayerThickness {
+                thickness: t,
+                at_tilt_deg: v.at_tilt_deg,
+                factor: v.factor,
+            };
+            (v.layer_height, Some(lt))
+        }
+    };
 
     let part_bbox_t = warped.bbox();
     let anchor = match opts.anchor {
         AnchorMode::On => true,
         AnchorMode::Off => false,
-        AnchorMode::Auto => anchor::needs_anchor(&warped, opts.layer_height),
+        AnchorMode::Auto => anchor::needs_anchor(&warped, layer_height),
     };
     let mut anchor_thickness = None;
-    if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, opts.layer_height) {
-        anchor_thickness = Some(opts.layer_height);
+    if anchor && anchor::add_slab(&mut warped, part_bbox_t.min.z, layer_height) {
+        anchor_thickness = Some(layer_height);
     }
     let stl_z_offset = -part_bbox_t.min.z + anchor_thickness.unwrap_or(0.0);
     warped.translate(DVec3::new(0.0, 0.0, stl_z_offset));
@@ -287,7 +370,9 @@ pub fn warp_model_capped(
         model_bbox,
         stl_z_offset,
         warped_bbox,
-        layer_height: opts.layer_height,
+        layer_height,
+        layer_thickness: layer_thickness.map(|l| l.thickness),
+        thickness_at_tilt_deg: layer_thickness.map(|l| l.at_tilt_deg),
         anchor: anchor_thickness,
         max_edge: opts.max_edge,
         tolerance: opts.tolerance,
@@ -305,6 +390,8 @@ pub fn warp_model_capped(
         warped_bbox,
         largest_tilt_deg,
         triangles_out: warped.triangles.len(),
+        layer_height,
+        layer_thickness,
         warnings,
     };
     Ok(WarpOutput {

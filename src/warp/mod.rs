@@ -34,6 +34,7 @@ pub mod cylindrical;
 pub mod laws;
 pub mod shear;
 pub mod spherical;
+pub mod thickness;
 pub mod tilted;
 
 pub use base::BaseBlend;

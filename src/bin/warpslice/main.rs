@@ -296,6 +296,14 @@ mod cli {
             s.z,
             r.largest_tilt_deg
         );
+        if let Some(t) = r.layer_thickness {
+            say!(
+                "layer thickness {} mm along the tool axis at {:.2}° tilt: slice with a layer height of {} mm (the job records both)",
+                t.thickness,
+                t.at_tilt_deg,
+                r.layer_height
+            );
+        }
         say!(
             "wrote {} and {} (job {})",
             stl.display(),

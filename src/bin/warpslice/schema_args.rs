@@ -261,6 +261,23 @@ impl<const OPTIONAL: bool> clap::FromArgMatches for WarpArgs<OPTIONAL> {
                 }
             }
         }
+        // --layer-thickness computes the layer height: both given is a contradiction
+        let on_line = |key: &str| {
+            WARP_OPTION_PARAMS.iter().any(|p| {
+                p.key == key
+                    && m.value_source(id(p)) == Some(clap::parser::ValueSource::CommandLine)
+            })
+        };
+        if on_line("layer_thickness") && on_line("layer_height") {
+            return Err(invalid(
+                "give --layer-height (the slicer's vertical layer height) or --layer-thickness (along the tool axis; the layer height is computed from it), not both".into(),
+            ));
+        }
+        if on_line("thickness_at_tilt") && !on_line("layer_thickness") {
+            return Err(invalid(
+                "--thickness-at-tilt goes with --layer-thickness (it says where that thickness holds)".into(),
+            ));
+        }
         warp.insert("spec".into(), Value::Object(spec));
         obj.insert("warp".into(), Value::Object(warp));
         let options =
