@@ -101,6 +101,14 @@ impl ContactSurface {
         self.floor_at_distance((dx * dx + dy * dy).sqrt())
     }
 
+    /// A lower bound of [`ContactSurface::floor_at`] over the square of centre `c` and half
+    /// side `half` seen from above: the bound at the square's least distance from the tip (it
+    /// grows with the distance).
+    pub fn floor_over_square(&self, c: glam::DVec2, half: f64) -> f64 {
+        let d = ((self.p.truncate() - c).abs() - glam::DVec2::splat(half)).max(glam::DVec2::ZERO);
+        self.floor_at_distance(d.length())
+    }
+
     /// [`ContactSurface::floor_at`] of a vertical line at horizontal distance `d` from the tip
     /// (the bound depends on that distance only, and does not decrease with it).
     pub fn floor_at_distance(&self, d: f64) -> f64 {
@@ -126,6 +134,12 @@ impl ContactSurface {
         }
         let rho = ((m - self.p.z - self.half_width * t * self.n.z) / gain).max(0.0);
         Some(rho * (1.0 + t * sin_t) + self.half_width * t * sin_t)
+    }
+
+    /// [`ContactSurface::radius_below`] with its centre: the disc (seen from above, about the
+    /// tip) outside which no point above the contact surface is below height `m`.
+    pub fn disc_below(&self, m: f64) -> Option<(glam::DVec2, f64)> {
+        self.radius_below(m).map(|r| (self.p.truncate(), r))
     }
 
     /// Whether the rule applies at this pose (the tool's tilt below `90° − β_max`, where the
@@ -162,6 +176,62 @@ impl ContactSurface {
         let s = self.n.dot(d);
         let rho = (d.length_squared() - s * s).max(0.0).sqrt();
         s - (rho + self.half_width) * self.tan_beta
+    }
+
+    /// Whether the point (x, y, z) lies above the contact surface, where the rule applies
+    /// ([`ContactSurface::applies`]; elsewhere every point counts: true). Above it along the
+    /// line is one interval ending at the top (module documentation, "Monotone"), so a line
+    /// whose material top `h` has `above_at(x, y, h − tol)` false has at most `tol` of its
+    /// material above the surface: [`ContactSurface::depth_above`] ≤ tol for any `z_in`.
+    pub fn above_at(&self, x: f64, y: f64, z: f64) -> bool {
+        !self.monotone || self.excess(DVec3::new(x, y, z)) > 0.0
+    }
+
+    /// The x-interval of the row `y` at height `z` whose points lie above the contact surface
+    /// (`None`: no point; unbounded ends where the rule does not bound it), widened by
+    /// [`CROSSING_SLACK_MM`]. With `d = q − p = (Δx, Δy, Δz)`, `s = n_x Δx + s₁`
+    /// (`s₁ = n_y Δy + n_z Δz`) and `ρ² = Δx² + e − s²` (`e = Δy² + Δz²`), "above" is
+    /// `s − cT > Tρ`: `s > cT` and `(1 + T²)s² − 2cTs + c²T² − T²(Δx² + e) > 0`, a quadratic
+    /// `A Δx² + B Δx + C > 0` with `A = (1 + T²)n_x² − T²`, `B = 2n_x((1 + T²)s₁ − cT)`,
+    /// `C = (1 + T²)s₁² − 2cTs₁ + c²T² − T²e`. For `A < 0` (the tool leaning less than β_max in
+    /// x) it holds between the roots (the two nappes of `|s − cT| > Tρ` meet only at the apex,
+    /// so `s > cT` keeps the upper one's interval); otherwise no bound is taken.
+    pub fn above_on_row(&self, y: f64, z: f64) -> Option<(f64, f64)> {
+        const ALL: Option<(f64, f64)> = Some((f64::NEG_INFINITY, f64::INFINITY));
+        if !self.monotone {
+            return ALL;
+        }
+        let (n, t, c) = (self.n, self.tan_beta, self.half_width);
+        let (dy, dz) = (y - self.p.y, z - self.p.z);
+        let s1 = n.y * dy + n.z * dz;
+        let k = 1.0 + t * t;
+        let a = k * n.x * n.x - t * t;
+        if a > -ROW_BOUND_MIN_CURVATURE {
+            return ALL;
+        }
+        let b = 2.0 * n.x * (k * s1 - c * t);
+        let cc = k * s1 * s1 - 2.0 * c * t * s1 + c * c * t * t - t * t * (dy * dy + dz * dz);
+        let disc = b * b - 4.0 * a * cc;
+        if disc < 0.0 {
+            return None;
+        }
+        let root = disc.sqrt();
+        // a < 0: the quadratic is positive between (−b ± √disc)/(2a)
+        let (r1, r2) = ((-b + root) / (2.0 * a), (-b - root) / (2.0 * a));
+        let (mut lo, mut hi) = (r1.min(r2), r1.max(r2));
+        // and s = n_x Δx + s₁ > cT
+        if n.x.abs() > 1e-12 {
+            let edge = (c * t - s1) / n.x;
+            if n.x > 0.0 {
+                lo = lo.max(edge);
+            } else {
+                hi = hi.min(edge);
+            }
+        } else if s1 <= c * t {
+            return None;
+        }
+        let slack = CROSSING_SLACK_MM * (1.0 + self.p.abs().max_element());
+        (lo <= hi).then_some((self.p.x + lo - slack, self.p.x + hi + slack))
     }
 
     /// The length of the vertical line (x, y) between `z_in` and `top` (the material inside the
@@ -235,6 +305,11 @@ impl ContactSurface {
             .map(|t0| t0.clamp(lo, hi))
     }
 }
+
+/// `|A|` below which [`ContactSurface::above_on_row`] takes no bound: a tool leaning nearly
+/// β_max in x makes the row's interval long and its roots ill-conditioned (dimensionless; the
+/// per-cell test still decides).
+const ROW_BOUND_MIN_CURVATURE: f64 = 1e-6;
 
 /// How far a closed-form crossing of the contact surface may lie outside the line's interval,
 /// and how far from the surface (along the tool axis) it may be, mm: rounding of the quadratic's
@@ -318,6 +393,66 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_rows_interval_holds_every_point_above_the_surface_and_little_else() {
+        // brute force on a 0.001 mm grid of each row (excess written from the rule here, not
+        // the engine's): every point above the surface is inside the interval, and the interval
+        // is no wider than the points above it (plus the grid and the slack)
+        let (tb, c) = (30f64.to_radians().tan(), 0.225);
+        let above = |p: DVec3, n: DVec3, q: DVec3| {
+            let d = q - p;
+            let s = n.dot(d);
+            let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+            s - (rho + c) * tb > 0.0
+        };
+        let mut bounded = 0;
+        for tilt in [0.0f64, 10.0, 25.0, 29.0, 45.0, 55.0] {
+            for az in [0.0f64, 70.0, 180.0, 250.0] {
+                let (t, a) = (tilt.to_radians(), az.to_radians());
+                let n = DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos());
+                let p = DVec3::new(1.0, 2.0, 3.0);
+                let surf = ContactSurface::new(p, n, 2.0 * c);
+                if !surf.applies() {
+                    continue;
+                }
+                for (y, z) in [(2.0, 3.1), (2.3, 3.0), (1.6, 3.4), (2.0, 2.9), (3.5, 4.5)] {
+                    let got = surf.above_on_row(y, z);
+                    let xs: Vec<f64> = (-4000..=6000)
+                        .map(|i| i as f64 * 0.001)
+                        .filter(|&x| above(p, n, DVec3::new(x, y, z)))
+                        .collect();
+                    match got {
+                        None => assert!(
+                            xs.is_empty(),
+                            "tilt {tilt} az {az} row ({y}, {z}): None but {} points above",
+                            xs.len()
+                        ),
+                        Some((lo, hi)) => {
+                            for &x in &xs {
+                                assert!(
+                                    x >= lo && x <= hi,
+                                    "tilt {tilt} az {az} row ({y}, {z}): {x} outside [{lo}, {hi}]"
+                                );
+                            }
+                            if lo.is_finite() && hi.is_finite() {
+                                bounded += 1;
+                                // ends inside the grid's span are within a grid step of the points
+                                let (a, b) = (
+                                    xs.first().copied().unwrap_or(lo),
+                                    xs.last().copied().unwrap_or(hi),
+                                );
+                                let inside = |x: f64| (-3.99..5.99).contains(&x);
+                                assert!(!inside(lo) || a - lo <= 0.0011, "tilt {tilt} az {az} row ({y}, {z}): [{lo}, {hi}] vs points [{a}, {b}]");
+                                assert!(!inside(hi) || hi - b <= 0.0011, "tilt {tilt} az {az} row ({y}, {z}): [{lo}, {hi}] vs points [{a}, {b}]");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(bounded > 30, "only {bounded} rows bounded");
     }
 
     #[test]

@@ -279,15 +279,17 @@ impl Material {
     }
 
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
-    /// `above`, skipping tiles and blocks below it and blocks for which `far(centre,
-    /// half_diagonal, top)` says the solid cannot reach the material of the block (its centre
-    /// and the half diagonal of its square seen from above, its highest top);
-    /// `visit(i, j, top, bead)` (the bead whose top it is).
+    /// `above`, skipping tiles and blocks below it, blocks for which `skip(centre,
+    /// half_diagonal, top)` says the solid cannot reach the block's material (its centre and
+    /// the half diagonal of its square seen from above, its highest top), and in each row
+    /// `y` of a block the cells whose centres lie outside `row(y, top)` (an x-interval;
+    /// `None`: none of the row); `visit(i, j, top, bead)` (the bead whose top it is).
     pub fn for_cells_above(
         &self,
         (x0, y0, x1, y1): (f64, f64, f64, f64),
         above: f64,
-        mut far: impl FnMut(glam::DVec2, f64, f64) -> bool,
+        mut skip: impl FnMut(glam::DVec2, f64, f64) -> bool,
+        mut row: impl FnMut(f64, f64) -> Option<(f64, f64)>,
         mut visit: impl FnMut(i64, i64, f64, u32),
     ) {
         let (i0, i1, j0, j1) = (cell_of(x0), cell_of(x1), cell_of(y0), cell_of(y1));
@@ -320,11 +322,22 @@ impl Material {
                             ci0 as f64 * CELL_MM + 0.5 * side,
                             cj0 as f64 * CELL_MM + 0.5 * side,
                         );
-                        if far(c, 0.5 * side * std::f64::consts::SQRT_2, top) {
+                        if skip(c, 0.5 * side * std::f64::consts::SQRT_2, top) {
                             continue;
                         }
                         for j in cj0.max(j0)..=(cj0 + b - 1).min(j1) {
-                            for i in ci0.max(i0)..=(ci0 + b - 1).min(i1) {
+                            let (mut lo, mut hi) = (ci0.max(i0), (ci0 + b - 1).min(i1));
+                            let Some((xa, xb)) = row(centre(j), top) else {
+                                continue;
+                            };
+                            // the cells whose centres lie in [xa, xb]
+                            if xa.is_finite() {
+                                lo = lo.max((xa / CELL_MM - 0.5).ceil() as i64);
+                            }
+                            if xb.is_finite() {
+                                hi = hi.min((xb / CELL_MM - 0.5).floor() as i64);
+                            }
+                            for i in lo..=hi {
                                 let cj = (j - tj * t) as usize;
                                 let ci = (i - ti * t) as usize;
                                 let h = tile.h[cj * TILE + ci] as f64;

@@ -44,6 +44,7 @@
 
 pub mod bead;
 pub mod contact;
+pub mod cull;
 pub mod material;
 pub mod solid;
 pub mod sweep;

@@ -49,6 +49,10 @@ pub enum Posed {
 /// Below this |coefficient| a quadratic is taken as linear and a direction component as zero.
 const DEGENERATE: f64 = 1e-12;
 
+/// Added to each side of a box's clipped rectangle ([`Posed::below_in_rect`]), mm: the
+/// clip's intersection points carry the rounding of a division; far below a cell (0.2 mm).
+const BELOW_RECT_SLACK_MM: f64 = 1e-6;
+
 impl Posed {
     /// The axis-aligned bounding box (lowest, highest corner).
     pub fn aabb(&self) -> (DVec3, DVec3) {
@@ -92,6 +96,9 @@ impl Posed {
     /// horizontal distance D meets only `s ≥ s_min = (D − r0 + k s0)/(sin θ + k)`; and
     /// `q_z ≥ o_z + s a_z − r(s) sin θ`, linear in s, so the bound is the smaller of its values
     /// at `max(s0, s_min)` and `s1`.
+    ///
+    /// Box: −∞ (its exact entry, [`Posed::column`]'s slab method, costs about as much as a
+    /// bound would; [`Posed::floor_over_square`] bounds a whole block).
     pub fn floor_at(&self, x: f64, y: f64) -> f64 {
         match *self {
             Posed::Frustum { o, .. } => {
@@ -99,6 +106,39 @@ impl Posed {
                 self.floor_at_distance((dx * dx + dy * dy).sqrt())
             }
             Posed::Box { .. } => f64::NEG_INFINITY,
+        }
+    }
+
+    /// A lower bound of [`Posed::floor_at`] over the square of centre `c` and half side `half`
+    /// seen from above: the frustum's bound at the square's least distance from the tip (it
+    /// grows with the distance); for a box, a vertical line enters it where it enters the last
+    /// of the three slabs (the slab method of [`Posed::column`]), `z_in = max_k t_k(x, y)` over
+    /// the slabs not parallel to it; each `t_k` is linear in (x, y), least over the square at a
+    /// corner: `t_k(c) − (|∂t_k/∂x| + |∂t_k/∂y|)·half`, and the largest of those bounds `z_in`
+    /// from below.
+    pub fn floor_over_square(&self, c: glam::DVec2, half: f64) -> f64 {
+        match *self {
+            Posed::Frustum { o, .. } => {
+                let d =
+                    ((o.truncate() - c).abs() - glam::DVec2::splat(half)).max(glam::DVec2::ZERO);
+                self.floor_at_distance(d.length())
+            }
+            Posed::Box { o, r, min, max } => {
+                let mut floor = f64::NEG_INFINITY;
+                let w = DVec3::new(c.x - o.x, c.y - o.y, -o.z);
+                for (k, axis) in [r.x_axis, r.y_axis, r.z_axis].into_iter().enumerate() {
+                    // u_k(t) = axis·(w + t e_z) = axis·w + axis.z t: enters [min, max] at
+                    let vz = axis.z;
+                    if vz.abs() < DEGENERATE {
+                        continue;
+                    }
+                    let entry = if vz > 0.0 { min[k] } else { max[k] };
+                    let t = (entry - axis.dot(w)) / vz;
+                    let slope = (axis.x.abs() + axis.y.abs()) / vz.abs();
+                    floor = floor.max(t - slope * half);
+                }
+                floor
+            }
         }
     }
 
@@ -156,6 +196,92 @@ impl Posed {
             }
             Posed::Box { .. } => None,
         }
+    }
+
+    /// [`Posed::radius_below`] with its centre: the disc (seen from above, about the tip `o`)
+    /// outside which the solid lies above height `m`.
+    pub fn disc_below(&self, m: f64) -> Option<(glam::DVec2, f64)> {
+        match *self {
+            Posed::Frustum { o, .. } => self.radius_below(m).map(|r| (o.truncate(), r)),
+            Posed::Box { .. } => None,
+        }
+    }
+
+    /// Whether [`Posed::floor_over_square`] is the solid's lowest height everywhere: a box
+    /// whose every face is horizontal or vertical (only its bottom bounds a vertical line).
+    pub fn floor_is_flat(&self) -> bool {
+        match *self {
+            Posed::Frustum { .. } => false,
+            Posed::Box { r, .. } => [r.x_axis, r.y_axis, r.z_axis]
+                .iter()
+                .all(|a| a.z.abs() < DEGENERATE || a.x.abs() + a.y.abs() < DEGENERATE),
+        }
+    }
+
+    /// The bounding rectangle of the part of `rect` (x0, y0, x1, y1) where the solid may come
+    /// below height `m` (`None`: nowhere): for a frustum `rect` cut to the square about
+    /// [`Posed::disc_below`]; for a box `rect` clipped (a convex polygon) by the half-planes
+    /// `t_k(x, y) ≤ m` of [`Posed::floor_over_square`]'s slab entries, whose largest is the
+    /// line's entry height.
+    pub fn below_in_rect(
+        &self,
+        (x0, y0, x1, y1): (f64, f64, f64, f64),
+        m: f64,
+    ) -> Option<(f64, f64, f64, f64)> {
+        let cut = match *self {
+            Posed::Frustum { .. } => match self.disc_below(m) {
+                Some((o, r)) => (
+                    x0.max(o.x - r),
+                    y0.max(o.y - r),
+                    x1.min(o.x + r),
+                    y1.min(o.y + r),
+                ),
+                None => (x0, y0, x1, y1),
+            },
+            Posed::Box { o, r, min, max } => {
+                let mut poly: Vec<glam::DVec2> = vec![
+                    glam::DVec2::new(x0, y0),
+                    glam::DVec2::new(x1, y0),
+                    glam::DVec2::new(x1, y1),
+                    glam::DVec2::new(x0, y1),
+                ];
+                for (k, axis) in [r.x_axis, r.y_axis, r.z_axis].into_iter().enumerate() {
+                    let vz = axis.z;
+                    if vz.abs() < DEGENERATE {
+                        continue;
+                    }
+                    let entry = if vz > 0.0 { min[k] } else { max[k] };
+                    // f(q) = t_k(q) − m ≤ 0 kept (t_k linear in q)
+                    let f = |q: glam::DVec2| {
+                        (entry - axis.dot(DVec3::new(q.x - o.x, q.y - o.y, -o.z))) / vz - m
+                    };
+                    let mut next = Vec::with_capacity(poly.len() + 1);
+                    for i in 0..poly.len() {
+                        let (p, q) = (poly[i], poly[(i + 1) % poly.len()]);
+                        let (fp, fq) = (f(p), f(q));
+                        if fp <= 0.0 {
+                            next.push(p);
+                        }
+                        if (fp <= 0.0) != (fq <= 0.0) {
+                            next.push(p + (q - p) * (fp / (fp - fq)));
+                        }
+                    }
+                    poly = next;
+                    if poly.is_empty() {
+                        return None;
+                    }
+                }
+                let (mut lo, mut hi) = (poly[0], poly[0]);
+                for p in &poly {
+                    lo = lo.min(*p);
+                    hi = hi.max(*p);
+                }
+                // the clip's intersections are computed in f64: keep their rounding in
+                let e = BELOW_RECT_SLACK_MM;
+                (lo.x - e, lo.y - e, hi.x + e, hi.y + e)
+            }
+        };
+        (cut.0 <= cut.2 && cut.1 <= cut.3).then_some(cut)
     }
 
     /// The solid's lowest point (one of them): for a frustum the lower of its end discs' lowest

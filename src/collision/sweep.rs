@@ -27,6 +27,7 @@ use glam::{DMat3, DVec3};
 
 use super::bead;
 use super::contact::ContactSurface;
+use super::cull::Reach;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use crate::emit::CollisionFinding;
@@ -626,22 +627,16 @@ impl Checker {
                 consider(c.h, c.x, c.y, c.bead, contact, &mut best);
             }
         } else if material {
-            // only the columns near the tip can reach the highest material under the solid
-            let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
-            let m = self.material.max_over((x0, y0, x1, y1)) - tol;
-            let r = match (
-                solid.radius_below(m),
-                contact.and_then(|c| c.radius_below(m)),
-            ) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
-            if let (Some(r), Posed::Frustum { o, .. }, false) = (r, solid, self.exhaustive) {
-                (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
-                (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+            let reach = Reach::new(solid, contact, tol);
+            // only the columns that reach below the highest material under the solid
+            let rect = (lo.x, lo.y, hi.x, hi.y);
+            let m = self.material.max_over(rect) - tol;
+            let (x0, y0, x1, y1) = if self.exhaustive {
+                Some(rect)
+            } else {
+                reach.rect(rect, m)
             }
-            // the block's region between the solid's lowest point and its top
-            let zlow = lo.z;
+            .unwrap_or((0.0, 0.0, -1.0, -1.0));
             let above = if self.exhaustive {
                 f64::NEG_INFINITY
             } else {
@@ -650,9 +645,13 @@ impl Checker {
             self.material.for_cells_above(
                 (x0, y0, x1, y1),
                 above,
-                |c, r, top| {
-                    let c = DVec3::new(c.x, c.y, 0.5 * (zlow + top));
-                    !self.exhaustive && solid.distance(c) > r.hypot(0.5 * (top - zlow))
+                |c, r, top| !self.exhaustive && reach.skips_block(c, r, top),
+                |y, top| {
+                    if self.exhaustive {
+                        Some((f64::NEG_INFINITY, f64::INFINITY))
+                    } else {
+                        reach.row(y, top)
+                    }
                 },
                 |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
             );
@@ -764,6 +763,7 @@ impl Checker {
                 let dist = ((c - (pa + d * t)).length() - half_diag).max(0.0);
                 top - floor_at_distance(dist) <= tol
             },
+            |_, _| Some((f64::NEG_INFINITY, f64::INFINITY)),
             |i, j, h, bead| {
                 let c = glam::DVec2::new(centre(i), centre(j));
                 let t = if l2 > 0.0 {
@@ -799,35 +799,24 @@ impl Checker {
         let solid = part.pose(at.p, at.n, at.frame.as_ref()).dilated(delta);
         let contact = contact.then(|| ContactSurface::new(at.p, at.n, self.max_width).grown(delta));
         let (lo, hi) = solid.aabb();
-        let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
-        let m = self.material.max_over((x0, y0, x1, y1)) - tol;
-        let r = match (
-            solid.radius_below(m),
-            contact.and_then(|c| c.radius_below(m)),
-        ) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
+        let reach = Reach::new(&solid, contact.as_ref(), tol);
+        let rect = (lo.x, lo.y, hi.x, hi.y);
+        let Some((x0, y0, x1, y1)) = reach.rect(rect, self.material.max_over(rect) - tol) else {
+            return Vec::new();
         };
-        if let (Some(r), Posed::Frustum { o, .. }) = (r, solid) {
-            (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
-            (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
-        }
         let zlow = lo.z;
         let mut cells = Vec::new();
         self.material.for_cells_above(
             (x0, y0, x1, y1),
             zlow + tol,
-            |c, r, top| {
-                let c = DVec3::new(c.x, c.y, 0.5 * (zlow + top));
-                solid.distance(c) > r.hypot(0.5 * (top - zlow))
-            },
+            |c, r, top| reach.skips_block(c, r, top),
+            |y, top| reach.row(y, top),
             |i, j, h, bead| {
                 let (x, y) = (centre(i), centre(j));
-                let floor = match &contact {
-                    Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
-                    None => solid.floor_at(x, y),
-                };
-                if h - floor <= tol {
+                if contact.as_ref().is_some_and(|c| !c.above_at(x, y, h - tol)) {
+                    return;
+                }
+                if h - solid.floor_at(x, y) <= tol {
                     return;
                 }
                 let Some((zi, zo)) = solid.column(x, y) else {

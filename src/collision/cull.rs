@@ -1,0 +1,138 @@
+//! Which cells of the height field a posed head part may reach: exact culls that skip the
+//! per-cell work ([`super::sweep`]) for cells that cannot give a finding.
+//!
+//! A cell with material top `h` gives a finding only when more than `tol`
+//! ([`super::sweep::CONTACT_TOLERANCE_MM`]) of its column lies inside the part (and, for the
+//! nozzle, above its contact surface). For a block of cells whose highest top is `top`, let
+//! `m = top − tol`; a cell can give a finding only where
+//!
+//! - the solid reaches below `m`: within the disc [`Posed::disc_below`] (outside it the solid
+//!   lies above `m`, so at most `h − m ≤ tol` of the column is inside it);
+//! - for the nozzle, the region above its contact surface reaches below `m`: within
+//!   [`ContactSurface::disc_below`], and on each row within the x-interval
+//!   [`ContactSurface::above_on_row`] at height `m` (the region above the surface on a
+//!   vertical line is one interval ending at the top, so a point `(x, y, m)` under the surface
+//!   leaves at most `h − m ≤ tol` of the column above it).
+//!
+//! A block is skipped when the part's floor over its square ([`Posed::floor_over_square`],
+//! [`ContactSurface::floor_over_square`]) is above its highest top but for `tol`, when its
+//! square meets no such disc, or when the solid's distance from
+//! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. Every cut
+//! removes only cells the per-cell test rejects, so the findings are the same with and without
+//! it (law tests: `tests/collision_check.rs` against [`super::Checker::exhaustive`], and
+//! `sweep.rs`'s `a_stretch_lists_every_cell_any_of_its_poses_reaches`).
+
+use glam::{DVec2, DVec3};
+
+use super::contact::ContactSurface;
+use super::solid::Posed;
+
+/// Added to a disc's radius and chord, mm: the cut and the per-cell test compute the same
+/// distances in f64; this keeps a cell centre that lies on a circle (to rounding) in.
+const DISC_SLACK_MM: f64 = 1e-9;
+
+/// A posed part (and the nozzle's contact surface) seen by the height field's cells.
+pub struct Reach<'a> {
+    /// The part at its pose (possibly grown over a stretch of poses).
+    solid: &'a Posed,
+    /// The nozzle's contact surface, where its rule applies.
+    contact: Option<&'a ContactSurface>,
+    /// The depth not reported, mm ([`super::sweep::CONTACT_TOLERANCE_MM`]).
+    tol: f64,
+    /// The solid's lowest point's height, mm (the block's bounding sphere spans from it).
+    zlow: f64,
+    /// Whether the solid's floor over a block can be above its lowest point (a frustum, a box
+    /// not standing square: else the floor test repeats the query's own "above the lowest
+    /// point" and is skipped).
+    floor_varies: bool,
+}
+
+impl<'a> Reach<'a> {
+    /// The reach of `solid` (and `contact`) for depths above `tol`.
+    pub fn new(solid: &'a Posed, contact: Option<&'a ContactSurface>, tol: f64) -> Reach<'a> {
+        Reach {
+            solid,
+            contact,
+            tol,
+            zlow: solid.aabb().0.z,
+            floor_varies: !solid.floor_is_flat(),
+        }
+    }
+
+    /// The solid's lowest point's height, mm.
+    pub fn zlow(&self) -> f64 {
+        self.zlow
+    }
+    fn discs(&self, m: f64) -> [Option<(DVec2, f64)>; 2] {
+        [
+            self.solid.disc_below(m),
+            self.contact.and_then(|c| c.disc_below(m)),
+        ]
+    }
+
+    /// The part of `rect` whose cells may give a finding when the highest material top in it
+    /// is `m + tol` (`None`: none): within the solid's [`Posed::below_in_rect`] and the
+    /// contact surface's disc below `m`.
+    pub fn rect(&self, rect: (f64, f64, f64, f64), m: f64) -> Option<(f64, f64, f64, f64)> {
+        let (mut x0, mut y0, mut x1, mut y1) = self.solid.below_in_rect(rect, m)?;
+        if let Some((o, r)) = self.contact.and_then(|c| c.disc_below(m)) {
+            let r = r + DISC_SLACK_MM;
+            (x0, y0) = (x0.max(o.x - r), y0.max(o.y - r));
+            (x1, y1) = (x1.min(o.x + r), y1.min(o.y + r));
+        }
+        (x0 <= x1 && y0 <= y1).then_some((x0, y0, x1, y1))
+    }
+
+    /// Whether no cell of the block (centre `c`, half diagonal `half_diag` seen from above,
+    /// highest top `top`) can give a finding.
+    pub fn skips_block(&self, c: DVec2, half_diag: f64, top: f64) -> bool {
+        let half = half_diag * std::f64::consts::FRAC_1_SQRT_2;
+        // the part (and the region above the contact surface) enters every line of the block
+        // above its highest top, but for tol
+        let mut floor = if self.floor_varies {
+            self.solid.floor_over_square(c, half)
+        } else {
+            f64::NEG_INFINITY
+        };
+        if let Some(k) = self.contact {
+            floor = floor.max(k.floor_over_square(c, half));
+        }
+        if top - floor <= self.tol {
+            return true;
+        }
+        let far_from_disc = self.discs(top - self.tol).iter().flatten().any(|(o, r)| {
+            let d = ((*o - c).abs() - DVec2::splat(half)).max(DVec2::ZERO);
+            d.length() > r + DISC_SLACK_MM
+        });
+        if far_from_disc {
+            return true;
+        }
+        let centre = DVec3::new(c.x, c.y, 0.5 * (self.zlow + top));
+        let dz = 0.5 * (top - self.zlow);
+        self.solid.distance(centre) > (half_diag * half_diag + dz * dz).sqrt() + DISC_SLACK_MM
+    }
+
+    /// The x-interval of the row `y` of a block of highest top `top` whose cells may give a
+    /// finding (`None`: none).
+    pub fn row(&self, y: f64, top: f64) -> Option<(f64, f64)> {
+        let m = top - self.tol;
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (o, r) in self.discs(m).iter().flatten() {
+            let dy = y - o.y;
+            let r = r + DISC_SLACK_MM;
+            let chord2 = r * r - dy * dy;
+            if chord2 < 0.0 {
+                return None;
+            }
+            let half = chord2.sqrt() + DISC_SLACK_MM;
+            lo = lo.max(o.x - half);
+            hi = hi.min(o.x + half);
+        }
+        if let Some(c) = self.contact {
+            let (a, b) = c.above_on_row(y, m)?;
+            lo = lo.max(a);
+            hi = hi.min(b);
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+}
