@@ -50,6 +50,14 @@ self.onmessage = async (ev) => {
       await unwarpFile(msg);
     } else if (msg.op === 'builtin') {
       await sliceHereAndUnwarp(msg);
+    } else if (msg.op === 'overhangs') {
+      // `warpslice overhangs`: planar and under the warp of `options` ('' for planar), per facet
+      const report = ws.overhangs(new Uint8Array(msg.stl), msg.options, msg.angle);
+      self.postMessage({ id: msg.id, type: 'done', report });
+    } else if (msg.op === 'suggest') {
+      // `warpslice suggest`: the ranked admissible warps for the machine
+      const report = ws.suggest(new Uint8Array(msg.stl), msg.machine, msg.options);
+      self.postMessage({ id: msg.id, type: 'done', report });
     } else if (msg.op === 'cancel') {
       // between two layers of a running `builtin` slice, that slice stops (`sliceHereAndUnwarp`)
       cancelled.add(msg.target);

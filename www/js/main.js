@@ -4,6 +4,7 @@
 // worker.js), machines.js, params.js + forms.js (forms from the schema), settings.js (JSON and
 // URL hash), steps.js (model → warp → unwarp → result), view.js (3D view), preview.js
 // (toolpath preview), advice.js + errors.js (errors and what to do, by code), dom.js.
+import { doSuggest, refreshOverhangs } from './overhang.js';
 import { state } from './state.js';
 import { doCheck } from './check.js';
 import { $ } from './dom.js';
@@ -115,6 +116,12 @@ async function main() {
   $('warp-button').addEventListener('click', doWarp);
   $('show-warped').addEventListener('change', showModel);
   $('show-layers').addEventListener('change', showModel);
+  $('show-overhangs').addEventListener('change', showModel);
+  $('overhang-angle').addEventListener('change', async () => {
+    await refreshOverhangs();
+    showModel();
+  });
+  $('suggest-button').addEventListener('click', doSuggest);
   $('cancel').addEventListener('click', cancelRun);
   $('slice-here').addEventListener('click', doSliceHere);
   $('slicer-settings').addEventListener('change', saveHash);

@@ -27,6 +27,12 @@ export const state = {
    * debounce of an edit.
    */
   custom: { text: null, machine: null, error: null, valid: null, seq: 0, pending: null, timer: 0 },
+  /** The model's overhang (`overhangs` in the worker: planar and under the last warp), or null. */
+  overhangs: null,
+  /** Sequence number of the newest overhang request (older answers are dropped). */
+  overhangSeq: 0,
+  /** The last "Suggest a warp" answer (`suggest` in the worker), or null. */
+  suggestions: null,
   /**
    * The running one-click slice (`builtin.js`): `id` of its worker call, `phase` (`slice`, then
    * `unwarp`), `cancelAsked`; null when none runs.

@@ -1,5 +1,6 @@
 // The steps of the page, as the pipeline runs: 1 the model, 2 the machine and the warp,
 // 4 the G-code back (unwarp), 5 the result and its summary. Each step resets what depends on it.
+import { refreshOverhangs } from './overhang.js';
 import { state } from './state.js';
 import { showFindings, showUnwarpWarnings } from './check.js';
 import { $, baseName, box3, el, info, setDownload } from './dom.js';
@@ -48,6 +49,7 @@ export async function loadModel(bytes, name) {
   ]);
   $('model-info').dataset.triangles = String(r.triangles);
   $('warp-button').disabled = false;
+  $('suggest-button').disabled = false;
   setViewMode('model');
   showModel();
   await doWarp();
@@ -131,6 +133,8 @@ export async function doWarp() {
     if (seq === state.warpSeq) $('warp-button').disabled = !state.stl;
   }
   showWarnings();
+  showModel();
+  await refreshOverhangs();
   showModel();
 }
 

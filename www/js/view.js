@@ -6,6 +6,10 @@ import { STLLoader } from '../vendor/STLLoader.js';
 import { state } from './state.js';
 import { $ } from './dom.js';
 import { currentMachine } from './machines.js';
+import { overhangFacets } from './overhang.js';
+
+/** Colour of a facet that overhangs (`overhang.js`). */
+const OVERHANG_COLOR = 0xd62728;
 
 const view = state.view;
 
@@ -108,7 +112,24 @@ export function showModel() {
   const t = [-(r.bbox.min.x + r.bbox.max.x) / 2, -(r.bbox.min.y + r.bbox.max.y) / 2, -r.bbox.min.z];
   geom.translate(...t);
   const showLayers = state.warped && $('show-layers').checked;
-  const mat = new THREE.MeshStandardMaterial({ color: 0xb8c4d0, roughness: 0.7, transparent: !!showLayers, opacity: showLayers ? 0.35 : 1, side: THREE.DoubleSide });
+  // overhanging facets (the core's per-facet flags, STL order = the loader's triangle order)
+  const facets = overhangFacets();
+  const coloured = facets && facets.length * 3 === geom.attributes.position.count;
+  if (coloured) {
+    const col = new Float32Array(facets.length * 9);
+    const base = new THREE.Color(0xb8c4d0), hot = new THREE.Color(OVERHANG_COLOR);
+    let n = 0;
+    for (let f = 0; f < facets.length; f++) {
+      const c = facets[f] ? hot : base;
+      n += facets[f];
+      for (let v = 0; v < 3; v++) c.toArray(col, f * 9 + v * 3);
+    }
+    geom.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    $('canvas-wrap').dataset.overhangFacets = String(n);
+  } else {
+    delete $('canvas-wrap').dataset.overhangFacets;
+  }
+  const mat = new THREE.MeshStandardMaterial({ color: coloured ? 0xffffff : 0xb8c4d0, vertexColors: !!coloured, roughness: 0.7, transparent: !!showLayers, opacity: showLayers ? 0.35 : 1, side: THREE.DoubleSide });
   view.modelGroup.add(new THREE.Mesh(geom, mat));
   const box = new THREE.Box3().setFromBufferAttribute(geom.attributes.position);
   if (state.warped) {

@@ -22,6 +22,7 @@ import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
 import { offlineRoundTrip } from './offline.mjs';
 import { builtinTests } from './builtin.mjs';
+import { suggestTests } from './suggest.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -1279,6 +1280,9 @@ try {
 
   // the one-click path: the built-in slicer in the worker, every preset (tests/builtin.mjs)
   await builtinTests({ page, context, url, test, tid, assert, sh, CLI, TMP, wasm, schema, download, warpSettled, screenshot, sha });
+
+  // issue 15: the overhang measure and "Suggest a warp" (tests/suggest.mjs)
+  await suggestTests({ page, test, tid, assert, sh, CLI, TMP, wasm, warpSettled, screenshot });
 
   await test('no request left 127.0.0.1 and no console errors', async () => {
     assert(outside.length === 0, `requests outside 127.0.0.1: ${outside.slice(0, 5).join(', ')}`);

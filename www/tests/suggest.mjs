@@ -1,0 +1,67 @@
+// Issue 15 in the page: the overhang measure and "Suggest a warp" against the CLI's
+// `warpslice overhangs --json` and `warpslice suggest --json` of the same model and machine.
+//
+//  - planar: the page's overhang area is the CLI's, and the view colours exactly the CLI's
+//    overhanging facets (their count);
+//  - "Suggest a warp" on pax-5axis lists the CLI's suggestions in its order (flags and areas);
+//  - "Apply" on the best one puts its warp into the form (the page re-warps): the page's warped
+//    overhang area and coloured facets are then the CLI's `overhangs` under those flags.
+//
+// Used by tests/run.mjs, which passes its page and helpers (`ctx`).
+import { writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+
+/** The machine the suggestions are asked for (a tilt limit of 90°: every family admissible). */
+const MACHINE = 'pax-5axis';
+/** Areas compare to the CLI's within this, mm²: the same core, native vs wasm (bit-equal here). */
+const AREA_TOL = 1e-6;
+
+export async function suggestTests(ctx) {
+  const { page, test, tid, assert, sh, CLI, TMP, wasm, warpSettled, screenshot } = ctx;
+  const stl = join(TMP, 'overhang.stl');
+  writeFileSync(stl, wasm.example_stl('overhang'));
+  const cli = (args) => JSON.parse(sh(CLI, args).toString());
+  const shown = async (attr) => page.locator('[data-testid="overhang-info"]').getAttribute(`data-${attr}`);
+  const colouredFacets = async () => Number(await page.locator('#canvas-wrap').getAttribute('data-overhang-facets'));
+  const ones = (flags) => flags.reduce((a, b) => a + b, 0);
+
+  await test('overhangs: the page measures and colours the planar overhang as `warpslice overhangs`', async () => {
+    await tid('machine-select').selectOption(MACHINE);
+    await tid('model-input').setInputFiles(stl);
+    await warpSettled();
+    await page.waitForFunction(() => document.querySelector('[data-testid="overhang-info"]').dataset.planarMm2, null, { timeout: 60000 });
+    const planar = cli(['overhangs', stl, '--json']);
+    const got = Number(await shown('planar-mm2'));
+    assert(Math.abs(got - planar.planar.area_mm2) <= AREA_TOL, `planar overhang: page ${got} mm², CLI ${planar.planar.area_mm2} mm²`);
+    assert(planar.planar.area_mm2 > 0, 'the overhang part overhangs planar');
+  });
+
+  await test('overhangs: "Suggest a warp" lists `warpslice suggest`\'s warps in order, and Apply re-warps with the best one', async () => {
+    await tid('suggest-button').click();
+    await page.waitForFunction(() => document.querySelector('[data-testid="suggestions"]').dataset.done === '1', null, { timeout: 120000 });
+    const want = cli(['suggest', stl, '--machine', MACHINE, '--json']);
+    const items = await tid('suggestions').locator('li').evaluateAll((ls) => ls.map((l) => ({ flags: l.dataset.flags, area: Number(l.dataset.areaMm2) })));
+    assert(want.length > 0, 'the CLI suggests at least one warp for the overhang part');
+    assert(items.length === want.length, `page lists ${items.length} suggestions, CLI ${want.length}`);
+    items.forEach((it, i) => {
+      assert(it.flags === want[i].flags, `suggestion ${i + 1}: page “${it.flags}”, CLI “${want[i].flags}”`);
+      assert(Math.abs(it.area - want[i].overhang_area_mm2) <= AREA_TOL, `suggestion ${i + 1}: page ${it.area} mm², CLI ${want[i].overhang_area_mm2} mm²`);
+    });
+    await screenshot('suggestions');
+    await tid('suggestion-apply-1').click();
+    await warpSettled();
+    await page.waitForFunction((f) => document.querySelector('[data-testid="overhang-info"]').dataset.flags === f, want[0].flags, { timeout: 60000 });
+    const under = cli(['overhangs', stl, ...want[0].flags.split(' '), '--json']);
+    const got = Number(await shown('warped-mm2'));
+    assert(Math.abs(got - under.warped.area_mm2) <= AREA_TOL, `after Apply: page ${got} mm² left, CLI overhangs ${want[0].flags}: ${under.warped.area_mm2} mm²`);
+    assert(Math.abs(got - want[0].overhang_area_mm2) <= AREA_TOL, `after Apply: page ${got} mm², suggestion 1 said ${want[0].overhang_area_mm2} mm²`);
+    const n = await colouredFacets();
+    assert(n === ones(under.warped_facets), `coloured facets ${n}, CLI's overhanging facets under the warp ${ones(under.warped_facets)}`);
+    assert(ones(under.warped_facets) < ones(under.planar_facets), 'the best warp leaves fewer overhanging facets than planar');
+    await screenshot('suggestion-applied');
+    // switched off, nothing is coloured
+    await tid('show-overhangs').setChecked(false);
+    assert((await page.locator('#canvas-wrap').getAttribute('data-overhang-facets')) === null, 'colouring off');
+    await tid('show-overhangs').setChecked(true);
+  });
+}
