@@ -35,7 +35,7 @@ pub const ARC_WARNINGS_LISTED: usize = 5;
 pub const SKIPPED_COLLISIONS: &str = "collisions not checked (skip_collisions)";
 
 /// One point of the checked tip path (the preview's).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PathPoint {
     /// 1-based file line of the move ending here.
     pub line: u64,
@@ -49,6 +49,9 @@ pub struct PathPoint {
     pub layer: u32,
     /// The move does not extrude.
     pub travel: bool,
+    /// The machine's axis values after the move (machine order, as read: linear mm, rotary
+    /// degrees), the pose [`crate::collision::posed_head`] draws the head at.
+    pub axes: Vec<f64>,
 }
 
 /// The state of a check (see the module documentation).
@@ -411,6 +414,7 @@ impl Parts<'_> {
                 de: l.de,
                 layer: l.layer,
                 travel: !m.extrudes,
+                axes: m.to.clone(),
             });
         }
         Ok(())

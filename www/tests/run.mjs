@@ -22,6 +22,7 @@ import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
 import { offlineRoundTrip } from './offline.mjs';
 import { builtinTests } from './builtin.mjs';
+import { assertHeadAtMove, drawnHead, headTests, AXIS_DEG, TIP_MM } from './head.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -547,6 +548,10 @@ try {
     assert((await tid('findings').getAttribute('data-preview')) === 'check', 'the checked output\'s preview is shown');
     const red = Number(await page.locator('#canvas-wrap').getAttribute('data-collision-segments'));
     assert(red > 0, `the preview draws the collisions in red: ${red} segments`);
+    // the head at that move: the nozzle at the A/B table's tip along its tool axis (the file's
+    // words through the seed's kinematics, tests/head.mjs), the finding's part red
+    const head = await assertHeadAtMove({ page, tid, assert, schema }, { file: join(dir, 'C.allow.gcode'), machine: 'open5x-ab', report: rep });
+    assert(head.hit.length > 0, `the clicked collision's move has its part(s) red: line ${head.line}`);
     await screenshot('collision-allowed');
     await page.locator('input[data-param="allow_collisions"]').uncheck();
     await tid('place-on').setChecked(false);
@@ -609,6 +614,17 @@ try {
     assert(moveMax > 1 && pxA !== pxB, `canvas pixels change with the move slider (max ${moveMax})`);
     assert(bedA && bedB && bedA !== bedB, `bed pose changes with the move slider (${bedA} → ${bedB})`);
     assert((await page.locator('#move-out').innerText()).includes('machine'), 'move readout says machine coordinates');
+    // the head in machine coordinates: the A/B table's nozzle is vertical in the machine
+    // (seed 004), its tip where the readout puts the head (2 decimals)
+    const head = await drawnHead(page);
+    const nozzle = head?.find((h) => h.name === 'nozzle');
+    assert(nozzle, `the head is drawn in machine coordinates: ${JSON.stringify(head)}`);
+    const up = nozzle.top.map((x, i) => x - nozzle.base[i]);
+    const tiltDeg = (Math.acos(up[2] / Math.hypot(...up)) * 180) / Math.PI;
+    assert(tiltDeg <= AXIS_DEG, `the nozzle is vertical in the machine frame: ${tiltDeg}° (${up})`);
+    const readout = (await page.locator('#move-out').innerText()).match(/x (-?[\d.]+) y (-?[\d.]+) z (-?[\d.]+)/).slice(1).map(Number);
+    const off = Math.hypot(...nozzle.base.map((x, i) => x - readout[i]));
+    assert(off <= 0.005 * Math.sqrt(3) + TIP_MM, `the nozzle's tip ${nozzle.base} at the head's machine position ${readout}: ${off} mm`);
     await screenshot('machine-frame-move');
     await tid('machine-frame').uncheck();
     await page.waitForTimeout(200);
@@ -1254,6 +1270,9 @@ try {
     const e = await shownError();
     assert(e.code === 'check.bad-number' && e.message.includes('line 3'), `error ${JSON.stringify(e)}`);
   });
+
+  // the head's solids at the current move, every hand-built finding case (tests/head.mjs)
+  await headTests({ page, test, tid, assert, CLI, TMP, ROOT, schema, screenshot });
 
   // Issue 12: the warp step's report warnings (here what the STL reader tolerated: bytes
   // another program appended to a binary STL) are listed on the page as the CLI prints them.
