@@ -2,7 +2,7 @@
 //
 //   node www/tests/run.mjs            # everything (needs www/pkg, www/vendor, the CLI, prusa-slicer)
 //   WARPSLICE_WEB_BIG=0 node ...      # skip the 100 MB G-code test
-//   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100'
+//   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100' ('a|b': either)
 //   WARPSLICE_ALLOW_SKIP=1 node ...   # a missing corpus is skipped (printed) instead of failing
 //   WARPSLICE_CLI=path node ...       # compare with this CLI binary (built from the same tree as
 //                                     # www/pkg) instead of building $CARGO_TARGET_DIR/release/warpslice
@@ -38,9 +38,10 @@ for (const f of readdirSync(ART)) if (f.endsWith('.png')) rmSync(join(ART, f)); 
 
 let passed = 0, failed = 0;
 const t0all = Date.now();
-const GREP = process.env.WARPSLICE_WEB_GREP; // run only the tests whose name contains this
+// run only the tests whose name contains this (`a|b`: either)
+const GREP = process.env.WARPSLICE_WEB_GREP?.split('|');
 async function test(name, fn) {
-  if (GREP && !name.includes(GREP) && !name.startsWith('page loads')) return;
+  if (GREP && !GREP.some((g) => name.includes(g)) && !name.startsWith('page loads')) return;
   const t0 = Date.now();
   try {
     await fn();
@@ -90,7 +91,9 @@ if (process.env.WARPSLICE_CLI) {
   }
 } else {
   console.log(`building the CLI (${CLI})`);
-  execFileSync('cargo', ['build', '--release', '--bin', 'warpslice'], { cwd: ROOT, stdio: 'inherit' });
+  // with the hand-built cases' writer (tests/head.mjs runs it): one build, so the library is
+  // compiled once for both (an example's dev-dependencies change the features it is built with)
+  execFileSync('cargo', ['build', '--release', '--bin', 'warpslice', '--example', 'finding_cases'], { cwd: ROOT, stdio: 'inherit' });
 }
 
 // The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
