@@ -587,6 +587,20 @@ try {
     const vp = page.locator('#canvas-wrap');
     assert((await vp.getAttribute('data-frame')) === 'part', 'preview starts in the part frame');
     assert(await tid('machine-frame').isEnabled(), 'toggle enabled for open5x-ab with a result');
+    // the head in the part frame at the move shown (the unwarp's own preview: axes from the
+    // machine's inverse kinematics): the nozzle at the readout's tip (2 decimals), tilted by
+    // the readout's tilt (1 decimal)
+    {
+      const nozzle = (await drawnHead(page))?.find((h) => h.name === 'nozzle');
+      assert(nozzle, 'the head is drawn in the part frame');
+      const text = await page.locator('#move-out').innerText();
+      const at = text.match(/x (-?[\d.]+) y (-?[\d.]+) z (-?[\d.]+), tilt (-?[\d.]+)°/).slice(1).map(Number);
+      const up = nozzle.top.map((x, i) => x - nozzle.base[i]);
+      const tiltDeg = (Math.acos(up[2] / Math.hypot(...up)) * 180) / Math.PI;
+      assert(Math.abs(tiltDeg - at[3]) <= 0.05 + AXIS_DEG, `the nozzle's tilt ${tiltDeg}° vs the readout's ${at[3]}°`);
+      const off = Math.hypot(...nozzle.base.map((x, i) => x - at[i]));
+      assert(off <= 0.005 * Math.sqrt(3) + TIP_MM, `the nozzle's tip ${nozzle.base} vs the readout's ${at.slice(0, 3)}: ${off} mm`);
+    }
     const pxPart = await pixels();
     await screenshot('machine-frame-off');
     // Keyboard: focus the labelled checkbox and press Space.
