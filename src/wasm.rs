@@ -235,10 +235,12 @@ impl CheckStream {
     pub fn push(&mut self, chunk: &[u8]) -> Result<(), JsValue> {
         self.stream()?.push(chunk).map_err(js)
     }
-    /// The tip path so far (drains it; with `path: true`): `{ points, lines, axes, axisCount }`,
-    /// points [`CHECK_POINT_NUMBERS`] numbers each (x y z nx ny nz e layer travel(0/1)
-    /// feature(0)), lines the 1-based file line of each point, axes the machine's `axisCount`
-    /// axis values of each point (the pose `head_pose` takes). Call once more after `finish`.
+    /// The tip path so far (drains it; with `path: true`): `{ points, lines, axes, axisCount,
+    /// collisions }`, points [`CHECK_POINT_NUMBERS`] numbers each (x y z nx ny nz e layer
+    /// travel(0/1) feature(0)), lines the 1-based file line of each point, axes the machine's
+    /// `axisCount` axis values of each point (the pose `head_pose` takes), collisions
+    /// `[line, [part, …]]` for each point with parts in collision (all of them, whatever
+    /// `max_findings` lists). Call once more after `finish`.
     #[wasm_bindgen(js_name = takePath)]
     pub fn take_path(&mut self) -> Result<JsValue, JsValue> {
         let path = match self.inner.as_mut() {
@@ -249,8 +251,12 @@ impl CheckStream {
         let mut lines = Vec::with_capacity(path.len());
         let axis_count = path.first().map_or(0, |q| q.axes.len());
         let mut axes = Vec::with_capacity(path.len() * axis_count);
+        let mut collisions: Vec<(u64, &[String])> = Vec::new();
         for q in &path {
             axes.extend_from_slice(&q.axes);
+            if !q.collisions.is_empty() {
+                collisions.push((q.line, &q.collisions));
+            }
             points.extend_from_slice(&[
                 q.p.x,
                 q.p.y,
@@ -282,6 +288,7 @@ impl CheckStream {
             &js_sys::Float64Array::from(axes.as_slice()).into(),
         )?;
         set(&o, "axisCount", &JsValue::from_f64(axis_count as f64))?;
+        set(&o, "collisions", &to_js(&collisions)?)?;
         Ok(o.into())
     }
     /// The last line and the report (the stream is spent after it; `takePath` gives the last

@@ -149,17 +149,18 @@ class Preview {
   }
 }
 
+/** Add `part` to the parts in collision on file line `line` (`parts`: line → part names). */
+function addHit(parts, line, part) {
+  if (!parts.has(line)) parts.set(line, []);
+  if (!parts.get(line).includes(part)) parts.get(line).push(part);
+}
+
 /**
- * Flag (`hit`) every preview point whose file line has a collision finding of `report`, and
- * list the head parts in collision per line (`hitParts`: line → part names).
+ * Flag (`hit`) every preview point whose file line has a part in collision (`parts`: line →
+ * part names, every collision of the check, not only the findings its report lists), and keep
+ * `parts` as the preview's `hitParts`.
  */
-function markHits(pv, report) {
-  const parts = new Map();
-  for (const f of report.findings) {
-    if (f.kind !== 'collision') continue;
-    if (!parts.has(f.line)) parts.set(f.line, []);
-    if (!parts.get(f.line).includes(f.collision.part)) parts.get(f.line).push(f.collision.part);
-  }
+function markHits(pv, parts) {
   pv.hitParts = parts;
   pv.hit = new Uint8Array(pv.count);
   for (let i = 0; i < pv.count; i++) if (parts.has(pv.line[i])) pv.hit[i] = 1;
@@ -176,10 +177,14 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
   const total = file.size;
   const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath, skip_collisions: skipCollisions }));
   const preview = withPath ? new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS))) : null;
+  // the parts in collision per file line: the check's own (its path), or the unwarp's handed over
+  const hits = new Map();
+  for (const c of collisions ?? []) addHit(hits, c.line, c.part);
   const drain = () => {
     if (!preview) return;
     const p = stream.takePath();
     preview.add(p.points, p.lines, p.axes, p.axisCount);
+    for (const [line, parts] of p.collisions) for (const part of parts) addHit(hits, line, part);
   };
   try {
     for (let off = 0; off < total; off += CHUNK) {
@@ -193,7 +198,7 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
     if (preview) {
       pv = preview.result();
       pv.headMachine = machine;
-      markHits(pv, report);
+      markHits(pv, hits);
     }
     return { report, preview: pv };
   } finally {

@@ -52,6 +52,9 @@ pub struct PathPoint {
     /// The machine's axis values after the move (machine order, as read: linear mm, rotary
     /// degrees), the pose [`crate::collision::posed_head`] draws the head at.
     pub axes: Vec<f64>,
+    /// The head parts the collision check found in collision on this move (each once, in the
+    /// order found; every one, whatever `max_findings` lists).
+    pub collisions: Vec<String>,
 }
 
 /// The state of a check (see the module documentation).
@@ -357,10 +360,14 @@ impl Parts<'_> {
         }
         self.reach.observe(&m.to);
         // collisions: the emitter's check, line by line
+        let mut collisions: Vec<String> = Vec::new();
         if let Some(c) = self.checker.as_deref_mut() {
             walk_line(c, l)?;
             for cf in c.take_findings() {
                 self.report.counts.collision += 1;
+                if !collisions.contains(&cf.part) {
+                    collisions.push(cf.part.clone());
+                }
                 self.add(Finding {
                     kind: FindingKind::Collision,
                     line: cf.line,
@@ -415,6 +422,7 @@ impl Parts<'_> {
                 layer: l.layer,
                 travel: !m.extrudes,
                 axes: m.to.clone(),
+                collisions,
             });
         }
         Ok(())

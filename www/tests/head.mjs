@@ -9,8 +9,8 @@
 //    line are drawn red, the others not;
 //  - cases: the files of `cargo run --example finding_cases` (the Rust tests' own builders),
 //    each dropped into "Check a G-code" with its machine: the page shows exactly the findings
-//    (kind, line, part or axis) of `warpslice check --json` of the same file, and "no findings"
-//    for the clean files.
+//    (kind, line, part or axis) of `warpslice check --json` of the same file, its preview marks
+//    exactly the CLI's collision lines and parts, and "no findings" for the clean files.
 //
 // Used by tests/run.mjs, which passes its page and helpers (`ctx`).
 import { execFileSync, spawnSync } from 'node:child_process';
@@ -106,7 +106,7 @@ function angleDeg(u, v) {
 export async function assertHeadAtMove(ctx, { file, machine, report }) {
   const { page, tid, assert } = ctx;
   const parts = await drawnHead(page);
-  assert(parts, 'a head is drawn');
+  assert(parts, `a head is drawn (legend: ${await tid('head-legend').innerText()})`);
   const line = Number(await tid('viewport').getAttribute('data-line'));
   assert(line > 0, `the preview is at a file line: ${line}`);
   const spec = ctx.schema.machines.find((m) => m.name === machine).spec;
@@ -152,10 +152,20 @@ export function findingCases(ROOT, dir) {
   return JSON.parse(readFileSync(join(dir, 'cases.json'), 'utf8'));
 }
 
+/**
+ * Selects the preset `machine`; a loaded model is re-warped for it: waits for that warp, whose
+ * result would otherwise reset a check's preview (or clear its error) when it lands.
+ */
+export async function selectMachineSettled(ctx, machine) {
+  const { page, tid, warpSettled } = ctx;
+  await tid('machine-select').selectOption(machine);
+  if (await page.evaluate(() => import('./js/state.js').then(({ state }) => !!state.stl))) await warpSettled();
+}
+
 /** Drops `file` into "Check a G-code" for `machine`; waits for its report. */
 export async function checkOnPage(ctx, file, machine) {
   const { page, tid, assert } = ctx;
-  await tid('machine-select').selectOption(machine);
+  await selectMachineSettled(ctx, machine);
   await tid('check-input').setInputFiles(file);
   const name = basename(file);
   await page.waitForFunction((n) => {
@@ -196,6 +206,13 @@ export async function headTests(ctx) {
       }));
       const want = cli.slice(0, shown);
       assert(JSON.stringify(page_) === JSON.stringify(want), `${c.name} (${c.machine}): the page lists\n  ${page_.join(' ')}\nwarpslice check --json\n  ${want.join(' ')}`);
+      // the preview's collisions (red, and the head's red parts): every line and part of the
+      // CLI's collision findings, however many findings come before them
+      const cliHits = new Map();
+      for (const f of rep.findings.filter((x) => x.kind === 'collision')) cliHits.set(f.line, [...new Set([...(cliHits.get(f.line) ?? []), f.collision.part])]);
+      const asText = (m) => [...m].map(([l, ps]) => `${l}:${[...ps].sort().join(',')}`).sort().join(' ');
+      const pageHits = await page.evaluate(() => import('./js/state.js').then(({ state }) => [...(state.tp.data?.hitParts ?? new Map())]));
+      assert(asText(pageHits) === asText(cliHits), `${c.name}: the preview's collisions ${asText(pageHits)}, warpslice check's ${asText(cliHits)}`);
       // the counts by kind (a case whose first findings shown are of another kind — the
       // rotate-around's A beyond the RTN's range before its collision — still counts it)
       const text = await tid('findings-count').innerText();

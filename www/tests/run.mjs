@@ -22,7 +22,7 @@ import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
 import { offlineRoundTrip } from './offline.mjs';
 import { builtinTests } from './builtin.mjs';
-import { assertHeadAtMove, drawnHead, headTests, AXIS_DEG, TIP_MM } from './head.mjs';
+import { assertHeadAtMove, drawnHead, headTests, selectMachineSettled, AXIS_DEG, TIP_MM } from './head.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -1264,7 +1264,7 @@ try {
     const r = spawnSync(CLI, ['check', file, '--machine', 'cartesian', '--json'], { maxBuffer: 1 << 26 });
     assert(r.status === 1, `the CLI exits 1 with findings, not ${r.status}: ${r.stderr}`);
     const rep = JSON.parse(r.stdout.toString());
-    await tid('machine-select').selectOption('cartesian');
+    await selectMachineSettled({ page, tid, warpSettled }, 'cartesian');
     await tid('check-input').setInputFiles(file);
     await page.waitForFunction(() => document.querySelector('[data-testid="findings"]').dataset.mode === 'check' || !document.querySelector('[data-testid="error"]').hidden, null, { timeout: 120000 });
     assert(!(await tid('error').isVisible()), `the page showed an error: ${await tid('error').innerText()}`);
@@ -1289,7 +1289,7 @@ try {
   });
 
   // the head's solids at the current move, every hand-built finding case (tests/head.mjs)
-  await headTests({ page, test, tid, assert, CLI, TMP, ROOT, schema, screenshot });
+  await headTests({ page, test, tid, assert, CLI, TMP, ROOT, schema, screenshot, warpSettled });
 
   // Issue 12: the warp step's report warnings (here what the STL reader tolerated: bytes
   // another program appended to a binary STL) are listed on the page as the CLI prints them.
