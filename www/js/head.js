@@ -41,7 +41,8 @@ export function clearHead(why = '') {
   delete vp.dataset.head;
   delete vp.dataset.headPoint;
   if (why) $('head-legend').append(el('p', { className: 'muted', textContent: why }));
-  view.dirty = true;
+  // (clearGroup asks for a frame only when it removed something: a frame of the big model
+  // holds the main thread for seconds under software GL)
 }
 
 /**
