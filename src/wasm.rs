@@ -235,9 +235,12 @@ impl CheckStream {
     pub fn push(&mut self, chunk: &[u8]) -> Result<(), JsValue> {
         self.stream()?.push(chunk).map_err(js)
     }
-    /// The tip path so far (drains it; with `path: true`): `{ points, lines }`, points
-    /// [`CHECK_POINT_NUMBERS`] numbers each (x y z nx ny nz e layer travel(0/1) feature(0)),
-    /// lines the 1-based file line of each point. Call once more after `finish`.
+    /// The tip path so far (drains it; with `path: true`): `{ points, lines, axes, axisCount,
+    /// collisions }`, points [`CHECK_POINT_NUMBERS`] numbers each (x y z nx ny nz e layer
+    /// travel(0/1) feature(0)), lines the 1-based file line of each point, axes the machine's
+    /// `axisCount` axis values of each point (the pose `head_pose` takes), collisions
+    /// `[line, [part, …]]` for each point with parts in collision (all of them, whatever
+    /// `max_findings` lists). Call once more after `finish`.
     #[wasm_bindgen(js_name = takePath)]
     pub fn take_path(&mut self) -> Result<JsValue, JsValue> {
         let path = match self.inner.as_mut() {
@@ -246,7 +249,14 @@ impl CheckStream {
         };
         let mut points = Vec::with_capacity(path.len() * CHECK_POINT_NUMBERS);
         let mut lines = Vec::with_capacity(path.len());
+        let axis_count = path.first().map_or(0, |q| q.axes.len());
+        let mut axes = Vec::with_capacity(path.len() * axis_count);
+        let mut collisions: Vec<(u64, &[String])> = Vec::new();
         for q in &path {
+            axes.extend_from_slice(&q.axes);
+            if !q.collisions.is_empty() {
+                collisions.push((q.line, &q.collisions));
+            }
             points.extend_from_slice(&[
                 q.p.x,
                 q.p.y,
@@ -272,6 +282,13 @@ impl CheckStream {
             "lines",
             &js_sys::Float64Array::from(lines.as_slice()).into(),
         )?;
+        set(
+            &o,
+            "axes",
+            &js_sys::Float64Array::from(axes.as_slice()).into(),
+        )?;
+        set(&o, "axisCount", &JsValue::from_f64(axis_count as f64))?;
+        set(&o, "collisions", &to_js(&collisions)?)?;
         Ok(o.into())
     }
     /// The last line and the report (the stream is spent after it; `takePath` gives the last
@@ -546,6 +563,17 @@ pub fn machine_view(machine: &str, points: &[f64]) -> Result<Vec<f64>, JsValue> 
         .and_then(|s| s.build())
         .map_err(js)?;
     crate::machine::view::head_frames(m.as_ref(), points).map_err(js)
+}
+
+/// The head of `machine` (a preset name or machine JSON) at the axis values `axes` (machine
+/// order), each part placed as the collision check places it ([`crate::collision::posed_head`]):
+/// `{ tip, axis, parts: [{ name, kind: "frustum", base, top, base_radius, top_radius } |
+/// { name, kind: "box", center, axes, half }] }`, output (part) frame, mm.
+#[wasm_bindgen]
+pub fn head_pose(machine: &str, axes: &[f64]) -> Result<JsValue, JsValue> {
+    let spec = crate::machine::MachineSpec::from_name_or_json(machine).map_err(js)?;
+    let head = crate::collision::posed_head::head_at(&spec, axes).map_err(js)?;
+    to_js(&head)
 }
 
 /// What one machine (a preset name or a machine JSON, e.g. a user's custom machine) says of

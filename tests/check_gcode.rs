@@ -291,6 +291,34 @@ fn a_plunge_into_the_print_is_a_collision_on_its_line_unless_collisions_are_skip
 }
 
 #[test]
+fn the_path_names_the_parts_in_collision_on_each_move_even_past_the_listed_findings() {
+    // the RTN rotate-around beside a pad (tests/collision_check.rs): A 179 is past the
+    // preset's ±170° on every line before it, so its one collision, the nozzle swept into the
+    // pad by the turn, comes after thousands of reach findings
+    let (text, _, turn, _) = check_files::rtn_rotate_around_case();
+    let mut s = CheckStream::new(
+        &preset("rtn-slicer4rtn").unwrap(),
+        &CheckOptions {
+            path: true,
+            max_findings: 10,
+            ..CheckOptions::default()
+        },
+    )
+    .unwrap();
+    s.push(text.as_bytes()).unwrap();
+    let (report, path) = s.finish().unwrap();
+    assert_eq!(report.findings.len(), 10);
+    assert!(report.counts.reach > 1000 && report.counts.collision == 1);
+    assert!(report.findings.iter().all(|f| f.kind == FindingKind::Reach));
+    let hit: Vec<(u64, Vec<String>)> = path
+        .iter()
+        .filter(|q| !q.collisions.is_empty())
+        .map(|q| (q.line, q.collisions.clone()))
+        .collect();
+    assert_eq!(hit, vec![(turn, vec!["nozzle".to_string()])]);
+}
+
+#[test]
 fn unreadable_input_is_a_named_error() {
     let spec = preset("rtn-slicer4rtn").unwrap();
     let bad = "G90\nG1 X1 Y1 Z1 A0\nG1 X1.2.3 Y1\n";

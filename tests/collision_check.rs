@@ -9,52 +9,20 @@
 //! the bed at 25° near the plate's edge (and not beyond it); a clean file (a printed pad)
 //! reporting nothing; the lathe refused by name.
 
+#[path = "common/check_files.rs"]
+mod check_files;
 #[path = "common/synthetic.rs"]
 mod synthetic;
+
+use check_files::{
+    bhead_axes, bhead_bed_case, bhead_wall_case, clean_pad_case, plunge_case, rotary_pad as pad,
+    rtn_rotate_around_case, Lines as Gcode, WallCase,
+};
 
 use warpslice::collision::{check_gcode, refusal, CONTACT_TOLERANCE_MM};
 use warpslice::emit::CollisionFinding;
 use warpslice::error::Coded;
 use warpslice::machine::{preset, MachineSpec};
-
-/// G-code text and a line counter, so a test knows each line's number.
-#[derive(Default)]
-struct Gcode {
-    text: String,
-    lines: u64,
-}
-
-impl Gcode {
-    /// Append a line; its 1-based number.
-    fn line(&mut self, l: &str) -> u64 {
-        self.text.push_str(l);
-        self.text.push('\n');
-        self.lines += 1;
-        self.lines
-    }
-}
-
-/// A pad of `layers` layers of 0.2 mm, lines along Y from y0 to y1 at x = x0, x0 + 0.45, … <
-/// x1, each line printed towards +Y then a travel back; `rot` is appended to every move (the
-/// rotary axes).
-fn pad(g: &mut Gcode, (x0, x1): (f64, f64), (y0, y1): (f64, f64), layers: u32, rot: &str) {
-    g.line("M83");
-    g.line(";WIDTH:0.45");
-    g.line(&format!("G1 Z5{rot}"));
-    for k in 1..=layers {
-        let z = 0.2 * k as f64;
-        g.line(";LAYER_CHANGE");
-        let mut x = x0;
-        while x < x1 {
-            // lifted travel back to the line's start, then print it
-            g.line(&format!("G1 Z{:.3}{rot}", z + 1.0));
-            g.line(&format!("G1 X{x:.3} Y{y0:.3}{rot}"));
-            g.line(&format!("G1 Z{z:.3}{rot}"));
-            g.line(&format!("G1 X{x:.3} Y{y1:.3}{rot} E0.5"));
-            x += 0.45;
-        }
-    }
-}
 
 fn findings(gcode: &str, spec: &MachineSpec) -> Vec<CollisionFinding> {
     check_gcode(gcode.as_bytes(), spec).expect("check").0
@@ -69,24 +37,16 @@ fn only_line(f: &[CollisionFinding]) -> Vec<u64> {
 #[test]
 fn clean_pad_reports_nothing() {
     let spec = preset("cartesian").unwrap();
-    let mut g = Gcode::default();
-    pad(&mut g, (10.0, 20.0), (10.0, 20.0), 10, "");
-    g.line("G1 Z10");
-    g.line("G1 X40 Y40");
-    let f = findings(&g.text, &spec);
+    let f = findings(&clean_pad_case(), &spec);
     assert!(f.is_empty(), "a clean print reported {f:?}");
 }
 
 #[test]
 fn tip_plunging_through_printed_material_is_found_on_its_line() {
     let spec = preset("cartesian").unwrap();
-    let mut g = Gcode::default();
-    pad(&mut g, (10.0, 20.0), (10.0, 20.0), 10, ""); // top at 2.0 mm
-    g.line("G1 Z10");
-    g.line("G1 X15 Y15");
-    let plunge = g.line("G1 Z1.0");
-    let retreat = g.line("G1 Z10");
-    let f = findings(&g.text, &spec);
+    // a pad with its top at 2.0 mm, the nozzle plunged to Z 1 at its middle
+    let (text, plunge, retreat) = plunge_case();
+    let f = findings(&text, &spec);
     // the plunge, and the way back out (it starts inside the pad)
     assert_eq!(only_line(&f), vec![plunge, retreat], "{f:?}");
     let n = f.iter().find(|f| f.part == "nozzle").expect("the nozzle");
@@ -122,12 +82,6 @@ fn bhead_tip(x: f64, y: f64, z: f64, b_deg: f64) -> [f64; 3] {
     [x - r * b.sin(), y, z - r * b.cos() + r]
 }
 
-/// Written X, Z putting the B head's tip at (px, pz) with tilt B.
-fn bhead_axes(px: f64, pz: f64, b_deg: f64) -> (f64, f64) {
-    let (r, b) = (46.0, b_deg.to_radians());
-    (px + r * b.sin(), pz + r * b.cos() - r)
-}
-
 /// Whether q is inside the default head's heater block posed by the B head at tip `t`, tilt B:
 /// the box x ∈ [−6, 14], y ∈ [−8, 8], z ∈ [4.5, 16] of the tool frame R_y(B).
 fn in_bhead_block(q: [f64; 3], t: [f64; 3], b_deg: f64) -> bool {
@@ -142,26 +96,17 @@ fn in_bhead_block(q: [f64; 3], t: [f64; 3], b_deg: f64) -> bool {
 #[test]
 fn b_head_tilted_beside_a_wall_crosses_it_with_the_block_while_the_tip_is_clear() {
     let spec = preset("fullcontrol-prusa-b").unwrap();
-    let mut g = Gcode::default();
-    // a wall 20 mm high: one bead at x = 50 from y = 20 to 60, 100 layers
-    g.line("M83");
-    g.line(";WIDTH:0.45");
-    for k in 1..=100 {
-        let z = 0.2 * k as f64;
-        g.line(";LAYER_CHANGE");
-        g.line(&format!("G1 X50 Y20 Z{z:.3} B0"));
-        g.line("G1 X50 Y60 E1");
-    }
-    g.line("G1 Z40");
-    // tilt to −45° (leaning towards −X, the wall) far from it, then approach: tip at x = 57
-    let b = -45.0;
-    let (x_far, z_w) = bhead_axes(80.0, 10.0, b);
-    g.line("G1 X80 Y40 Z40 B0");
-    g.line(&format!("G1 X{x_far:.3} Y40 Z{z_w:.3} B{b}"));
-    let (x_near, _) = bhead_axes(57.0, 10.0, b);
-    let approach = g.line(&format!("G1 X{x_near:.3} Y40 Z{z_w:.3} B{b}"));
-    let retreat = g.line(&format!("G1 X{x_far:.3} Y40 Z{z_w:.3} B{b}"));
-    let f = findings(&g.text, &spec);
+    // a wall 20 mm high at x = 50; the head tilted to −45° (leaning towards −X, the wall) far
+    // from it, then the approach: tip at x = 57
+    let WallCase {
+        text,
+        approach,
+        retreat,
+        x_near,
+        z: z_w,
+        b,
+    } = bhead_wall_case();
+    let f = findings(&text, &spec);
     assert_eq!(only_line(&f), vec![approach, retreat], "{f:?}");
     let mut parts: Vec<&str> = f
         .iter()
@@ -218,12 +163,8 @@ fn b_head_reaches_the_bed_at_low_tilt_near_the_plate_edge() {
     let spec = preset("fullcontrol-prusa-b").unwrap();
     let b: f64 = 25.0;
     let check = |px: f64| {
-        let mut g = Gcode::default();
-        g.line("G1 X100 Y100 Z20 B0");
-        let (x, z) = bhead_axes(px, 0.3, b);
-        g.line(&format!("G1 X{:.3} Y100 Z20 B0", x));
-        let down = g.line(&format!("G1 X{x:.3} Y100 Z{z:.3} B{b}"));
-        (findings(&g.text, &spec), down)
+        let (text, down) = bhead_bed_case(px, b);
+        (findings(&text, &spec), down)
     };
     // the block's bottom edge (z = 4.5 in the tool frame) at tool x: world x = p + x cos B +
     // 4.5 sin B, z = 0.3 − x sin B + 4.5 cos B; its lowest point over the plate is where x
@@ -260,11 +201,8 @@ fn b_head_reaches_the_bed_at_low_tilt_near_the_plate_edge() {
     // the same pose leaning the other way (the block's short side, 6 mm) clears the bed:
     // 0.3 − 6 sin 25° + 4.5 cos 25° > 0
     assert!(0.3 - 6.0 * sb + 4.5 * cb > CONTACT_TOLERANCE_MM);
-    let mut g = Gcode::default();
-    g.line("G1 X100 Y100 Z20 B0");
-    let (x, z) = bhead_axes(100.0, 0.3, -b);
-    g.line(&format!("G1 X{x:.3} Y100 Z{z:.3} B{}", -b));
-    let f = findings(&g.text, &spec);
+    let (text, _) = bhead_bed_case(100.0, -b);
+    let f = findings(&text, &spec);
     assert!(f.is_empty(), "{f:?}");
 }
 
@@ -274,15 +212,9 @@ fn rtn_rotate_around_sweeps_the_nozzle_into_the_part_at_1_mm_lift() {
     // the head to +Y (away from the pad), the turn to A = −179 the long way passes A = 0,
     // the lean to −Y, towards the pad
     let spec = preset("rtn-slicer4rtn").unwrap();
-    let mut g = Gcode::default();
-    pad(&mut g, (0.0, 10.0), (0.0, 10.0), 30, " A179"); // top at 6.0 mm, face at y = 10.225
-    g.line("G1 Z20 A179");
-    g.line("G1 X5 Y12.225 A179");
-    g.line("G1 Z2 A179");
-    let lift = g.line("G1 Z3 ; rotate-around");
-    let turn = g.line("G1 A-179 ; rotate-around");
-    let descend = g.line("G1 Z2 ; rotate-around");
-    let f = findings(&g.text, &spec);
+    // the pad's top at 6.0 mm, its face at y = 10.225; the tip 2.225 mm beside it at z = 2
+    let (text, lift, turn, descend) = rtn_rotate_around_case();
+    let f = findings(&text, &spec);
     assert_eq!(
         only_line(&f),
         vec![turn],
@@ -354,14 +286,14 @@ fn a_vertical_nozzle_riding_a_30_degree_slope_is_contact_not_collision() {
     // `low`: how far below the slope the last layer is printed, mm; its first line's number
     let slope = |low: f64| {
         let mut g = Gcode::default();
-        g.line("M83");
-        g.line(";WIDTH:0.45");
-        g.line(";HEIGHT:0.2");
-        g.line("G1 Z5");
+        g.add("M83");
+        g.add(";WIDTH:0.45");
+        g.add(";HEIGHT:0.2");
+        g.add("G1 Z5");
         let xs: Vec<f64> = (0..7).map(|i| 10.0 + 0.45 * i as f64).collect();
         let mut first = 0;
         for k in 1..=6 {
-            g.line(";LAYER_CHANGE");
+            g.add(";LAYER_CHANGE");
             let order: Vec<f64> = if k % 2 == 0 {
                 xs.iter().rev().copied().collect()
             } else {
@@ -370,16 +302,16 @@ fn a_vertical_nozzle_riding_a_30_degree_slope_is_contact_not_collision() {
             for x in order {
                 let dz = if k == 6 { low } else { 0.0 };
                 let z = 0.2 * k as f64 + (x - 10.0) * t30 - dz;
-                g.line(&format!("G1 X{x:.3} Y10 Z{:.3}", z + 1.0));
-                let l = g.line(&format!("G1 Z{z:.3}"));
+                g.add(&format!("G1 X{x:.3} Y10 Z{:.3}", z + 1.0));
+                let l = g.add(&format!("G1 Z{z:.3}"));
                 if k == 6 && first == 0 {
                     first = l;
                 }
-                g.line("G1 Y30 E1");
-                g.line(&format!("G1 Z{:.3}", z + 1.0));
+                g.add("G1 Y30 E1");
+                g.add(&format!("G1 Z{:.3}", z + 1.0));
             }
         }
-        (g.text, first)
+        (g.0, first)
     };
     let (text, _) = slope(0.0);
     let f = findings(&text, &spec);
@@ -502,9 +434,9 @@ fn ab_table_head_frame_places_the_heater_block_so_a_20_degree_tilt_clears_the_be
             )
         };
         let mut g = Gcode::default();
-        g.line(&axes(20.0));
-        let down = g.line(&axes(tip_z));
-        (findings(&g.text, &spec), down, tip_z - 8.0 * s + 4.5 * c)
+        g.add(&axes(20.0));
+        let down = g.add(&axes(tip_z));
+        (findings(&g.0, &spec), down, tip_z - 8.0 * s + 4.5 * c)
     };
     // 20°: the box clears the bed by 1.49 mm, its bounding cylinder would not
     let (f, _, lowest) = run(20.0);
@@ -559,21 +491,21 @@ fn rtn_45_degree_nozzle_printing_flat_layers_side_by_side_reports_no_collision()
                     .inverse(glam::DVec3::from_array(p), n, prev.as_deref())
                     .unwrap();
                 let e = e.map(|e| format!(" E{e:.4}")).unwrap_or_default();
-                g.line(&format!(
+                g.add(&format!(
                     "G1 X{:.3} Y{:.3} Z{:.3} A{:.3}{e}",
                     a[0], a[1], a[2], a[3]
                 ));
                 prev = Some(a);
             };
-            g.line("M83");
-            g.line(";WIDTH:0.45");
-            g.line(";HEIGHT:0.2");
+            g.add("M83");
+            g.add(";WIDTH:0.45");
+            g.add(";HEIGHT:0.2");
             to(&mut g, [100.0, 100.0, 10.0], None);
             let lines = 22;
             let top = 0.8;
             for k in 1..=4 {
                 let z = 0.2 * k as f64;
-                g.line(";LAYER_CHANGE");
+                g.add(";LAYER_CHANGE");
                 for i in 0..lines {
                     let y = 100.0 + 0.45 * i as f64;
                     let (x0, x1) = if serpentine && i % 2 == 1 {
@@ -591,7 +523,7 @@ fn rtn_45_degree_nozzle_printing_flat_layers_side_by_side_reports_no_collision()
             let y_end = 100.0 + 0.45 * (lines - 1) as f64;
             to(&mut g, [100.0, y_end, top + 1.0], None);
             let mut w = Walker::new(&spec).unwrap();
-            w.push(g.text.as_bytes()).unwrap();
+            w.push(g.0.as_bytes()).unwrap();
             let (f, checker) = w.finish().unwrap();
             assert!(
                 f.is_empty(),
@@ -654,35 +586,35 @@ fn speed_bounds_give_the_same_findings_as_the_exhaustive_check() {
     let mut cases: Vec<(&str, String)> = Vec::new();
     let mut g = Gcode::default();
     pad(&mut g, (10.0, 14.0), (10.0, 14.0), 6, "");
-    g.line("G1 Z10");
-    g.line("G1 X12 Y12");
-    g.line("G1 Z0.6");
-    g.line("G1 X13 Y13 Z0.8");
-    cases.push(("cartesian", g.text));
+    g.add("G1 Z10");
+    g.add("G1 X12 Y12");
+    g.add("G1 Z0.6");
+    g.add("G1 X13 Y13 Z0.8");
+    cases.push(("cartesian", g.0));
     let mut g = Gcode::default();
     pad(&mut g, (0.0, 4.0), (0.0, 4.0), 10, " A179");
-    g.line("G1 Z20 A179");
-    g.line("G1 X2 Y6.225 A179");
-    g.line("G1 Z0.5 A179");
-    g.line("G1 A-179");
-    g.line("G1 X2 Y2 Z2.5 A-90 E0.5");
-    cases.push(("rtn-slicer4rtn", g.text));
+    g.add("G1 Z20 A179");
+    g.add("G1 X2 Y6.225 A179");
+    g.add("G1 Z0.5 A179");
+    g.add("G1 A-179");
+    g.add("G1 X2 Y2 Z2.5 A-90 E0.5");
+    cases.push(("rtn-slicer4rtn", g.0));
     let mut g = Gcode::default();
-    g.line("M83");
-    g.line(";WIDTH:0.45");
+    g.add("M83");
+    g.add(";WIDTH:0.45");
     for k in 1..=30 {
-        g.line(";LAYER_CHANGE");
-        g.line(&format!("G1 X50 Y35 Z{:.3} B0", 0.2 * k as f64));
-        g.line("G1 X50 Y45 E1");
+        g.add(";LAYER_CHANGE");
+        g.add(&format!("G1 X50 Y35 Z{:.3} B0", 0.2 * k as f64));
+        g.add("G1 X50 Y45 E1");
     }
-    g.line("G1 Z20");
+    g.add("G1 Z20");
     let (x, z) = bhead_axes(60.0, 3.0, -45.0);
-    g.line(&format!("G1 X{:.3} Y40 Z{z:.3} B-45", x + 20.0));
+    g.add(&format!("G1 X{:.3} Y40 Z{z:.3} B-45", x + 20.0));
     let (x, _) = bhead_axes(53.0, 3.0, -45.0);
-    g.line(&format!("G1 X{x:.3} Y40 Z{z:.3} B-45"));
+    g.add(&format!("G1 X{x:.3} Y40 Z{z:.3} B-45"));
     let (x, z) = bhead_axes(100.0, 0.3, 25.0);
-    g.line(&format!("G1 X{x:.3} Y100 Z{z:.3} B25"));
-    cases.push(("fullcontrol-prusa-b", g.text));
+    g.add(&format!("G1 X{x:.3} Y100 Z{z:.3} B25"));
+    cases.push(("fullcontrol-prusa-b", g.0));
     let mut total = 0;
     for (preset_name, text) in &cases {
         let f = bounded_and_exhaustive(text, &preset(preset_name).unwrap());

@@ -10,6 +10,8 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 mod common;
+#[path = "common/reach_cases.rs"]
+mod reach_cases;
 #[path = "common/synthetic.rs"]
 mod synthetic;
 
@@ -17,12 +19,13 @@ use glam::DVec3;
 use warpslice::emit::Emitter;
 use warpslice::job::Job;
 use warpslice::machine::{preset, FeedMode, MachineEmitter, MachineError, MachineSpec};
-use warpslice::pipeline::{unwarp, warp_model, AnchorMode, UnwarpSettings, WarpOptions};
+use warpslice::pipeline::{unwarp, warp_model, AnchorMode, WarpOptions};
 use warpslice::toolpath::{Feature, ToolPoint};
-use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{WarpParams, WarpSpec};
 
-use common::machine::fk::Limits;
+use common::machine::fk;
+use fk::Limits;
+use reach_cases::{box_job, settings, three_z_pose, three_z_run, unlimited, wide_part_case};
 
 /// Rounding of a written axis value (3 decimals), mm or degrees.
 const WRITTEN: f64 = 0.0005;
@@ -113,45 +116,6 @@ fn travel_of(spec: &MachineSpec) -> Vec<(char, f64, f64)> {
 
 // ---- jobs ----
 
-/// A box job: the generated 20 mm cube scaled by `sx` in x, belt-warped by 0.5° toward +x (so
-/// the B head tilts 0.5°) or by `belt` degrees.
-fn box_job(sx: f64, belt: f64, toward: [f64; 2]) -> Job {
-    let mut mesh = warpslice::shapes::example("cube").unwrap();
-    for v in &mut mesh.vertices {
-        v.x *= sx;
-    }
-    let stl = warpslice::mesh::write_stl(&mesh, "t");
-    let opts = WarpOptions {
-        anchor: AnchorMode::Off,
-        ..WarpOptions::new(WarpParams {
-            spec: WarpSpec::Belt {
-                angle: belt,
-                toward,
-            },
-            base: None,
-        })
-    };
-    warp_model(&stl, &opts).unwrap().job
-}
-
-fn settings(spec: MachineSpec) -> UnwarpSettings {
-    UnwarpSettings::with_machine(UnwarpOptions::default(), spec)
-}
-
-/// The spec without its `travel` (every linear axis unlimited).
-fn unlimited(spec: &MachineSpec) -> MachineSpec {
-    // (travel kept but 1 km wide: the header's M208 lines stay, so line numbers compare)
-    let travel = spec.travel.as_ref().map(|t| {
-        t.keys()
-            .map(|k| (k.clone(), [-1e6, 1e6]))
-            .collect::<std::collections::BTreeMap<_, _>>()
-    });
-    MachineSpec {
-        travel,
-        ..spec.clone()
-    }
-}
-
 /// `warpslice check` (issue 10 §3) reads the file written without `travel` for the real
 /// machine and finds the same first line beyond the travel, on the same axis: the checker and
 /// the emitter's refusal agree on a file neither wrote for the other.
@@ -182,8 +146,9 @@ fn check_finds_first_reach(text: &str, spec: &MachineSpec, line: usize, axis: &s
 #[test]
 fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
     let spec = preset("fullcontrol-prusa-b").unwrap();
-    let job = box_job(12.0, 0.5, [1.0, 0.0]);
-    let input = synthetic::gcode(&job, true, 4.0);
+    // the box, its slicer's G-code, and the unwarp without travel: the first written value
+    // beyond the bed
+    let (job, input, out) = wide_part_case();
     let err = match unwarp(input.as_bytes(), &job, &settings(spec.clone())) {
         Ok(_) => panic!("a 240 mm part was written for a 230 mm bed"),
         Err(e) => e,
@@ -212,9 +177,6 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
     else {
         panic!("not a travel error: {error}");
     };
-    // the same unwarp without travel: the first written value beyond the bed
-    let free = unwarp(input.as_bytes(), &job, &settings(unlimited(&spec))).unwrap();
-    let out = String::from_utf8(free.gcode).unwrap();
     let (line, letter, raw) = first_outside(&out, 4, &travel_of(&spec)).unwrap();
     assert_eq!(
         output_line as usize, line,
@@ -254,53 +216,9 @@ fn a_part_wider_than_the_b_heads_bed_is_refused_at_the_exact_output_line() {
 #[test]
 fn a_three_z_pose_outside_the_tilted_volume_is_refused() {
     let spec = preset("ratrig-vcore3-3z").unwrap();
-    let limits = Limits::from_spec(&spec).unwrap();
-    let free = Limits::from_spec(&unlimited(&spec)).unwrap();
     // a pose the tests' kinematics put outside the travel only (tilt and rails within limits)
-    let mut pose = None;
-    'search: for x in [296.0, 290.0, 280.0, 270.0] {
-        for k in 0..24 {
-            let az = (k as f64 * 15.0).to_radians();
-            let t = 30f64.to_radians();
-            let n = DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos());
-            let p = DVec3::new(x, 146.0, 2.0);
-            if free.out_of_reach(p, n).is_none() && limits.out_of_reach(p, n).is_some() {
-                pose = Some((p, n));
-                break 'search;
-            }
-        }
-    }
-    let (p, n) = pose.expect("a tilted pose beyond X/Y travel");
-    let run = |spec: &MachineSpec| {
-        let mut em = MachineEmitter::new(spec, None, FeedMode::Xyz).unwrap();
-        let mut out = Vec::new();
-        em.lines_written(0);
-        em.header(&mut out);
-        let start = DVec3::new(p.x, p.y, 20.0);
-        em.begin_region(&mut out, start, DVec3::Z).unwrap();
-        let mut r = Ok(());
-        for (i, (q, m)) in [(start, DVec3::Z), (p, DVec3::Z), (p, n)]
-            .into_iter()
-            .enumerate()
-        {
-            em.lines_written(out.iter().filter(|&&b| b == b'\n').count() as u64);
-            let tp = ToolPoint {
-                p: q,
-                n: m,
-                e: 0.0,
-                f: 3000.0,
-                layer: 1,
-                feature: Feature::Unknown,
-                travel: true,
-                line: 40 + i as u64,
-            };
-            r = em.point(&mut out, &tp, true);
-            if r.is_err() {
-                break;
-            }
-        }
-        (r, String::from_utf8(out).unwrap())
-    };
+    let (p, n) = three_z_pose(&spec);
+    let run = |spec: &MachineSpec| three_z_run(spec, p, n);
     let (r, written) = run(&spec);
     let e = r.expect_err("the pose was written");
     let Some(MachineError::Travel {

@@ -61,13 +61,16 @@ self.onmessage = async (ev) => {
     } else if (msg.op === 'cancel') {
       // between two layers of a running `builtin` slice, that slice stops (`sliceHereAndUnwarp`)
       cancelled.add(msg.target);
+    } else if (msg.op === 'head') {
+      // The head's solids at one preview point's axes, placed by the collision check's own code.
+      self.postMessage({ id: msg.id, type: 'done', head: ws.head_pose(msg.machine, new Float64Array(msg.axes)) });
     } else if (msg.op === 'check') {
       // Check a G-code (any tool's) for a machine: the report, and the preview with file lines.
       const t0 = performance.now();
       const out = await checkFile(msg.file, msg.machine, true, (done, total) =>
         self.postMessage({ id: msg.id, type: 'progress', phase: 'check', done, total, workerBytes: wasmBytes() }));
       const pv = out.preview;
-      const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer, pv.hit.buffer];
+      const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer, pv.hit.buffer, pv.maxes.buffer];
       self.postMessage({ id: msg.id, type: 'done', report: out.report, preview: pv, ms: performance.now() - t0 }, transfer);
     }
   } catch (e) {
@@ -81,8 +84,11 @@ async function readSlice(file, start, end) {
 
 /**
  * The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature |
- * travel<<7); for a checked G-code also the file line of each point (u32, `line`) and whether a
- * collision was found on it (u8, `hit`, set by `markHits`).
+ * travel<<7); for a checked G-code also the file line of each point (u32, `line`), whether a
+ * collision was found on it (u8, `hit`) and the parts in collision per file line (`hitParts`,
+ * set by `markHits`); for a machine's file the machine's axis values of each point (f32,
+ * `axisCount` per point, `maxes`: the pose the head is drawn at, `head` op) and the machine
+ * they belong to (`headMachine`, a preset name or JSON text).
  */
 class Preview {
   constructor(stride) {
@@ -100,7 +106,9 @@ class Preview {
     const pos = grow(Float32Array, 3), axis = grow(Float32Array, 3), layer = grow(Uint32Array, 1), flags = grow(Uint8Array, 1);
     const tilt = grow(Float32Array, 1);
     const line = grow(Uint32Array, 1);
+    const maxes = grow(Float32Array, this.axisCount ?? 0);
     if (this.pos) {
+      maxes.set(this.maxes.subarray(0, this.count * (this.axisCount ?? 0)));
       line.set(this.line.subarray(0, this.count));
       tilt.set(this.tilt.subarray(0, this.count));
       pos.set(this.pos.subarray(0, this.count * 3));
@@ -108,10 +116,18 @@ class Preview {
       layer.set(this.layer.subarray(0, this.count));
       flags.set(this.flags.subarray(0, this.count));
     }
-    Object.assign(this, { pos, axis, layer, flags, tilt, line, cap });
+    Object.assign(this, { pos, axis, layer, flags, tilt, line, maxes, cap });
   }
-  /** `tp`: 10 numbers per point (the core's toolpath layout); `lines`: the file line of each (check). */
-  add(tp, lines = null) {
+  /**
+   * `tp`: 10 numbers per point (the core's toolpath layout); `lines`: the file line of each
+   * (check); `axes`: the machine's `k` axis values of each (check).
+   */
+  add(tp, lines = null, axes = null, k = 0) {
+    if (axes && k && this.axisCount !== k) {
+      // the first points with axes: the buffer learns the machine's axis count
+      this.axisCount = k;
+      this.maxes = new Float32Array(this.cap * k);
+    }
     for (let i = 0; i + 9 < tp.length; i += 10) {
       const keep = this.seen % this.stride === 0;
       this.seen++;
@@ -127,6 +143,7 @@ class Preview {
       this.tilt[c] = (Math.acos(Math.max(-1, Math.min(1, tp[i + 5]))) * 180) / Math.PI;
       this.flags[c] = (tp[i + 9] & 0x7f) | (tp[i + 8] ? 0x80 : 0);
       this.line[c] = lines ? lines[i / 10] : 0;
+      if (axes && k) for (let j = 0; j < k; j++) this.maxes[c * k + j] = axes[(i / 10) * k + j];
     }
   }
   result() {
@@ -135,15 +152,26 @@ class Preview {
       count: n, stride: this.stride, seen: this.seen,
       bytes: this.cap * 37, pos: this.pos.slice(0, n * 3), tilt: this.tilt.slice(0, n), axis: this.axis.slice(0, n * 3), layer: this.layer.slice(0, n), flags: this.flags.slice(0, n),
       line: this.line.slice(0, n),
+      axisCount: this.axisCount ?? 0, maxes: this.maxes.slice(0, n * (this.axisCount ?? 0)),
     };
   }
 }
 
-/** Flag (`hit`) every preview point whose file line has a collision finding of `report`. */
-function markHits(pv, report) {
-  const lines = new Set(report.findings.filter((f) => f.kind === 'collision').map((f) => f.line));
+/** Add `part` to the parts in collision on file line `line` (`parts`: line → part names). */
+function addHit(parts, line, part) {
+  if (!parts.has(line)) parts.set(line, []);
+  if (!parts.get(line).includes(part)) parts.get(line).push(part);
+}
+
+/**
+ * Flag (`hit`) every preview point whose file line has a part in collision (`parts`: line →
+ * part names, every collision of the check, not only the findings its report lists), and keep
+ * `parts` as the preview's `hitParts`.
+ */
+function markHits(pv, parts) {
+  pv.hitParts = parts;
   pv.hit = new Uint8Array(pv.count);
-  for (let i = 0; i < pv.count; i++) if (lines.has(pv.line[i])) pv.hit[i] = 1;
+  for (let i = 0; i < pv.count; i++) if (parts.has(pv.line[i])) pv.hit[i] = 1;
 }
 
 /**
@@ -157,10 +185,14 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
   const total = file.size;
   const stream = new ws.CheckStream(machine, JSON.stringify({ path: withPath, skip_collisions: skipCollisions }));
   const preview = withPath ? new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS))) : null;
+  // the parts in collision per file line: the check's own (its path), or the unwarp's handed over
+  const hits = new Map();
+  for (const c of collisions ?? []) addHit(hits, c.line, c.part);
   const drain = () => {
     if (!preview) return;
     const p = stream.takePath();
-    preview.add(p.points, p.lines);
+    preview.add(p.points, p.lines, p.axes, p.axisCount);
+    for (const [line, parts] of p.collisions) for (const part of parts) addHit(hits, line, part);
   };
   try {
     for (let off = 0; off < total; off += CHUNK) {
@@ -173,7 +205,8 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
     let pv = null;
     if (preview) {
       pv = preview.result();
-      markHits(pv, report);
+      pv.headMachine = machine;
+      markHits(pv, hits);
     }
     return { report, preview: pv };
   } finally {
@@ -186,6 +219,18 @@ function machineText(m) {
   return typeof m === 'string' ? m : JSON.stringify(m);
 }
 
+/** The preview's points as the core's kinematics take them: 6 numbers per point (p, n). */
+function tipsAndAxes(pv) {
+  const pts = new Float64Array(pv.count * 6);
+  for (let i = 0; i < pv.count; i++) {
+    for (let j = 0; j < 3; j++) {
+      pts[i * 6 + j] = pv.pos[i * 3 + j];
+      pts[i * 6 + 3 + j] = pv.axis[i * 3 + j];
+    }
+  }
+  return pts;
+}
+
 /**
  * The preview in machine coordinates (moving-bed machines): the core's `machine_view` gives, per
  * preview point (tip p, tool axis n), the head position H(p) in the machine frame and the columns
@@ -194,14 +239,7 @@ function machineText(m) {
  */
 function machineFrame({ machine, name }, pv) {
   const n = pv.count;
-  const pts = new Float64Array(n * 6);
-  for (let i = 0; i < n; i++) {
-    for (let j = 0; j < 3; j++) {
-      pts[i * 6 + j] = pv.pos[i * 3 + j];
-      pts[i * 6 + 3 + j] = pv.axis[i * 3 + j];
-    }
-  }
-  const v = ws.machine_view(machine, pts);
+  const v = ws.machine_view(machine, tipsAndAxes(pv));
   const mpos = new Float32Array(n * 3), mrot = new Float32Array(n * 9);
   for (let i = 0; i < n; i++) {
     for (let j = 0; j < 3; j++) mpos[i * 3 + j] = v[i * 12 + j];
@@ -273,6 +311,20 @@ async function unwarpFile(msg) {
     }
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];
+    if (options.machine) {
+      // the machine's axes of each preview point (its inverse kinematics, the previous point
+      // picking the branch, as the machine-coordinates view): the poses the head is drawn at.
+      // Optional as that view: a point it cannot solve leaves the head undrawn.
+      try {
+        const ax = ws.machine_axes(machineText(options.machine), tipsAndAxes(pv));
+        pv.axisCount = pv.count ? ax.length / pv.count : 0;
+        pv.maxes = new Float32Array(ax);
+        pv.headMachine = machineText(options.machine);
+        transfer.push(pv.maxes.buffer);
+      } catch (e) {
+        pv.headError = String(e?.message ?? e);
+      }
+    }
     if (msg.machineFrame) {
       // The machine-coordinates view is optional: a preview point it cannot place (the preview
       // keeps f32 axes, so a tilt exactly at the machine's limit may round past it) leaves the
@@ -289,7 +341,7 @@ async function unwarpFile(msg) {
     const config = msg.options.machine ? ws.firmware_config(JSON.stringify(msg.options)) : null;
     if (checkPreview) {
       const c = checkPreview;
-      transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer);
+      transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer, c.maxes.buffer);
     }
     self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
   } finally {

@@ -35,7 +35,7 @@ pub const ARC_WARNINGS_LISTED: usize = 5;
 pub const SKIPPED_COLLISIONS: &str = "collisions not checked (skip_collisions)";
 
 /// One point of the checked tip path (the preview's).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PathPoint {
     /// 1-based file line of the move ending here.
     pub line: u64,
@@ -49,6 +49,12 @@ pub struct PathPoint {
     pub layer: u32,
     /// The move does not extrude.
     pub travel: bool,
+    /// The machine's axis values after the move (machine order, as read: linear mm, rotary
+    /// degrees), the pose [`crate::collision::posed_head`] draws the head at.
+    pub axes: Vec<f64>,
+    /// The head parts the collision check found in collision on this move (each once, in the
+    /// order found; every one, whatever `max_findings` lists).
+    pub collisions: Vec<String>,
 }
 
 /// The state of a check (see the module documentation).
@@ -354,10 +360,14 @@ impl Parts<'_> {
         }
         self.reach.observe(&m.to);
         // collisions: the emitter's check, line by line
+        let mut collisions: Vec<String> = Vec::new();
         if let Some(c) = self.checker.as_deref_mut() {
             walk_line(c, l)?;
             for cf in c.take_findings() {
                 self.report.counts.collision += 1;
+                if !collisions.contains(&cf.part) {
+                    collisions.push(cf.part.clone());
+                }
                 self.add(Finding {
                     kind: FindingKind::Collision,
                     line: cf.line,
@@ -411,6 +421,8 @@ impl Parts<'_> {
                 de: l.de,
                 layer: l.layer,
                 travel: !m.extrudes,
+                axes: m.to.clone(),
+                collisions,
             });
         }
         Ok(())

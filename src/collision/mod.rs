@@ -11,6 +11,7 @@
 //!   [`SAMPLE_STEP_MM`] between samples), the overlap of each part with material and bed
 //!   beyond the contact surface, up to [`CONTACT_TOLERANCE_MM`] not reported.
 //! - [`walk`]: a machine G-code through the checker ([`check_gcode`], [`Walker`] for streams).
+//! - [`posed_head`]: the head's parts at one pose, as the check places them, for drawing.
 //!
 //! Everything happens in the **output frame** (the part's): the material and the bed do not
 //! move in it; the head's pose there comes from the machine's forward kinematics
@@ -46,6 +47,7 @@ pub mod bead;
 pub mod contact;
 pub mod cull;
 pub mod material;
+pub mod posed_head;
 pub mod solid;
 pub mod sweep;
 pub mod walk;

@@ -367,6 +367,23 @@ impl Checker {
         self.pose(axes)
     }
 
+    /// The head's parts at the pose of `axes` (machine order), named, each the solid the check
+    /// tests at that pose ([`Part::pose`] at the machine's forward kinematics and head frame):
+    /// what the page draws ([`super::posed_head`]).
+    pub fn posed_head(&self, axes: &[f64]) -> Result<Vec<(String, Posed)>, MachineError> {
+        let pose = self.pose(axes)?;
+        Ok(self
+            .parts
+            .iter()
+            .map(|part| {
+                (
+                    part.name.clone(),
+                    part.pose(pose.p, pose.n, pose.frame.as_ref()),
+                )
+            })
+            .collect())
+    }
+
     /// Upper bound of the displacement of any head point between two poses, mm.
     fn displacement(&self, a: &Pose, b: &Pose) -> f64 {
         displacement(a, b, self.reach)

@@ -70,9 +70,10 @@ export function showFindings(report, error = null, preview = state.tp.data) {
   for (const f of report.findings.slice(0, FINDINGS_SHOWN)) {
     const i = pointOfLine(d, f.line);
     const text = findingText(f);
+    const dataset = { line: f.line, kind: f.kind, part: f.collision?.part, obstacle: f.collision?.obstacle, axis: f.axis };
     const item = i >= 0
-      ? el('button', { type: 'button', textContent: text, dataset: { line: f.line, kind: f.kind } })
-      : el('span', { textContent: text, dataset: { line: f.line, kind: f.kind } });
+      ? el('button', { type: 'button', textContent: text, dataset })
+      : el('span', { textContent: text, dataset });
     if (i >= 0) item.addEventListener('click', () => showPoint(d, i));
     ol.append(el('li', {}, item));
   }

@@ -1,11 +1,13 @@
 // The toolpath preview: the worker's decimated toolpath as line segments coloured by feature,
-// tilt or layer; layer and move sliders; the tool axis at the current move; and, for machines
-// that move their bed, the head path in the machine's own X Y Z with the bed at its pose.
+// tilt or layer; layer and move sliders; the tool axis and the head's solids (head.js) at the
+// current move; and, for machines that move their bed, the head path in the machine's own X Y Z
+// with the bed at its pose.
 import * as THREE from '../vendor/three.module.js';
 import { state } from './state.js';
 import { $ } from './dom.js';
 import { clearGroup, frame, legendTilt, showModel, tiltColor } from './view.js';
 import { currentMachine } from './machines.js';
+import { showHead } from './head.js';
 
 const view = state.view;
 const tp = state.tp;
@@ -149,7 +151,6 @@ export function gotoPoint(i) {
   $('move-slider').max = String(Math.max(0, bb.layerCount.get(d.layer[i]) - 1));
   $('move-slider').value = String(k - first);
   onLayerChange(false);
-  $('canvas-wrap').dataset.line = String(d.line?.[bb.segPoint[k]] ?? '');
 }
 
 export function legendFeatures(d) {
@@ -251,12 +252,16 @@ export function onLayerChange(resetMove) {
   const d = tp.data;
   const p = new THREE.Vector3().fromArray(b.machine ? d.mpos : d.pos, pi * 3);
   const n = new THREE.Vector3().fromArray(d.axis, pi * 3);
+  let map = null;
   if (b.machine) {
-    // The tool axis and the bed in the machine frame: n ↦ R_i n, q ↦ mpos_i + R_i (q − p_i).
+    // The tool axis, the bed and the head in the machine frame: n ↦ R_i n,
+    // q ↦ mpos_i + R_i (q − p_i).
     const R = bedRotation(d, pi);
     n.applyMatrix3(R).normalize();
     if (b.bed) placeBed(b.bed, d, pi, R);
+    map = { p: new THREE.Vector3().fromArray(d.pos, pi * 3), m: p.clone(), R };
   }
+  showHead(d, pi, map);
   const len = 12;
   const a = b.axis.geometry.attributes.position;
   a.setXYZ(0, p.x, p.y, p.z);
@@ -270,6 +275,8 @@ export function onLayerChange(resetMove) {
   vp.dataset.layer = String(layer);
   vp.dataset.move = String(move);
   vp.dataset.drawn = String(drawn);
+  // the file line of the move shown (a checked G-code's preview; 0 for an unwarp's own)
+  vp.dataset.line = String(d.line?.[pi] ?? '');
   view.dirty = true;
 }
 

@@ -1,6 +1,7 @@
 // The steps of the page, as the pipeline runs: 1 the model, 2 the machine and the warp,
 // 4 the G-code back (unwarp), 5 the result and its summary. Each step resets what depends on it.
 import { refreshOverhangs } from './overhang.js';
+import { clearHead } from './head.js';
 import { state } from './state.js';
 import { showFindings, showUnwarpWarnings } from './check.js';
 import { $, baseName, box3, el, info, setDownload } from './dom.js';
@@ -74,6 +75,7 @@ export function resetResult() {
   tp.data = null;
   tp.built = null;
   clearGroup(state.view.pathGroup);
+  clearHead();
   setDownload('result-download', null);
   setDownload('summary-download', null);
   setDownload('config-download', null);

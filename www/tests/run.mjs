@@ -2,7 +2,7 @@
 //
 //   node www/tests/run.mjs            # everything (needs www/pkg, www/vendor, the CLI, prusa-slicer)
 //   WARPSLICE_WEB_BIG=0 node ...      # skip the 100 MB G-code test
-//   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100'
+//   WARPSLICE_WEB_GREP=100 node ...   # only the tests whose name contains '100' ('a|b': either)
 //   WARPSLICE_ALLOW_SKIP=1 node ...   # a missing corpus is skipped (printed) instead of failing
 //   WARPSLICE_CLI=path node ...       # compare with this CLI binary (built from the same tree as
 //                                     # www/pkg) instead of building $CARGO_TARGET_DIR/release/warpslice
@@ -23,6 +23,7 @@ import { startServer } from '../scripts/serve.mjs';
 import { offlineRoundTrip } from './offline.mjs';
 import { builtinTests } from './builtin.mjs';
 import { suggestTests } from './suggest.mjs';
+import { assertHeadAtMove, drawnHead, headTests, selectMachineSettled, AXIS_DEG, TIP_MM } from './head.mjs';
 
 const WWW = resolve(dirname(fileURLToPath(import.meta.url)), '..');
 const ROOT = resolve(WWW, '..');
@@ -38,9 +39,10 @@ for (const f of readdirSync(ART)) if (f.endsWith('.png')) rmSync(join(ART, f)); 
 
 let passed = 0, failed = 0;
 const t0all = Date.now();
-const GREP = process.env.WARPSLICE_WEB_GREP; // run only the tests whose name contains this
+// run only the tests whose name contains this (`a|b`: either)
+const GREP = process.env.WARPSLICE_WEB_GREP?.split('|');
 async function test(name, fn) {
-  if (GREP && !name.includes(GREP) && !name.startsWith('page loads')) return;
+  if (GREP && !GREP.some((g) => name.includes(g)) && !name.startsWith('page loads')) return;
   const t0 = Date.now();
   try {
     await fn();
@@ -90,7 +92,9 @@ if (process.env.WARPSLICE_CLI) {
   }
 } else {
   console.log(`building the CLI (${CLI})`);
-  execFileSync('cargo', ['build', '--release', '--bin', 'warpslice'], { cwd: ROOT, stdio: 'inherit' });
+  // with the hand-built cases' writer (tests/head.mjs runs it): one build, so the library is
+  // compiled once for both (an example's dev-dependencies change the features it is built with)
+  execFileSync('cargo', ['build', '--release', '--bin', 'warpslice', '--example', 'finding_cases'], { cwd: ROOT, stdio: 'inherit' });
 }
 
 // The generated example, written by the same wasm (node), so the CLI can warp the same bytes.
@@ -548,6 +552,10 @@ try {
     assert((await tid('findings').getAttribute('data-preview')) === 'check', 'the checked output\'s preview is shown');
     const red = Number(await page.locator('#canvas-wrap').getAttribute('data-collision-segments'));
     assert(red > 0, `the preview draws the collisions in red: ${red} segments`);
+    // the head at that move: the nozzle at the A/B table's tip along its tool axis (the file's
+    // words through the seed's kinematics, tests/head.mjs), the finding's part red
+    const head = await assertHeadAtMove({ page, tid, assert, schema }, { file: join(dir, 'C.allow.gcode'), machine: 'open5x-ab', report: rep });
+    assert(head.hit.length > 0, `the clicked collision's move has its part(s) red: line ${head.line}`);
     await screenshot('collision-allowed');
     await page.locator('input[data-param="allow_collisions"]').uncheck();
     await tid('place-on').setChecked(false);
@@ -580,6 +588,20 @@ try {
     const vp = page.locator('#canvas-wrap');
     assert((await vp.getAttribute('data-frame')) === 'part', 'preview starts in the part frame');
     assert(await tid('machine-frame').isEnabled(), 'toggle enabled for open5x-ab with a result');
+    // the head in the part frame at the move shown (the unwarp's own preview: axes from the
+    // machine's inverse kinematics): the nozzle at the readout's tip (2 decimals), tilted by
+    // the readout's tilt (1 decimal)
+    {
+      const nozzle = (await drawnHead(page))?.find((h) => h.name === 'nozzle');
+      assert(nozzle, 'the head is drawn in the part frame');
+      const text = await page.locator('#move-out').innerText();
+      const at = text.match(/x (-?[\d.]+) y (-?[\d.]+) z (-?[\d.]+), tilt (-?[\d.]+)°/).slice(1).map(Number);
+      const up = nozzle.top.map((x, i) => x - nozzle.base[i]);
+      const tiltDeg = (Math.acos(up[2] / Math.hypot(...up)) * 180) / Math.PI;
+      assert(Math.abs(tiltDeg - at[3]) <= 0.05 + AXIS_DEG, `the nozzle's tilt ${tiltDeg}° vs the readout's ${at[3]}°`);
+      const off = Math.hypot(...nozzle.base.map((x, i) => x - at[i]));
+      assert(off <= 0.005 * Math.sqrt(3) + TIP_MM, `the nozzle's tip ${nozzle.base} vs the readout's ${at.slice(0, 3)}: ${off} mm`);
+    }
     const pxPart = await pixels();
     await screenshot('machine-frame-off');
     // Keyboard: focus the labelled checkbox and press Space.
@@ -610,6 +632,17 @@ try {
     assert(moveMax > 1 && pxA !== pxB, `canvas pixels change with the move slider (max ${moveMax})`);
     assert(bedA && bedB && bedA !== bedB, `bed pose changes with the move slider (${bedA} → ${bedB})`);
     assert((await page.locator('#move-out').innerText()).includes('machine'), 'move readout says machine coordinates');
+    // the head in machine coordinates: the A/B table's nozzle is vertical in the machine
+    // (seed 004), its tip where the readout puts the head (2 decimals)
+    const head = await drawnHead(page);
+    const nozzle = head?.find((h) => h.name === 'nozzle');
+    assert(nozzle, `the head is drawn in machine coordinates: ${JSON.stringify(head)}`);
+    const up = nozzle.top.map((x, i) => x - nozzle.base[i]);
+    const tiltDeg = (Math.acos(up[2] / Math.hypot(...up)) * 180) / Math.PI;
+    assert(tiltDeg <= AXIS_DEG, `the nozzle is vertical in the machine frame: ${tiltDeg}° (${up})`);
+    const readout = (await page.locator('#move-out').innerText()).match(/x (-?[\d.]+) y (-?[\d.]+) z (-?[\d.]+)/).slice(1).map(Number);
+    const off = Math.hypot(...nozzle.base.map((x, i) => x - readout[i]));
+    assert(off <= 0.005 * Math.sqrt(3) + TIP_MM, `the nozzle's tip ${nozzle.base} at the head's machine position ${readout}: ${off} mm`);
     await screenshot('machine-frame-move');
     await tid('machine-frame').uncheck();
     await page.waitForTimeout(200);
@@ -1232,7 +1265,7 @@ try {
     const r = spawnSync(CLI, ['check', file, '--machine', 'cartesian', '--json'], { maxBuffer: 1 << 26 });
     assert(r.status === 1, `the CLI exits 1 with findings, not ${r.status}: ${r.stderr}`);
     const rep = JSON.parse(r.stdout.toString());
-    await tid('machine-select').selectOption('cartesian');
+    await selectMachineSettled({ page, tid, warpSettled }, 'cartesian');
     await tid('check-input').setInputFiles(file);
     await page.waitForFunction(() => document.querySelector('[data-testid="findings"]').dataset.mode === 'check' || !document.querySelector('[data-testid="error"]').hidden, null, { timeout: 120000 });
     assert(!(await tid('error').isVisible()), `the page showed an error: ${await tid('error').innerText()}`);
@@ -1255,6 +1288,9 @@ try {
     const e = await shownError();
     assert(e.code === 'check.bad-number' && e.message.includes('line 3'), `error ${JSON.stringify(e)}`);
   });
+
+  // the head's solids at the current move, every hand-built finding case (tests/head.mjs)
+  await headTests({ page, test, tid, assert, CLI, TMP, ROOT, schema, screenshot, warpSettled });
 
   // Issue 12: the warp step's report warnings (here what the STL reader tolerated: bytes
   // another program appended to a binary STL) are listed on the page as the CLI prints them.
