@@ -168,7 +168,9 @@ impl Slicing {
         let (z, h) = self.heights[k];
         let sp = s.spacing(h);
         let walls = walls::walls(slice, s.perimeters, s.extrusion_width, sp);
-        self.report.thin_islands += walls.thin;
+        self.report.thin_walls += walls.thin.len();
+        self.report.thin_wall_mm += walls.thin.iter().map(|t| t.length()).sum::<f64>();
+        self.report.thin_unprinted += walls.thin_unprinted;
         let sk = skins::skins(
             &self.slices,
             &walls.inner,
@@ -185,7 +187,7 @@ impl Slicing {
                 w.path(&p, h, speed(s.perimeter_speed));
             }
         }
-        for group in perimeter_groups(&walls, s.external_perimeters_first) {
+        for group in perimeter_groups(&walls, h, s.external_perimeters_first) {
             for p in order::nearest_neighbour(group, at) {
                 w.path(&p, h, speed(s.perimeter_speed));
             }
@@ -211,6 +213,7 @@ impl Slicing {
                     role,
                     points: l.to_vec(),
                     closed: false,
+                    section: Vec::new(),
                 })
                 .collect();
             for p in order::nearest_neighbour(lines, at) {
@@ -231,9 +234,16 @@ fn layer_height(s: &Settings, k: usize) -> f64 {
 }
 
 /// Perimeter loops in print order groups: inner ones first (innermost first) and the external
-/// one last, or the reverse with `external_first`.
-fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>> {
-    let levels = walls.islands.iter().map(Vec::len).max().unwrap_or(0);
+/// one last, or the reverse with `external_first`. The thin walls (of layer height `h`) go
+/// with the external perimeters: they are the part's outer surface too.
+fn perimeter_groups(walls: &walls::Walls, h: f64, external_first: bool) -> Vec<Vec<Path>> {
+    let levels = walls
+        .islands
+        .iter()
+        .map(Vec::len)
+        .max()
+        .unwrap_or(0)
+        .max(usize::from(!walls.thin.is_empty()));
     let mut groups: Vec<Vec<Path>> = (0..levels)
         .map(|i| {
             let role = if i == 0 {
@@ -250,6 +260,14 @@ fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>
                 .collect()
         })
         .collect();
+    if let Some(external) = groups.first_mut() {
+        external.extend(walls.thin.iter().map(|t| Path {
+            role: Role::ExternalPerimeter,
+            points: t.points.clone(),
+            closed: t.closed,
+            section: t.thickness.iter().map(|t| t * h).collect(),
+        }));
+    }
     if !external_first {
         groups.reverse();
     }
