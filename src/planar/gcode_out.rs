@@ -152,6 +152,19 @@ impl Writer {
         self.retracted = false;
     }
 
+    /// Travel through `via` (then [`Writer::path`] travels on to its first point); each hop
+    /// retracts as a travel of its length would.
+    pub fn travel_via(&mut self, via: &[[f64; 2]]) {
+        for &p in via {
+            self.travel(p);
+        }
+    }
+
+    /// Where the nozzle is (`None` before the first move).
+    pub fn position(&self) -> Option<[f64; 2]> {
+        self.at
+    }
+
     fn travel(&mut self, to: [f64; 2]) {
         let far = match self.at {
             None => true,

@@ -16,7 +16,8 @@
 //! 4. [`infill`]: rectilinear lines, solid at the line spacing, sparse at
 //!    spacing / (`fill_density`/100), at `fill_angle` on even layers and +90° on odd ones
 //!    (45°/−45° by default);
-//! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel;
+//! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel, round holes
+//!    with `avoid_crossing_perimeters` ([`travel`]);
 //!    [`gcode_out`]: the G-code.
 //!
 //! [`slicing`] runs these one layer per step (progress and cancel between layers).
@@ -54,6 +55,7 @@ pub mod settings;
 pub mod skins;
 pub mod slicing;
 pub mod thin;
+pub mod travel;
 pub mod walls;
 
 pub use settings::Settings;

@@ -10,8 +10,8 @@
 
 use super::region::{self, offset, Region};
 use super::{
-    gcode_out, infill, layer_top, order, section, skins, walls, Path, PlanarError, Role, Settings,
-    SliceReport, Sliced,
+    gcode_out, infill, layer_top, order, section, skins, travel, walls, Path, PlanarError, Role,
+    Settings, SliceReport, Sliced,
 };
 use crate::mesh::Mesh;
 
@@ -178,18 +178,33 @@ impl Slicing {
             s.top_solid_layers,
             s.bottom_solid_layers,
         );
+        // the external perimeters' lines, which travels go round (avoid_crossing_perimeters)
+        let lines: Vec<region::Contour> = if s.avoid_crossing_perimeters {
+            offset(slice, -s.extrusion_width / 2.0)
+                .into_iter()
+                .flatten()
+                .collect()
+        } else {
+            Vec::new()
+        };
         let (w, at) = (&mut self.writer, &mut self.at);
         w.layer(z, h);
+        let print = |w: &mut gcode_out::Writer, p: &Path, v: f64| {
+            if let (Some(from), Some(&to)) = (w.position(), p.points.first()) {
+                w.travel_via(&travel::route(&lines, from, to));
+            }
+            w.path(p, h, v);
+        };
         let first = k == 0;
         let speed = |v: f64| if first { s.first_layer_speed } else { v };
         if first {
             for p in order::nearest_neighbour(first_layer_extras(slice, &s, h), at) {
-                w.path(&p, h, speed(s.perimeter_speed));
+                print(w, &p, speed(s.perimeter_speed));
             }
         }
         for group in perimeter_groups(&walls, h, s.external_perimeters_first) {
             for p in order::nearest_neighbour(group, at) {
-                w.path(&p, h, speed(s.perimeter_speed));
+                print(w, &p, speed(s.perimeter_speed));
             }
         }
         let angle = s.fill_angle + if k % 2 == 1 { 90.0 } else { 0.0 };
@@ -217,7 +232,7 @@ impl Slicing {
                 })
                 .collect();
             for p in order::nearest_neighbour(lines, at) {
-                w.path(&p, h, speed(s.infill_speed));
+                print(w, &p, speed(s.infill_speed));
             }
         }
         self.written += 1;
