@@ -48,7 +48,8 @@ use std::collections::HashMap;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::region::{
-    area, contour_area, difference, offset, simplify_closed, Contour, Region, Shape, RESOLUTION,
+    area, contour_area, difference, line_crossing, offset, simplify_closed, Contour, Region, Shape,
+    RESOLUTION,
 };
 
 /// The thinnest part printed as a thin wall, mm: narrower parts are left out (and counted).
@@ -230,14 +231,9 @@ fn across(p: [f64; 2], a: [f64; 2], b: [f64; 2], sides: &[([f64; 2], [f64; 2])])
 fn ray(p: [f64; 2], d: [f64; 2], sides: &[([f64; 2], [f64; 2])]) -> Option<f64> {
     let mut best: Option<f64> = None;
     for &(a, b) in sides {
-        let e = [b[0] - a[0], b[1] - a[1]];
-        let den = d[0] * e[1] - d[1] * e[0];
-        if den == 0.0 {
+        let Some((t, s)) = line_crossing(p, d, a, b) else {
             continue;
-        }
-        let w = [a[0] - p[0], a[1] - p[1]];
-        let t = (w[0] * e[1] - w[1] * e[0]) / den;
-        let s = (w[0] * d[1] - w[1] * d[0]) / den;
+        };
         if t > 0.0 && (0.0..=1.0).contains(&s) && best.is_none_or(|b| t < b) {
             best = Some(t);
         }

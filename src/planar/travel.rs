@@ -11,7 +11,7 @@
 //! point of another layer): the travel stays straight (the simple case only; PrusaSlicer's
 //! full planner also routes between islands).
 
-use super::region::Contour;
+use super::region::{line_crossing, Contour};
 
 /// Crossings closer than this to the travel's ends (as a fraction of its length) do not count:
 /// a travel to the start of an external perimeter ends on its contour.
@@ -26,15 +26,9 @@ pub fn route(contours: &[Contour], a: [f64; 2], b: [f64; 2]) -> Vec<[f64; 2]> {
         let n = c.len();
         let mut hits: Vec<(f64, usize, [f64; 2])> = Vec::new();
         for i in 0..n {
-            let (p, q) = (c[i], c[(i + 1) % n]);
-            let e = [q[0] - p[0], q[1] - p[1]];
-            let den = d[0] * e[1] - d[1] * e[0];
-            if den == 0.0 {
+            let Some((t, u)) = line_crossing(a, d, c[i], c[(i + 1) % n]) else {
                 continue;
-            }
-            let w = [p[0] - a[0], p[1] - a[1]];
-            let t = (w[0] * e[1] - w[1] * e[0]) / den;
-            let u = (w[0] * d[1] - w[1] * d[0]) / den;
+            };
             if t > END_SLACK && t < 1.0 - END_SLACK && (0.0..1.0).contains(&u) {
                 hits.push((t, i, [a[0] + t * d[0], a[1] + t * d[1]]));
             }
