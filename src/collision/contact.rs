@@ -105,8 +105,7 @@ impl ContactSurface {
     /// side `half` seen from above: the bound at the square's least distance from the tip (it
     /// grows with the distance).
     pub fn floor_over_square(&self, c: glam::DVec2, half: f64) -> f64 {
-        let d = ((self.p.truncate() - c).abs() - glam::DVec2::splat(half)).max(glam::DVec2::ZERO);
-        self.floor_at_distance(d.length())
+        self.floor_at_distance(super::solid::square_distance(self.p.truncate(), c, half))
     }
 
     /// [`ContactSurface::floor_at`] of a vertical line at horizontal distance `d` from the tip

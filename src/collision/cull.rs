@@ -25,7 +25,7 @@
 use glam::{DVec2, DVec3};
 
 use super::contact::ContactSurface;
-use super::solid::Posed;
+use super::solid::{square_distance, Posed};
 
 /// Added to a disc's radius and chord, mm: the cut and the per-cell test compute the same
 /// distances in f64; this keeps a cell centre that lies on a circle (to rounding) in.
@@ -48,20 +48,21 @@ pub struct Reach<'a> {
 }
 
 impl<'a> Reach<'a> {
-    /// The reach of `solid` (and `contact`) for depths above `tol`.
-    pub fn new(solid: &'a Posed, contact: Option<&'a ContactSurface>, tol: f64) -> Reach<'a> {
+    /// The reach of `solid` (and `contact`) for depths above `tol`; `zlow` the solid's lowest
+    /// height (its [`Posed::aabb`]'s, which the caller has).
+    pub fn new(
+        solid: &'a Posed,
+        contact: Option<&'a ContactSurface>,
+        tol: f64,
+        zlow: f64,
+    ) -> Reach<'a> {
         Reach {
             solid,
             contact,
             tol,
-            zlow: solid.aabb().0.z,
+            zlow,
             floor_varies: !solid.floor_is_flat(),
         }
-    }
-
-    /// The solid's lowest point's height, mm.
-    pub fn zlow(&self) -> f64 {
-        self.zlow
     }
     fn discs(&self, m: f64) -> [Option<(DVec2, f64)>; 2] {
         [
@@ -100,10 +101,11 @@ impl<'a> Reach<'a> {
         if top - floor <= self.tol {
             return true;
         }
-        let far_from_disc = self.discs(top - self.tol).iter().flatten().any(|(o, r)| {
-            let d = ((*o - c).abs() - DVec2::splat(half)).max(DVec2::ZERO);
-            d.length() > r + DISC_SLACK_MM
-        });
+        let far_from_disc = self
+            .discs(top - self.tol)
+            .iter()
+            .flatten()
+            .any(|(o, r)| square_distance(*o, c, half) > r + DISC_SLACK_MM);
         if far_from_disc {
             return true;
         }

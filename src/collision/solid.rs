@@ -46,6 +46,14 @@ pub enum Posed {
     },
 }
 
+/// The distance seen from above from point `p` to the square of centre `c` and half side
+/// `half` (0 inside), mm.
+pub fn square_distance(p: glam::DVec2, c: glam::DVec2, half: f64) -> f64 {
+    ((p - c).abs() - glam::DVec2::splat(half))
+        .max(glam::DVec2::ZERO)
+        .length()
+}
+
 /// Below this |coefficient| a quadratic is taken as linear and a direction component as zero.
 const DEGENERATE: f64 = 1e-12;
 
@@ -119,9 +127,7 @@ impl Posed {
     pub fn floor_over_square(&self, c: glam::DVec2, half: f64) -> f64 {
         match *self {
             Posed::Frustum { o, .. } => {
-                let d =
-                    ((o.truncate() - c).abs() - glam::DVec2::splat(half)).max(glam::DVec2::ZERO);
-                self.floor_at_distance(d.length())
+                self.floor_at_distance(square_distance(o.truncate(), c, half))
             }
             Posed::Box { o, r, min, max } => {
                 let mut floor = f64::NEG_INFINITY;

@@ -644,7 +644,7 @@ impl Checker {
                 consider(c.h, c.x, c.y, c.bead, contact, &mut best);
             }
         } else if material {
-            let reach = Reach::new(solid, contact, tol);
+            let reach = Reach::new(solid, contact, tol, lo.z);
             // only the columns that reach below the highest material under the solid
             let rect = (lo.x, lo.y, hi.x, hi.y);
             let m = self.material.max_over(rect) - tol;
@@ -816,7 +816,7 @@ impl Checker {
         let solid = part.pose(at.p, at.n, at.frame.as_ref()).dilated(delta);
         let contact = contact.then(|| ContactSurface::new(at.p, at.n, self.max_width).grown(delta));
         let (lo, hi) = solid.aabb();
-        let reach = Reach::new(&solid, contact.as_ref(), tol);
+        let reach = Reach::new(&solid, contact.as_ref(), tol, lo.z);
         let rect = (lo.x, lo.y, hi.x, hi.y);
         let Some((x0, y0, x1, y1)) = reach.rect(rect, self.material.max_over(rect) - tol) else {
             return Vec::new();
