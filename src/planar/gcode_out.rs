@@ -152,6 +152,19 @@ impl Writer {
         self.retracted = false;
     }
 
+    /// Travel through `via` (then [`Writer::path`] travels on to its first point); each hop
+    /// retracts as a travel of its length would.
+    pub fn travel_via(&mut self, via: &[[f64; 2]]) {
+        for &p in via {
+            self.travel(p);
+        }
+    }
+
+    /// Where the nozzle is (`None` before the first move).
+    pub fn position(&self) -> Option<[f64; 2]> {
+        self.at
+    }
+
     fn travel(&mut self, to: [f64; 2]) {
         let far = match self.at {
             None => true,
@@ -188,13 +201,16 @@ impl Writer {
         let per_mm = self.s.line_area(h) / self.s.filament_area();
         let f = num(v * 60.0, 0);
         let mut first_move = true;
-        for &p in &path.points[1..] {
+        for (i, &p) in path.points.iter().enumerate().skip(1) {
             let Some(a) = self.at else { break };
             let len = ((p[0] - a[0]).powi(2) + (p[1] - a[1]).powi(2)).sqrt();
             if len == 0.0 {
                 continue;
             }
-            let de = per_mm * len;
+            let de = match (path.section.get(i - 1), path.section.get(i)) {
+                (Some(s0), Some(s1)) => (s0 + s1) / 2.0 / self.s.filament_area() * len,
+                _ => per_mm * len,
+            };
             self.filament_mm += de;
             let e = self.e_word(de);
             let _ = write!(self.out, "G1 X{} Y{} E{e}", num(p[0], 3), num(p[1], 3));

@@ -9,13 +9,15 @@
 //! 1. [`section`]: triangle–plane cuts chained into closed loops (open chains repaired or
 //!    dropped and counted), simplified to [`region::RESOLUTION`], united by the nonzero rule
 //!    ([`region::union_loops`]);
-//! 2. [`walls`]: `perimeters` loops by inward offsetting; the region left inside;
+//! 2. [`walls`]: `perimeters` loops by inward offsetting; the region left inside; [`thin`]
+//!    walls along the middle of the parts narrower than a line;
 //! 3. [`skins`]: top/bottom solid regions by comparing the layer with the
 //!    `top_solid_layers` above and `bottom_solid_layers` below;
 //! 4. [`infill`]: rectilinear lines, solid at the line spacing, sparse at
 //!    spacing / (`fill_density`/100), at `fill_angle` on even layers and +90° on odd ones
 //!    (45°/−45° by default);
-//! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel;
+//! 5. skirt and brim on the first layer; [`order`]: nearest-neighbour travel, round holes
+//!    with `avoid_crossing_perimeters` ([`travel`]);
 //!    [`gcode_out`]: the G-code.
 //!
 //! [`slicing`] runs these one layer per step (progress and cancel between layers).
@@ -52,6 +54,8 @@ pub mod section;
 pub mod settings;
 pub mod skins;
 pub mod slicing;
+pub mod thin;
+pub mod travel;
 pub mod walls;
 
 pub use settings::Settings;
@@ -103,6 +107,9 @@ pub struct Path {
     pub points: Vec<[f64; 2]>,
     /// Whether it is a closed loop.
     pub closed: bool,
+    /// The line's cross-section at each point, mm² (a segment deposits the mean of its two
+    /// ends' per mm: a thin wall's `t·h`, [`thin`]); empty: [`Settings::line_area`] throughout.
+    pub section: Vec<f64>,
 }
 
 /// What the slicer did and had to repair.
@@ -116,8 +123,12 @@ pub struct SliceReport {
     pub repaired_loops: usize,
     /// Open chains of the cuts that could not be closed and were left out.
     pub dropped_chains: usize,
-    /// Islands too thin for one perimeter (not printed).
-    pub thin_islands: usize,
+    /// Thin walls printed: lines along the middle of parts narrower than a line ([`thin`]).
+    pub thin_walls: usize,
+    /// Their length, mm.
+    pub thin_wall_mm: f64,
+    /// Thin parts left unprinted: narrower than [`thin::MIN_THIN_WIDTH`] or too short.
+    pub thin_unprinted: usize,
     /// Filament fed by extrusions, mm.
     pub filament_mm: f64,
     /// Extruded volume, mm³ (filament × its cross-section).

@@ -21,6 +21,7 @@ pub fn loop_path(role: Role, contour: Vec<[f64; 2]>) -> Path {
         role,
         points: contour,
         closed: true,
+        section: Vec::new(),
     }
 }
 
@@ -50,8 +51,13 @@ pub fn nearest_neighbour(mut paths: Vec<Path>, at: &mut [f64; 2]) -> Vec<Path> {
         if p.closed {
             p.points.rotate_left(best.2);
             p.points.push(p.points[0]);
+            if !p.section.is_empty() {
+                p.section.rotate_left(best.2);
+                p.section.push(p.section[0]);
+            }
         } else if best.2 != 0 {
             p.points.reverse();
+            p.section.reverse();
         }
         if let Some(&end) = p.points.last() {
             *at = end;

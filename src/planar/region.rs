@@ -68,6 +68,21 @@ fn boolean(a: &Region, b: &Region, rule: OverlayRule) -> Region {
     }
 }
 
+/// Where the line `p + t·d` meets the segment `a`–`b`: `(t, u)` with the point `a + u·(b − a)`
+/// (Cramer's rule on `p + t·d = a + u·(b − a)`); `None` when they are parallel.
+pub fn line_crossing(p: [f64; 2], d: [f64; 2], a: [f64; 2], b: [f64; 2]) -> Option<(f64, f64)> {
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let den = d[0] * e[1] - d[1] * e[0];
+    if den == 0.0 {
+        return None;
+    }
+    let w = [a[0] - p[0], a[1] - p[1]];
+    Some((
+        (w[0] * e[1] - w[1] * e[0]) / den,
+        (w[0] * d[1] - w[1] * d[0]) / den,
+    ))
+}
+
 /// Signed area of one contour, mm² (shoelace; > 0 counter-clockwise).
 pub fn contour_area(c: &[[f64; 2]]) -> f64 {
     let n = c.len();

@@ -63,6 +63,10 @@ pub struct Settings {
     pub center: [f64; 2],
     /// Relative E (`M83`, default) or absolute E (`M82`, reset by `G92 E0` at every layer).
     pub use_relative_e_distances: bool,
+    /// Travel round a hole or a notch of the part, along the external perimeter, instead of
+    /// across it ([`super::travel`]; PrusaSlicer's key and default: off, as the retraction
+    /// before every travel over 2 mm already keeps ooze off the gap).
+    pub avoid_crossing_perimeters: bool,
 }
 
 impl Default for Settings {
@@ -92,6 +96,7 @@ impl Default for Settings {
             external_perimeters_first: false,
             center: [100.0, 100.0],
             use_relative_e_distances: true,
+            avoid_crossing_perimeters: false,
         }
     }
 }

@@ -10,8 +10,8 @@
 
 use super::region::{self, offset, Region};
 use super::{
-    gcode_out, infill, layer_top, order, section, skins, walls, Path, PlanarError, Role, Settings,
-    SliceReport, Sliced,
+    gcode_out, infill, layer_top, order, section, skins, travel, walls, Path, PlanarError, Role,
+    Settings, SliceReport, Sliced,
 };
 use crate::mesh::Mesh;
 
@@ -168,7 +168,9 @@ impl Slicing {
         let (z, h) = self.heights[k];
         let sp = s.spacing(h);
         let walls = walls::walls(slice, s.perimeters, s.extrusion_width, sp);
-        self.report.thin_islands += walls.thin;
+        self.report.thin_walls += walls.thin.len();
+        self.report.thin_wall_mm += walls.thin.iter().map(|t| t.length()).sum::<f64>();
+        self.report.thin_unprinted += walls.thin_unprinted;
         let sk = skins::skins(
             &self.slices,
             &walls.inner,
@@ -176,18 +178,33 @@ impl Slicing {
             s.top_solid_layers,
             s.bottom_solid_layers,
         );
+        // the external perimeters' lines, which travels go round (avoid_crossing_perimeters)
+        let lines: Vec<region::Contour> = if s.avoid_crossing_perimeters {
+            offset(slice, -s.extrusion_width / 2.0)
+                .into_iter()
+                .flatten()
+                .collect()
+        } else {
+            Vec::new()
+        };
         let (w, at) = (&mut self.writer, &mut self.at);
         w.layer(z, h);
+        let print = |w: &mut gcode_out::Writer, p: &Path, v: f64| {
+            if let (Some(from), Some(&to)) = (w.position(), p.points.first()) {
+                w.travel_via(&travel::route(&lines, from, to));
+            }
+            w.path(p, h, v);
+        };
         let first = k == 0;
         let speed = |v: f64| if first { s.first_layer_speed } else { v };
         if first {
             for p in order::nearest_neighbour(first_layer_extras(slice, &s, h), at) {
-                w.path(&p, h, speed(s.perimeter_speed));
+                print(w, &p, speed(s.perimeter_speed));
             }
         }
-        for group in perimeter_groups(&walls, s.external_perimeters_first) {
+        for group in perimeter_groups(&walls, h, s.external_perimeters_first) {
             for p in order::nearest_neighbour(group, at) {
-                w.path(&p, h, speed(s.perimeter_speed));
+                print(w, &p, speed(s.perimeter_speed));
             }
         }
         let angle = s.fill_angle + if k % 2 == 1 { 90.0 } else { 0.0 };
@@ -211,10 +228,11 @@ impl Slicing {
                     role,
                     points: l.to_vec(),
                     closed: false,
+                    section: Vec::new(),
                 })
                 .collect();
             for p in order::nearest_neighbour(lines, at) {
-                w.path(&p, h, speed(s.infill_speed));
+                print(w, &p, speed(s.infill_speed));
             }
         }
         self.written += 1;
@@ -231,9 +249,16 @@ fn layer_height(s: &Settings, k: usize) -> f64 {
 }
 
 /// Perimeter loops in print order groups: inner ones first (innermost first) and the external
-/// one last, or the reverse with `external_first`.
-fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>> {
-    let levels = walls.islands.iter().map(Vec::len).max().unwrap_or(0);
+/// one last, or the reverse with `external_first`. The thin walls (of layer height `h`) go
+/// with the external perimeters: they are the part's outer surface too.
+fn perimeter_groups(walls: &walls::Walls, h: f64, external_first: bool) -> Vec<Vec<Path>> {
+    let levels = walls
+        .islands
+        .iter()
+        .map(Vec::len)
+        .max()
+        .unwrap_or(0)
+        .max(usize::from(!walls.thin.is_empty()));
     let mut groups: Vec<Vec<Path>> = (0..levels)
         .map(|i| {
             let role = if i == 0 {
@@ -250,6 +275,14 @@ fn perimeter_groups(walls: &walls::Walls, external_first: bool) -> Vec<Vec<Path>
                 .collect()
         })
         .collect();
+    if let Some(external) = groups.first_mut() {
+        external.extend(walls.thin.iter().map(|t| Path {
+            role: Role::ExternalPerimeter,
+            points: t.points.clone(),
+            closed: t.closed,
+            section: t.thickness.iter().map(|t| t * h).collect(),
+        }));
+    }
     if !external_first {
         groups.reverse();
     }

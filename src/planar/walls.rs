@@ -11,10 +11,12 @@
 //! perimeters gets those that fit, and the infill region inside them (N = the fitted count):
 //! a middle strip narrower than a line is still filled, by the infill's short lines.
 //!
-//! An island too thin for its external perimeter (the inward offset by w/2 is empty) gets no
-//! wall and is counted in [`Walls::thin`].
+//! What of an island no external perimeter reaches (parts narrower than a line: a 0.35 mm
+//! shell, a 0.2 mm fin, an island too thin for any wall) is printed as thin walls
+//! ([`super::thin`]), one line along its middle.
 
 use super::region::{offset, Contour, Region};
+use super::thin::{self, ThinLine};
 
 /// The perimeters and the infill region of one layer.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -23,8 +25,10 @@ pub struct Walls {
     pub islands: Vec<Vec<Vec<Contour>>>,
     /// What is left inside the innermost perimeters, for skins and infill.
     pub inner: Region,
-    /// Islands that fit no external perimeter (nothing printed for them).
-    pub thin: usize,
+    /// Thin walls: lines along the middle of the parts narrower than a line.
+    pub thin: Vec<ThinLine>,
+    /// Thin parts too narrow or too short to print ([`thin::Thin::unprinted`]).
+    pub thin_unprinted: usize,
 }
 
 /// Perimeters of `region` (a layer's union) for `perimeters` walls of width `w` and spacing `s`.
@@ -33,16 +37,25 @@ pub fn walls(region: &Region, perimeters: u32, w: f64, s: f64) -> Walls {
     for shape in region {
         let island: Region = vec![shape.clone()];
         let mut lines = Vec::new();
+        // the island's opening by w/2: what the external perimeter and the lines inside cover
+        let mut opening = Region::new();
         for i in 0..perimeters {
             let d = w / 2.0 + f64::from(i) * s;
             let ring = offset(&island, -d);
             if ring.is_empty() {
                 break;
             }
+            if i == 0 {
+                opening = offset(&ring, w / 2.0);
+            }
             lines.push(ring.into_iter().flatten().collect::<Vec<Contour>>());
         }
+        if perimeters > 0 {
+            let t = thin::thin_walls(&island, &opening, w);
+            out.thin.extend(t.lines);
+            out.thin_unprinted += t.unprinted;
+        }
         if perimeters > 0 && lines.is_empty() {
-            out.thin += 1;
             continue;
         }
         // inside the perimeters that fit: an island too narrow for all of them (a 1 mm plate

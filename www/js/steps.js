@@ -398,7 +398,7 @@ export function makeSummary(out, file) {
         : 'none (3-axis: straight moves)',
       placement: `offset ${r.translation.map((v) => v.toFixed(2)).join(', ')} mm, residual ${r.residual.toExponential(2)}`,
       'output size': `${(out.bytes / 1e6).toFixed(2)} MB`,
-      ...(sr ? { 'sliced here': `${sr.layers} layers, ${sr.volume_mm3.toFixed(1)} mm³ in ${sr.filament_mm.toFixed(1)} mm of filament, ${sr.retractions} retractions${sr.repaired_loops + sr.dropped_chains + sr.thin_islands ? `; repairs: ${sr.repaired_loops} open cross-sections closed, ${sr.dropped_chains} left out, ${sr.thin_islands} islands too thin for a perimeter` : ''} (${(out.sliced.ms / 1000).toFixed(1)} s)` } : {}),
+      ...(sr ? { 'sliced here': `${sr.layers} layers, ${sr.volume_mm3.toFixed(1)} mm³ in ${sr.filament_mm.toFixed(1)} mm of filament, ${sr.retractions} retractions${sr.repaired_loops + sr.dropped_chains ? `; repairs: ${sr.repaired_loops} open cross-sections closed, ${sr.dropped_chains} left out` : ''}${sr.thin_walls + sr.thin_unprinted ? `; thin walls: ${sr.thin_walls} lines, ${sr.thin_wall_mm.toFixed(1)} mm (${sr.thin_unprinted} thin parts too narrow, left out)` : ''} (${(out.sliced.ms / 1000).toFixed(1)} s)` } : {}),
       'command line': cliRun ? commandLine(cliRun) : `${commandLine(cliWarp)}; (slice); ${commandLine(cliUnwarp)}`,
     },
   };

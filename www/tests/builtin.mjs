@@ -26,6 +26,28 @@ const REFUSED = { machine: 'core-r-theta', angle: 20 };
 /** Part placements of the presets that turn about the origin (as tests/run.mjs's preset test). */
 const PLACE = { 'open5x-ab': [0, 0], 'open5x-prusa-uv': [0, 0], 'open5x-jubilee-bc': [0, 0], 'lathe-a': [0, 0], 'core-r-theta': [60, 0] };
 
+/** Opens the settings editor of page `pg` and sets `values` in it (number fields filled, checkboxes set). */
+export async function setSlicer(pg, values) {
+  const box = pg.locator('#slicer-box');
+  if (!(await box.evaluate((d) => d.open))) await pg.locator('#slicer-box > summary').click();
+  for (const [k, v] of Object.entries(values)) {
+    const input = pg.locator(`[data-testid="slicer-${k}"]`);
+    if (typeof v === 'boolean') await input.setChecked(v);
+    else await input.fill(String(v));
+    await input.dispatchEvent('change');
+  }
+}
+
+/** Clicks "Slice here and unwarp" in page `pg` and waits for the result or the error box. */
+export async function sliceHereOn(pg) {
+  await pg.locator('[data-testid="slice-here"]').click();
+  await pg.waitForFunction(() => {
+    const p = document.querySelector('[data-testid="progress"]');
+    const err = document.querySelector('[data-testid="error"]');
+    return p.dataset.done === '1' || !err.hidden;
+  }, null, { timeout: 600000 });
+}
+
 export async function builtinTests(ctx) {
   const { page, context, url, test, tid, assert, sh, CLI, TMP, wasm, schema, download, warpSettled, screenshot, sha } = ctx;
   const dir = join(TMP, 'builtin');
@@ -33,27 +55,8 @@ export async function builtinTests(ctx) {
   const stl = join(dir, 'cylinder.stl');
   writeFileSync(stl, wasm.example_stl('cylinder'));
 
-  /** Opens the settings editor and sets `values` in it (number fields filled, checkboxes set). */
-  async function setSlicer(pg, values) {
-    const box = pg.locator('#slicer-box');
-    if (!(await box.evaluate((d) => d.open))) await pg.locator('#slicer-box > summary').click();
-    for (const [k, v] of Object.entries(values)) {
-      const input = pg.locator(`[data-testid="slicer-${k}"]`);
-      if (typeof v === 'boolean') await input.setChecked(v);
-      else await input.fill(String(v));
-      await input.dispatchEvent('change');
-    }
-  }
-
   /** Clicks "Slice here and unwarp" and waits for the result or the error box. */
-  async function sliceHere() {
-    await tid('slice-here').click();
-    await page.waitForFunction(() => {
-      const p = document.querySelector('[data-testid="progress"]');
-      const err = document.querySelector('[data-testid="error"]');
-      return p.dataset.done === '1' || !err.hidden;
-    }, null, { timeout: 600000 });
-  }
+  const sliceHere = () => sliceHereOn(page);
 
   /** The CLI's stderr message of a failed run (its `error: ` line, without the prefix). */
   function cliError(args) {

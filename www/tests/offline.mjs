@@ -5,7 +5,13 @@
 // from the cache and still does its job offline: warps the generated cylinder (conic 30°) and
 // unwarps the G-code prusa-slicer made of it, byte-identical to the CLI.
 //
-// Used by tests/run.mjs (test 'service worker: …'); alone:
+// The teacher's link, offline (issue 14): the same served-then-stopped page sets a machine, a
+// warp and built-in slicer settings; the link it writes (settings in the URL hash) opens in a
+// fresh tab with the network gone, the generated cylinder is dropped on it, "Slice here and
+// unwarp" runs, and the planar and machine G-code are byte-identical to `warpslice run
+// --slicer builtin` with the same settings (`--set key=value`, `--keep-sliced`).
+//
+// Used by tests/run.mjs (tests 'service worker: …'); alone:
 //   node www/tests/offline.mjs      (needs www/pkg, www/vendor, the CLI in $CARGO_TARGET_DIR)
 import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
@@ -14,18 +20,19 @@ import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 import { startServer } from '../scripts/serve.mjs';
+import { setSlicer, sliceHereOn } from './builtin.mjs';
 
 function assert(cond, msg) {
   if (!cond) throw new Error(`assertion failed: ${msg}`);
 }
 
 /**
- * Runs the offline check. `www`: the app's folder; `cli`: the warpslice binary; `slice(stl,
- * gcode)`: slices with prusa-slicer; `exampleStl`: the bytes of the generated cylinder;
- * `dir`: a scratch folder; `shots`: where screenshots go (or null).
+ * Serves `www` on localhost in a browser of its own until the service worker controls the page,
+ * stops the server, reloads the page offline and runs `fn({ context, page, tid, download })` on
+ * it; then checks that no request reached the server after it stopped and that the page raised
+ * no error.
  */
-export async function offlineRoundTrip({ www, cli, slice, exampleStl, dir, shots = null }) {
-  mkdirSync(dir, { recursive: true });
+async function offlinePage(www, shots, fn) {
   const { server, port } = await startServer(www, 0);
   let served = 0;
   server.on('request', () => served++);
@@ -79,23 +86,48 @@ export async function offlineRoundTrip({ www, cli, slice, exampleStl, dir, shots
     });
     assert(await page.evaluate(() => navigator.serviceWorker.controller !== null), 'the reloaded page is controlled by the service worker');
     if (shots) await page.screenshot({ path: join(shots, 'offline-loaded.png') });
+    await fn({ context, page, tid, download });
+    assert(served === onlineHits, `no request reached the server after it stopped (${served - onlineHits})`);
+    assert(errors.length === 0, `no page errors offline: ${errors.slice(0, 3).join(' | ')}`);
+  } finally {
+    await context.close().catch(() => {});
+    await stopServer();
+    rmSync(profile, { recursive: true, force: true });
+  }
+}
 
+/** Waits until the page's warp is done and no debounced re-warp is pending. */
+async function warpSettled(page) {
+  await page.waitForFunction(() => {
+    const a = document.querySelector('[data-testid="warped-download"]');
+    return a && !a.classList.contains('disabled') && document.getElementById('warp-info').textContent !== 'warping…';
+  }, null, { timeout: 120000 });
+  await page.waitForTimeout(450); // a debounced re-warp may still be scheduled
+  await page.waitForFunction(() => !document.querySelector('[data-testid="warped-download"]').classList.contains('disabled'), null, { timeout: 120000 });
+}
+
+/** Sets the cartesian machine and the conic 30° outward warp in `page`. */
+async function conic30(page) {
+  const tid = (id) => page.locator(`[data-testid="${id}"]`);
+  await tid('machine-select').selectOption('cartesian');
+  await tid('warp-select').selectOption('conic');
+  await page.locator('#p-conic-angle').fill('30');
+  await page.locator('#p-conic-angle').dispatchEvent('change');
+  await page.locator('#p-conic-direction').selectOption('outward');
+  await warpSettled(page);
+}
+
+/**
+ * Runs the offline check. `www`: the app's folder; `cli`: the warpslice binary; `slice(stl,
+ * gcode)`: slices with prusa-slicer; `exampleStl`: the bytes of the generated cylinder;
+ * `dir`: a scratch folder; `shots`: where screenshots go (or null).
+ */
+export async function offlineRoundTrip({ www, cli, slice, exampleStl, dir, shots = null }) {
+  mkdirSync(dir, { recursive: true });
+  await offlinePage(www, shots, async ({ page, tid, download }) => {
     // Its main job, offline: warp the generated cylinder with a conic 30° warp…
     await tid('example-select').selectOption('cylinder');
-    await tid('machine-select').selectOption('cartesian');
-    await tid('warp-select').selectOption('conic');
-    await page.locator('#p-conic-angle').fill('30');
-    await page.locator('#p-conic-angle').dispatchEvent('change');
-    await page.locator('#p-conic-direction').selectOption('outward');
-    const settled = async () => {
-      await page.waitForFunction(() => {
-        const a = document.querySelector('[data-testid="warped-download"]');
-        return a && !a.classList.contains('disabled') && document.getElementById('warp-info').textContent !== 'warping…';
-      }, null, { timeout: 120000 });
-      await page.waitForTimeout(450); // a debounced re-warp may still be scheduled
-      await page.waitForFunction(() => !document.querySelector('[data-testid="warped-download"]').classList.contains('disabled'), null, { timeout: 120000 });
-    };
-    await settled();
+    await conic30(page);
     const wStl = await download('warped-download', join(dir, 'W.stl'));
     const wJob = await download('job-download', join(dir, 'W.job.json'));
     writeFileSync(join(dir, 'cylinder.stl'), exampleStl);
@@ -117,13 +149,56 @@ export async function offlineRoundTrip({ www, cli, slice, exampleStl, dir, shots
     const want = readFileSync(join(dir, 'C.out.gcode'));
     assert(out.length > 100000 && out.equals(want), `offline: the unwarped G-code (${out.length} B) is byte-identical to the CLI's (${want.length} B)`);
     if (shots) await page.screenshot({ path: join(shots, 'offline-unwarped.png') });
-    assert(served === onlineHits, `no request reached the server after it stopped (${served - onlineHits})`);
-    assert(errors.length === 0, `no page errors offline: ${errors.slice(0, 3).join(' | ')}`);
-  } finally {
-    await context.close().catch(() => {});
-    await stopServer();
-    rmSync(profile, { recursive: true, force: true });
-  }
+  });
+}
+
+/** The slicer settings of the teacher's link (not the defaults), and as the CLI's arguments. */
+const LINK_SETTINGS = { fill_density: 30, perimeters: 3, skirts: 0 };
+
+/**
+ * The teacher's link offline (see the top of the file): `www`, `cli`, `exampleStl`, `dir`,
+ * `shots` as for `offlineRoundTrip`.
+ */
+export async function offlineTeacherLink({ www, cli, exampleStl, dir, shots = null }) {
+  mkdirSync(dir, { recursive: true });
+  const stl = join(dir, 'cylinder.stl');
+  writeFileSync(stl, exampleStl);
+  const sets = Object.entries(LINK_SETTINGS).flatMap(([k, v]) => ['--set', `${k}=${v}`]);
+  execFileSync(cli, ['run', stl, '--slicer', 'builtin', ...sets, '--warp', 'conic', '--angle', '30', '--direction', 'outward',
+    '--keep-sliced', join(dir, 'C.sliced.gcode'), '-o', join(dir, 'C.gcode')], { stdio: ['ignore', 'pipe', 'pipe'] });
+  await offlinePage(www, shots, async ({ context, page }) => {
+    // the teacher, offline: machine, warp and slicer settings; the page writes them to its hash
+    await conic30(page);
+    await setSlicer(page, LINK_SETTINGS);
+    const link = page.url();
+    assert(link.includes('#') && link.includes('fill_density'), `the page's link carries the settings: ${link}`);
+    // a student's fresh tab opens the link with the network gone
+    const fresh = await context.newPage();
+    try {
+      await fresh.goto(link);
+      await fresh.waitForSelector('body[data-ready="1"]', { timeout: 60000 });
+      assert(await fresh.evaluate(() => navigator.serviceWorker.controller !== null), 'the link\'s page is controlled by the service worker');
+      const tid = (id) => fresh.locator(`[data-testid="${id}"]`);
+      await tid('model-input').setInputFiles(stl);
+      await warpSettled(fresh);
+      await sliceHereOn(fresh);
+      if (await tid('error').isVisible()) throw new Error(`the link's page showed an error: ${await tid('error').innerText()}`);
+      const get = async (testid, dest) => {
+        const [dl] = await Promise.all([fresh.waitForEvent('download'), tid(testid).click()]);
+        await dl.saveAs(dest);
+        return readFileSync(dest);
+      };
+      const planar = await get('sliced-download', join(dir, 'B.sliced.gcode'));
+      const cliPlanar = readFileSync(join(dir, 'C.sliced.gcode'));
+      assert(planar.length > 10000 && planar.equals(cliPlanar), `offline link: the planar G-code (${planar.length} B) is the CLI's --keep-sliced (${cliPlanar.length} B)`);
+      const out = await get('result-download', join(dir, 'B.gcode'));
+      const want = readFileSync(join(dir, 'C.gcode'));
+      assert(out.length > 10000 && out.equals(want), `offline link: the machine G-code (${out.length} B) is byte-identical to \`warpslice run --slicer builtin\` (${want.length} B)`);
+      if (shots) await fresh.screenshot({ path: join(shots, 'offline-teacher-link.png') });
+    } finally {
+      await fresh.close();
+    }
+  });
 }
 
 // Alone: node www/tests/offline.mjs
@@ -142,7 +217,9 @@ if (import.meta.url === pathToFileURL(process.argv[1]).href) {
       slice: (stl, gcode) => execFileSync('bash', [resolve(root, '..', 'shared', 'tools', 'slice.sh'), 'prusaslicer', 'rel', stl, gcode], { stdio: ['ignore', 'pipe', 'pipe'] }),
     });
     console.log(`ok   service worker: offline round trip (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
-    console.log('1 passed, 0 failed');
+    await offlineTeacherLink({ www, cli, dir: join(dir, 'link'), exampleStl: wasm.example_stl('cylinder') });
+    console.log(`ok   service worker: a teacher's link offline (${((Date.now() - t0) / 1000).toFixed(1)} s)`);
+    console.log('2 passed, 0 failed');
   } catch (e) {
     console.log(`FAIL service worker: ${e.stack || e}`);
     console.log('0 passed, 1 failed');

@@ -20,7 +20,7 @@ import { basename, dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { createHash } from 'node:crypto';
 import { startServer } from '../scripts/serve.mjs';
-import { offlineRoundTrip } from './offline.mjs';
+import { offlineRoundTrip, offlineTeacherLink } from './offline.mjs';
 import { builtinTests } from './builtin.mjs';
 import { suggestTests } from './suggest.mjs';
 import { assertHeadAtMove, drawnHead, headTests, selectMachineSettled, AXIS_DEG, TIP_MM } from './head.mjs';
@@ -1165,6 +1165,10 @@ try {
 
   await test('service worker: served on localhost it controls the page, and offline (server stopped) the page reloads from its cache and still warps and unwarps, byte-identical to the CLI', async () => {
     await offlineRoundTrip({ www: WWW, cli: CLI, slice, exampleStl: wasm.example_stl('cylinder'), dir: join(TMP, 'offline'), shots: ART });
+  });
+
+  await test('service worker: a teacher\'s link offline: the settings in its hash, the STL dropped, "Slice here and unwarp" gives the bytes of `warpslice run --slicer builtin` with those settings', async () => {
+    await offlineTeacherLink({ www: WWW, cli: CLI, exampleStl: wasm.example_stl('cylinder'), dir: join(TMP, 'offline-link'), shots: ART });
   });
 
   await test('error advice is keyed by the core\'s error code: three codes, each with its own advice, unchanged when the message is reworded', async () => {

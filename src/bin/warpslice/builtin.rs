@@ -60,13 +60,21 @@ pub fn print_report(stl: &Path, gcode: &Path, r: &SliceReport) {
         r.filament_mm,
         r.retractions
     );
-    if r.repaired_loops + r.dropped_chains + r.thin_islands > 0 {
+    if r.repaired_loops + r.dropped_chains > 0 {
         say!(
-            "slicer repairs: {} open cross-sections closed (gaps ≤ {} mm), {} left out; {} islands too thin for a perimeter",
+            "slicer repairs: {} open cross-sections closed (gaps ≤ {} mm), {} left out",
             r.repaired_loops,
             warpslice::planar::section::REPAIR_GAP,
             r.dropped_chains,
-            r.thin_islands
+        );
+    }
+    if r.thin_walls + r.thin_unprinted > 0 {
+        say!(
+            "thin walls: {} lines, {:.1} mm, along parts narrower than a line; {} thin parts narrower than {} mm left out",
+            r.thin_walls,
+            r.thin_wall_mm,
+            r.thin_unprinted,
+            warpslice::planar::thin::MIN_THIN_WIDTH
         );
     }
 }
