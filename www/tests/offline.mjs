@@ -167,7 +167,10 @@ export async function offlineTeacherLink({ www, cli, exampleStl, dir, shots = nu
   execFileSync(cli, ['run', stl, '--slicer', 'builtin', ...sets, '--warp', 'conic', '--angle', '30', '--direction', 'outward',
     '--keep-sliced', join(dir, 'C.sliced.gcode'), '-o', join(dir, 'C.gcode')], { stdio: ['ignore', 'pipe', 'pipe'] });
   await offlinePage(www, shots, async ({ context, page }) => {
-    // the teacher, offline: machine, warp and slicer settings; the page writes them to its hash
+    // the teacher, offline: the model, then machine, warp and slicer settings; the page writes
+    // them to its hash (a warp needs a model: without one the form is never settled)
+    await page.locator('[data-testid="model-input"]').setInputFiles(stl);
+    await warpSettled(page);
     await conic30(page);
     await setSlicer(page, LINK_SETTINGS);
     const link = page.url();
