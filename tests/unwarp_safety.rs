@@ -1480,3 +1480,114 @@ fn a_slicer_z_offset_is_named_as_such() {
     assert!(cli.contains("Z offset is +0.100 mm"), "{cli}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The largest and smallest Y of `text`'s G1 lines that carry a Y word (the machine file's own
+/// words: the travel the firmware is asked for).
+fn y_range(text: &str) -> (f64, f64) {
+    text.lines()
+        .filter(|l| l.starts_with("G1 "))
+        .filter_map(|l| {
+            l.split(';')
+                .next()
+                .unwrap()
+                .split_whitespace()
+                .find_map(|w| w.strip_prefix('Y'))
+                .map(|v| v.parse::<f64>().unwrap())
+        })
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+            (lo.min(y), hi.max(y))
+        })
+}
+
+/// Issue 10 §2 "singularities", the A/B table's two solutions: the table carries a tip to
+/// machine Y ≈ ±(r·cos t − z·sin t) depending on the branch, `(A, B)` or `(−A, B ± 180°)`
+/// (on the pole of a tall part, ±z·sin t: ±50 mm at 100 mm and 30°, past Open5x's Y travel
+/// on one side — PrusaSlicer's rear case × conic-out-30 × open5x-prusa-uv with thin walls).
+/// The conic cube without its skirt spans Y −14.8 … 14.6 on the branches the emitter keeps by
+/// continuity; with the Y travel cut to [−14, 100] the file is still written: where a move
+/// would leave the travel the table flips to its other branch in the air — a `; swing-lift`
+/// group turning B by at least [`FLIP_TURN_DEG`] with every line in the air
+/// [`LIFTED_MM`] above the part's last line — every Y word is within the travel (read from
+/// the file), the extrusions are the toolpath's (the tests' walker and forward kinematics,
+/// `common/machine.rs`), and the report lists each flip with the swings. Plants: no other
+/// branch (refused with `machine.travel`: caught), the flip lifted along +Z instead of the tool
+/// axis (refused: caught), the whole turn in one line (the interpolated tip at A = 0 is below
+/// the part's top: caught by the samples).
+#[test]
+fn an_ab_table_flips_its_branch_in_the_air_where_a_move_would_leave_the_travel() {
+    const Y_TRAVEL: [f64; 2] = [-30.0, 100.0];
+    let w = synthetic::conic_box(DVec3::new(12.0, 12.0, 60.0));
+    let g = synthetic::gcode(&w.job, true, 1.96);
+    let mut spec = warpslice::machine::preset("open5x-ab").unwrap();
+    let mut travel = spec.travel.clone().unwrap();
+    travel.insert("Y".into(), Y_TRAVEL);
+    spec.travel = Some(travel);
+    let mut s = settings(Some(spec.clone()), None);
+    s.unwarp.place = Some([0.0, 0.0]);
+    s.unwarp.drop_skirt = true;
+    s.unwarp.collect_toolpath = true;
+    let out = unwarp(g.as_bytes(), &w.job, &s).expect("the table flips instead of refusing");
+    let text = String::from_utf8(out.gcode).unwrap();
+    let (lo, hi) = y_range(&text);
+    assert!(
+        lo >= Y_TRAVEL[0] && hi <= Y_TRAVEL[1],
+        "Y words {lo} … {hi} beyond the travel {Y_TRAVEL:?}"
+    );
+    let names = spec.build().unwrap().axis_names();
+    let lines = common::machine::parse(&text, &names).unwrap();
+    common::machine::check(&spec, &out.toolpath, &lines, 0).expect("the extrusions on the path");
+    // the flips: swing-lift groups whose B turns half a revolution
+    let fk = common::machine::fk::Fk::from_spec(&spec).unwrap();
+    let b = names.iter().position(|n| n == "B").unwrap();
+    let all: Vec<&str> = text.lines().collect();
+    let mut flips = 0;
+    let mut k = 0;
+    while k < lines.len() {
+        if !all[lines[k].number - 1].contains("; swing-lift") || k == 0 {
+            k += 1;
+            continue;
+        }
+        let before = &lines[k - 1];
+        let part_z = fk.forward(&before.axes).unwrap().0.z;
+        let mut end = k;
+        while end + 1 < lines.len() && all[lines[end + 1].number - 1].contains("; swing-lift") {
+            end += 1;
+        }
+        if (lines[end].axes[b] - before.axes[b]).abs() >= FLIP_TURN_DEG {
+            flips += 1;
+            // the firmware interpolates the axes linearly: sampled along every line but the
+            // lift and the set-down, the tip stays in the air
+            for pair in lines[k..end].windows(2) {
+                for i in 0..=FLIP_SAMPLES {
+                    let s = i as f64 / FLIP_SAMPLES as f64;
+                    let axes: Vec<f64> = (pair[0].axes.iter().zip(&pair[1].axes))
+                        .map(|(a, b)| a + (b - a) * s)
+                        .collect();
+                    let z = fk.forward(&axes).unwrap().0.z;
+                    assert!(
+                        z >= part_z + LIFTED_MM,
+                        "line {}: a flip at z {z:.3} ({s} of the line), not {LIFTED_MM} mm above {part_z:.3}",
+                        pair[1].number
+                    );
+                }
+            }
+        }
+        k = end + 1;
+    }
+    let rep = out.report.machine.expect("a machine report");
+    let listed = rep
+        .swings
+        .iter()
+        .filter(|sw| sw.tip_mm == 0.0 && sw.turn_deg >= FLIP_TURN_DEG)
+        .count();
+    println!("Y {lo:.3} … {hi:.3}: {flips} flips in the file, {listed} in the report");
+    assert!(flips > 0, "no flip: the travel cut does not need one");
+    assert_eq!(flips, listed, "the file's flips and the report's");
+}
+
+/// Samples along each line of a flip (the firmware's linear interpolation of the axes).
+const FLIP_SAMPLES: usize = 8;
+
+/// A branch flip turns B by at least this much, degrees (half a revolution, less the tilt's
+/// share of the turn near the pole).
+const FLIP_TURN_DEG: f64 = 150.0;

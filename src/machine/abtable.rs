@@ -343,6 +343,17 @@ impl Machine for AbTable {
             }
         }
     }
+    /// `(−A, B ± 180°)` (ideal axes; the calibrated closed form's other root): B turned half a
+    /// revolution towards 0, then the branch nearest it. Near the pole B is held there and A
+    /// re-solved, as on any path. `None` when that solution's A is beyond its limit or the
+    /// solution is the same branch (B within 90° of `axes`' B).
+    fn other_branch(&self, p: DVec3, n: DVec3, axes: &[f64]) -> Option<Vec<f64>> {
+        let b = *axes.get(4)?;
+        let mut seed = axes.to_vec();
+        seed[4] = if b > 0.0 { b - 180.0 } else { b + 180.0 };
+        let alt = self.inverse(p, n, Some(&seed)).ok()?;
+        ((alt[4] - b).abs() > 90.0).then_some(alt)
+    }
     fn branch_freedom(&self, _p: DVec3, n: DVec3) -> f64 {
         let n = n / n.length();
         if n.cross(self.params.b_dir).length() < num::sin(self.hold_radius()) {

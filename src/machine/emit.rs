@@ -52,6 +52,17 @@
 //! margins, the slowed moves and the estimated time. A `G1` whose written axis words and E
 //! equal the previous line's (a move the firmware reads as none) is not written.
 //!
+//! ## Branch flips
+//! Where the kinematics has two solutions for one pose ([`Machine::other_branch`]: the A/B
+//! table's `(A, B)` and `(−A, B ± 180°)`), the branch the path is on is the one its first pose
+//! took, kept by continuity. Near a pole the two differ in where the table carries the tip: on
+//! a 100 mm tall part at 30° tilt, Y ≈ ±50 mm. When a move would take a linear axis past its
+//! travel on the current branch and the other branch carries the whole move within it, the
+//! emitter flips before the move, as a swing lift ([`SWING_TAG`], counted and listed with the
+//! swings): it lifts the tip, turns the rotary axes to the other solution in steps of at most
+//! [`FLIP_STEP_DEG`] with the tip held over the same point, and sets down. Otherwise the
+//! travel error stands.
+//!
 //! ## Errors
 //! Unreachable orientations, axis limits and travel are returned from [`Emitter::point`]; the
 //! driver stops with `UnwarpError::Emit` naming the G-code line. Never a silently wrong file.
@@ -108,11 +119,27 @@ pub const SWING_MIN_TURN_DEG: f64 = 45.0;
 /// farthest from it: lifting, setting down and lifting again there gains nothing).
 pub const SWING_JOIN_MM: f64 = 0.1;
 
+/// The largest turn of one rotary axis per line of a branch flip (see the module's "Branch
+/// flips"), degrees. Each line is a linear interpolation of the axes with the tip held over one
+/// point at both ends: at R mm from the rotary axes the tip leaves it by at most
+/// R·(1 − cos(Δ/2)) ≈ R·Δ²/8, 0.015 mm at R = 100 mm, in the air above the part.
+pub const FLIP_STEP_DEG: f64 = 2.0;
+
 /// Trailing comment of an in-place reorientation (a held rotary axis catching up).
 pub const REORIENT_TAG: &str = "; reorient";
 /// Trailing comment of a move where the splitting hit its depth limit: the interpolation bound
 /// is not proven there (the report counts these and gives the error measured).
 pub const DISCONTINUITY_TAG: &str = "; discontinuity";
+
+/// The steps of a branch flip ([`MachineEmitter::flip_air`]).
+struct Flip {
+    /// Along the tool axis, mm.
+    lift: f64,
+    /// Each line's axes and tip: the lift, then each step's.
+    air: Vec<(Vec<f64>, DVec3)>,
+    /// The largest turn of one rotary axis, degrees.
+    turn: f64,
+}
 
 /// The previous pose: raw axes, tip, tool axis.
 #[derive(Clone, Debug)]
@@ -574,33 +601,82 @@ impl MachineEmitter {
         ROTATE_AROUND_LIFT_MM.max(z + HEAD_CLEARANCE_MM - low)
     }
 
+    /// The axes of a lifted turn's lines ([`MachineEmitter::lifted_turn`]): the lift at
+    /// `from`'s pose, then each of `poses` lifted by `lift` (`inverse(p + lift, n)` seeded with
+    /// the pose's own axes, so every rotary value is the pose's).
+    fn air_axes(
+        &self,
+        from: &Pose,
+        lift: f64,
+        poses: &[AirPose<'_>],
+    ) -> Result<Vec<Vec<f64>>, MachineError> {
+        let up = DVec3::Z * lift;
+        let mut axes = Vec::with_capacity(poses.len() + 1);
+        axes.push(
+            self.machine
+                .inverse(from.p + up, from.n, Some(&from.axes))?,
+        );
+        for q in poses {
+            axes.push(self.machine.inverse(q.p + up, q.n, Some(q.seed))?);
+        }
+        Ok(axes)
+    }
+
     /// A lifted turn: from `from`, lift the tip by `lift` along +Z with the pose held (feed
-    /// `f_lift`), pass through `poses` each lifted the same way (`inverse(p + lift, n)` seeded
-    /// with the pose's own axes, so every rotary value is the pose's), and set down on `land`
-    /// (tip `land_p`, feed `f_lift`). Nothing is extruded. Every line ends with `tag`. The one
-    /// shape of a rotate-around and a swing lift.
+    /// `f_lift`), pass through `poses` each lifted the same way ([`MachineEmitter::air_axes`]),
+    /// and set down on `land` (tip `land_p`, feed `f_lift`). Nothing is extruded. Every line
+    /// ends with `tag`. The one shape of a rotate-around, a swing lift and a branch flip.
     #[allow(clippy::too_many_arguments)]
-    fn lifted_turn<'a>(
+    fn lifted_turn(
         &mut self,
         out: &mut Vec<u8>,
         from: &Pose,
         lift: f64,
         f_lift: f64,
-        poses: impl Iterator<Item = AirPose<'a>>,
+        poses: &[AirPose<'_>],
         land: (&[f64], DVec3),
         tag: &str,
     ) -> Result<(), MachineError> {
         let up = DVec3::Z * lift;
-        let mut at = self
-            .machine
-            .inverse(from.p + up, from.n, Some(&from.axes))?;
-        self.write_g1(out, &from.axes, &at, from.p + up, None, lift, f_lift, tag)?;
-        for q in poses {
-            let next = self.machine.inverse(q.p + up, q.n, Some(q.seed))?;
-            self.write_g1(out, &at, &next, q.p + up, None, q.tip_length, q.f, tag)?;
-            at = next;
+        let air = self.air_axes(from, lift, poses)?;
+        self.write_g1(
+            out,
+            &from.axes,
+            &air[0],
+            from.p + up,
+            None,
+            lift,
+            f_lift,
+            tag,
+        )?;
+        for (q, w) in poses.iter().zip(air.windows(2)) {
+            self.write_g1(out, &w[0], &w[1], q.p + up, None, q.tip_length, q.f, tag)?;
         }
-        self.write_g1(out, &at, land.0, land.1, None, lift, f_lift, tag)
+        let at = &air[air.len() - 1];
+        self.write_g1(out, at, land.0, land.1, None, lift, f_lift, tag)
+    }
+
+    /// The lift and the lifted poses of a swing lift from `from` over the pieces `run`.
+    fn swing_air<'a>(
+        &self,
+        from: &Pose,
+        run: &'a [MachineMove],
+        tp: &ToolPoint,
+        printed: Option<&dyn Printed>,
+    ) -> (f64, Vec<AirPose<'a>>) {
+        let at: Vec<(DVec3, DVec3)> = run.iter().map(|m| (m.p, m.n)).collect();
+        let lift = self.turn_lift(printed, from, &at);
+        let poses = run
+            .iter()
+            .map(|m| AirPose {
+                p: m.p,
+                n: m.n,
+                seed: &m.axes,
+                tip_length: m.tip_length,
+                f: tp.f.max(m.f),
+            })
+            .collect();
+        (lift, poses)
     }
 
     /// Lifted turn-around to `to` (a single-revolution axis crosses its seam), at feed `f`.
@@ -621,15 +697,7 @@ impl MachineEmitter {
             f,
         };
         let land = (&to.axes[..], to.p);
-        self.lifted_turn(
-            out,
-            from,
-            lift,
-            f,
-            std::iter::once(pose),
-            land,
-            ROTATE_AROUND_TAG,
-        )?;
+        self.lifted_turn(out, from, lift, f, &[pose], land, ROTATE_AROUND_TAG)?;
         self.report.rotate_arounds += 1;
         Ok(())
     }
@@ -647,22 +715,14 @@ impl MachineEmitter {
         printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
         let output_line = self.next_output_line(out);
-        let at: Vec<(DVec3, DVec3)> = run.iter().map(|m| (m.p, m.n)).collect();
-        let lift = self.turn_lift(printed, from, &at);
+        let (lift, poses) = self.swing_air(from, run, tp, printed);
         let last = &run[run.len() - 1];
-        let poses = run.iter().map(|m| AirPose {
-            p: m.p,
-            n: m.n,
-            seed: &m.axes,
-            tip_length: m.tip_length,
-            f: tp.f.max(m.f),
-        });
         self.lifted_turn(
             out,
             from,
             lift,
             tp.f,
-            poses,
+            &poses,
             (&last.axes, last.p),
             SWING_TAG,
         )?;
@@ -683,6 +743,159 @@ impl MachineEmitter {
         Ok(())
     }
 
+    /// Whether `axes` lie within the travel.
+    fn in_travel(&self, axes: &[f64]) -> bool {
+        self.reach.outside(axes).next().is_none()
+    }
+
+    /// Whether the move `moves` from `prev` stays within the travel: its pieces, and the
+    /// lifted turns of its swing runs (lifted along +Z, they reach farther on a tilted table).
+    fn move_in_travel(
+        &self,
+        prev: &Pose,
+        moves: &[MachineMove],
+        tp: &ToolPoint,
+        printed: Option<&dyn Printed>,
+    ) -> bool {
+        if !moves.iter().all(|m| self.in_travel(&m.axes)) {
+            return false;
+        }
+        swing_runs(&prev.axes, moves, &self.rotary)
+            .iter()
+            .all(|run| {
+                let from = match run.pieces.start {
+                    0 => prev.clone(),
+                    k => Pose {
+                        axes: moves[k - 1].axes.clone(),
+                        p: moves[k - 1].p,
+                        n: moves[k - 1].n,
+                    },
+                };
+                let (lift, poses) = self.swing_air(&from, &moves[run.pieces.clone()], tp, printed);
+                self.air_axes(&from, lift, &poses)
+                    .is_ok_and(|air| air.iter().all(|a| self.in_travel(a)))
+            })
+    }
+
+    /// The previous pose on the machine's other branch and the move to `tp` from it, when the
+    /// flip's lifted turn and the move stay within the travel (the module's "Branch flips");
+    /// `None` otherwise. Counts the move's tessellation only when it is kept.
+    fn flipped(
+        &mut self,
+        prev: &Pose,
+        tp: &ToolPoint,
+        printed: Option<&dyn Printed>,
+    ) -> Option<(Pose, Vec<MachineMove>)> {
+        let alt = self.machine.other_branch(prev.p, prev.n, &prev.axes)?;
+        if !self.in_travel(&alt) {
+            return None;
+        }
+        let pose = Pose {
+            axes: alt,
+            p: prev.p,
+            n: prev.n,
+        };
+        let flip = self.flip_air(prev, &pose.axes, printed).ok()?;
+        if !flip.air.iter().all(|(a, _)| self.in_travel(a)) {
+            return None;
+        }
+        let mut tess = self.tess;
+        let moves = tessellate_move(
+            self.machine.as_ref(),
+            (&pose.axes, prev.p, prev.n),
+            tp,
+            &self.bounds,
+            &mut tess,
+        )
+        .ok()?;
+        if !self.move_in_travel(&pose, &moves, tp, printed) {
+            return None;
+        }
+        self.tess = tess;
+        Some((pose, moves))
+    }
+
+    /// The lifted turn of a branch flip from `from` to the axes `to` (the same tip and tool
+    /// axis on the other branch): the rotary axes interpolated in steps of at most
+    /// [`FLIP_STEP_DEG`], each step's tool axis n the one those axes give, the tip at
+    /// `p + L·n` — lifted along the tool axis, so a table's nozzle only rises and the table
+    /// carries the part no farther out than the turn's ends do (lifting along +Z would carry it
+    /// L·sin(tilt) farther: past the travel at the pole of a tall part). L is the
+    /// [`MachineEmitter::turn_lift`] over those tips, divided by the cosine of the largest tilt
+    /// so every tip is at least that high.
+    fn flip_air(
+        &self,
+        from: &Pose,
+        to: &[f64],
+        printed: Option<&dyn Printed>,
+    ) -> Result<Flip, MachineError> {
+        let turn = (0..from.axes.len())
+            .filter(|&i| self.rotary[i])
+            .map(|i| (to[i] - from.axes[i]).abs())
+            .fold(0.0, f64::max);
+        let count = (turn / FLIP_STEP_DEG).ceil().max(1.0) as usize;
+        let mut steps = vec![(from.axes.clone(), from.n)];
+        for k in 1..=count {
+            let s = k as f64 / count as f64;
+            let axes: Vec<f64> = (0..from.axes.len())
+                .map(|i| from.axes[i] + (to[i] - from.axes[i]) * s)
+                .collect();
+            let n = self.machine.forward(&axes)?.1;
+            steps.push((axes, n));
+        }
+        let cos = steps
+            .iter()
+            .map(|(_, n)| n.z / n.length())
+            .fold(1.0, f64::min)
+            .max(0.1);
+        // twice: the second pass pads by the tips' spread at the first pass's lift
+        let mut lift = 0.0;
+        for _ in 0..2 {
+            let at: Vec<(DVec3, DVec3)> = steps
+                .iter()
+                .map(|(_, n)| (from.p + (*n * lift).with_z(0.0), *n))
+                .collect();
+            lift = f64::max(lift, self.turn_lift(printed, from, &at) / cos);
+        }
+        let mut air = Vec::with_capacity(steps.len());
+        for (seed, n) in &steps {
+            let tip = from.p + *n * lift;
+            air.push((self.machine.inverse(tip, *n, Some(seed))?, tip));
+        }
+        Ok(Flip { lift, air, turn })
+    }
+
+    /// The branch flip from `from` to `to` ([`MachineEmitter::flip_air`]): lift along the tool
+    /// axis, turn, set down, with nothing extruded, every line tagged [`SWING_TAG`] and the place
+    /// listed with the swing lifts.
+    fn flip_branch(
+        &mut self,
+        out: &mut Vec<u8>,
+        from: &Pose,
+        to: &Pose,
+        tp: &ToolPoint,
+        printed: Option<&dyn Printed>,
+    ) -> Result<(), MachineError> {
+        let output_line = self.next_output_line(out);
+        let flip = self.flip_air(from, &to.axes, printed)?;
+        let mut at = (&from.axes[..], from.p);
+        for (axes, tip) in &flip.air {
+            let length = (*tip - at.1).length();
+            self.write_g1(out, at.0, axes, *tip, None, length, tp.f, SWING_TAG)?;
+            at = (axes, *tip);
+        }
+        self.write_g1(out, at.0, &to.axes, to.p, None, flip.lift, tp.f, SWING_TAG)?;
+        self.report.swing_lifts += 1;
+        self.report.swings.push(SwingPlace {
+            output_line,
+            input_line: self.input_line,
+            layer: tp.layer,
+            turn_deg: flip.turn,
+            tip_mm: 0.0,
+        });
+        Ok(())
+    }
+
     /// Move from the previous pose to `tp` (tessellated).
     fn move_to(
         &mut self,
@@ -692,7 +905,15 @@ impl MachineEmitter {
         printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
         let Some(prev) = self.prev.clone() else {
-            let axes = self.machine.inverse(tp.p, tp.n, None)?;
+            let mut axes = self.machine.inverse(tp.p, tp.n, None)?;
+            if self.reach.outside(&axes).next().is_some() {
+                // the first pose: the other branch when only it is within the travel
+                if let Some(alt) = self.machine.other_branch(tp.p, tp.n, &axes) {
+                    if self.reach.outside(&alt).next().is_none() {
+                        axes = alt;
+                    }
+                }
+            }
             let e = (!tp.travel).then_some((tp.e, relative));
             self.write_g1(out, &axes, &axes, tp.p, e, 0.0, tp.f, "")?;
             self.prev = Some(Pose {
@@ -702,13 +923,27 @@ impl MachineEmitter {
             });
             return Ok(());
         };
-        let moves = tessellate_move(
+        let tess_before = self.tess;
+        let mut moves = tessellate_move(
             self.machine.as_ref(),
             (&prev.axes, prev.p, prev.n),
             tp,
             &self.bounds,
             &mut self.tess,
         )?;
+        let mut prev = prev;
+        if !self.move_in_travel(&prev, &moves, tp, printed) {
+            let after = self.tess;
+            self.tess = tess_before;
+            match self.flipped(&prev, tp, printed) {
+                Some((pose, flipped)) => {
+                    self.flip_branch(out, &prev, &pose, tp, printed)?;
+                    prev = pose;
+                    moves = flipped;
+                }
+                None => self.tess = after,
+            }
+        }
         // extruding or not: a travel's turn in place (a held axis catching up at the end of a
         // planar skirt) is done in the air too
         let swings = swing_runs(&prev.axes, &moves, &self.rotary);

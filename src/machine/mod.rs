@@ -186,6 +186,14 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn branch_freedom(&self, _p: DVec3, _n: DVec3) -> f64 {
         0.0
     }
+    /// The machine's other solution for the same pose, where its kinematics has two for one
+    /// tip and tool axis (`axes` is one of them; the A/B table's `(A, B)` and `(−A, B ± 180°)`):
+    /// the emitter turns to it in the air where the path would leave the linear travel on the
+    /// branch it is on ([`emit`], "Branch flips"). `None` (the default): one solution, or the
+    /// other is not reachable (its rotary limits).
+    fn other_branch(&self, _p: DVec3, _n: DVec3, _axes: &[f64]) -> Option<Vec<f64>> {
+        None
+    }
     /// Where the law tests sample this machine.
     fn workspace(&self) -> Workspace;
     /// `true` promises (and the law [`laws::check_fixed_pose`] checks) that a straight tip

@@ -255,9 +255,14 @@ pub fn conic_cube() -> warpslice::pipeline::WarpOutput {
 /// is [`conic_cube`] exactly, the scale factor being 1).
 #[allow(dead_code)]
 pub fn conic_cube_of(edge_mm: f64) -> warpslice::pipeline::WarpOutput {
+    conic_box(glam::DVec3::splat(edge_mm))
+}
+
+/// The example cube scaled to a `size` box (mm), warped conic 30° outward about its centre.
+pub fn conic_box(size: glam::DVec3) -> warpslice::pipeline::WarpOutput {
     use warpslice::warp::{Direction, WarpParams, WarpSpec};
     let mut cube = warpslice::shapes::example("cube").unwrap();
-    let scale = edge_mm / cube.bbox().size().x;
+    let scale = size / cube.bbox().size();
     for v in &mut cube.vertices {
         *v *= scale;
     }
