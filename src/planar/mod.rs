@@ -77,6 +77,8 @@ pub enum Role {
     SolidInfill,
     /// Solid infill open to the air above.
     TopSolidInfill,
+    /// Solid infill over air (a bottom surface above the bed), at bridge flow.
+    BridgeInfill,
     /// Loops around the first layer, apart from it.
     Skirt,
     /// Loops around the first layer, touching it.
@@ -92,6 +94,7 @@ impl Role {
             Role::InternalInfill => "Internal infill",
             Role::SolidInfill => "Solid infill",
             Role::TopSolidInfill => "Top solid infill",
+            Role::BridgeInfill => "Bridge infill",
             Role::Skirt => "Skirt",
             Role::Brim => "Brim",
         }

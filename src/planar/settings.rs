@@ -67,6 +67,11 @@ pub struct Settings {
     /// across it ([`super::travel`]; PrusaSlicer's key and default: off, as the retraction
     /// before every travel over 2 mm already keeps ooze off the gap).
     pub avoid_crossing_perimeters: bool,
+    /// Bridge flow: the round thread of a bridge has the diameter `nozzle_diameter ·
+    /// √bridge_flow_ratio` (PrusaSlicer 2.5's "thick bridges", its default; 1 = the nozzle's).
+    pub bridge_flow_ratio: f64,
+    /// Speed of bridge infill, mm/s.
+    pub bridge_speed: f64,
 }
 
 impl Default for Settings {
@@ -97,9 +102,14 @@ impl Default for Settings {
             center: [100.0, 100.0],
             use_relative_e_distances: true,
             avoid_crossing_perimeters: false,
+            bridge_flow_ratio: 1.0,
+            bridge_speed: 60.0,
         }
     }
 }
+
+/// Gap between adjacent bridge threads, mm (PrusaSlicer's `BRIDGE_EXTRA_SPACING`).
+pub const BRIDGE_EXTRA_SPACING: f64 = 0.05;
 
 /// Largest extrusion width accepted, as a multiple of the nozzle diameter: wider lines are not
 /// squeezed out of the nozzle's flat face (PrusaSlicer warns above about 2×).
@@ -208,6 +218,8 @@ impl Settings {
             ("travel_speed", self.travel_speed, false),
             ("first_layer_speed", self.first_layer_speed, false),
             ("retract_speed", self.retract_speed, false),
+            ("bridge_flow_ratio", self.bridge_flow_ratio, false),
+            ("bridge_speed", self.bridge_speed, false),
             ("skirt_distance", self.skirt_distance, true),
             ("brim_width", self.brim_width, true),
             ("temperature", self.temperature, true),
@@ -278,6 +290,24 @@ impl Settings {
     pub fn line_area(&self, h: f64) -> f64 {
         let w = self.extrusion_width;
         (w - h) * h + std::f64::consts::PI * (h / 2.0) * (h / 2.0)
+    }
+
+    /// Diameter of a bridge's round thread, mm: `nozzle_diameter · √bridge_flow_ratio`
+    /// (PrusaSlicer 2.5 `Flow::bridging_flow` with thick bridges).
+    pub fn bridge_diameter(&self) -> f64 {
+        self.nozzle_diameter * self.bridge_flow_ratio.sqrt()
+    }
+
+    /// Cross-section of a bridge line, mm²: the round thread, `π·d_b²/4`.
+    pub fn bridge_area(&self) -> f64 {
+        let d = self.bridge_diameter();
+        std::f64::consts::PI * d * d / 4.0
+    }
+
+    /// Centre-to-centre distance of bridge lines, mm: `d_b + 0.05` (PrusaSlicer's
+    /// `BRIDGE_EXTRA_SPACING`: threads laid side by side over air do not merge).
+    pub fn bridge_spacing(&self) -> f64 {
+        self.bridge_diameter() + BRIDGE_EXTRA_SPACING
     }
 
     /// Filament cross-section, mm²: `π·d²/4`.

@@ -8,9 +8,24 @@
 //!   so the T topmost and B lowest layers are all solid);
 //! - top_i = I_i − S_{i+1} (T > 0): the surface open to the air above, PrusaSlicer's
 //!   "Top solid infill";
-//! - solid_i = I_i − sparse_i − top_i: the other solid layers ("Solid infill").
+//! - bridge_i = I_i ∩ grow(I_i ∩ open(S_i − S_{i−1}), M) (i ≥ 1): what lies over air — the
+//!   layer's part the layer below does not hold, opened by w/10 to drop slivers of rounding —
+//!   grown [`BRIDGE_MARGIN`] into the infill region to anchor it, PrusaSlicer 2.5's bottom
+//!   bridges (`detect_surfaces_type`, `process_external_surfaces` with its 3 mm
+//!   `EXTERNAL_INFILL_MARGIN`): "Bridge infill", printed at bridge flow; it takes precedence
+//!   over top, solid and sparse;
+//! - solid_i = I_i − sparse_i − top_i − bridge_i: the other solid layers ("Solid infill").
 
-use super::region::{difference, intersection, Region};
+use super::region::{difference, intersection, offset, Region};
+
+/// How far a bridge grows from the part over air into the infill region, mm (PrusaSlicer
+/// 2.5's `EXTERNAL_INFILL_MARGIN`): its threads end on material, not at the edge of the air.
+pub const BRIDGE_MARGIN: f64 = 3.0;
+
+/// The opening (shrink, then grow back) of the part over air before a bridge is found there,
+/// as a fraction of the line width (PrusaSlicer's `detect_surfaces_type`: a tenth of the
+/// external perimeter's width): slivers left by slicing a sloped side are not bridges.
+pub const BRIDGE_OPENING_PER_WIDTH: f64 = 0.1;
 
 /// How one layer's infill region divides.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -21,10 +36,13 @@ pub struct Skins {
     pub solid: Region,
     /// Sparse infill.
     pub sparse: Region,
+    /// Over air: bridge infill.
+    pub bridge: Region,
 }
 
-/// The skins of layer `i` of `slices` (every layer's region) with infill region `inner`.
-pub fn skins(slices: &[Region], inner: &Region, i: usize, top: u32, bottom: u32) -> Skins {
+/// The skins of layer `i` of `slices` (every layer's region) with infill region `inner`, line
+/// width `w`.
+pub fn skins(slices: &[Region], inner: &Region, i: usize, top: u32, bottom: u32, w: f64) -> Skins {
     let layer = |j: Option<usize>| j.and_then(|j| slices.get(j));
     let mut sparse = inner.clone();
     for k in 1..=top as usize {
@@ -47,10 +65,29 @@ pub fn skins(slices: &[Region], inner: &Region, i: usize, top: u32, bottom: u32)
     } else {
         Region::new()
     };
-    let solid = difference(&difference(inner, &sparse), &top_skin);
+    let bridge = match (i.checked_sub(1).and_then(|j| slices.get(j)), slices.get(i)) {
+        (Some(below), Some(here)) if !inner.is_empty() => {
+            let o = BRIDGE_OPENING_PER_WIDTH * w;
+            let air = offset(&offset(&difference(here, below), -o), o);
+            let over_air = intersection(inner, &air);
+            if over_air.is_empty() {
+                Region::new()
+            } else {
+                intersection(inner, &offset(&over_air, BRIDGE_MARGIN))
+            }
+        }
+        _ => Region::new(),
+    };
+    let (top_skin, sparse) = if bridge.is_empty() {
+        (top_skin, sparse)
+    } else {
+        (difference(&top_skin, &bridge), difference(&sparse, &bridge))
+    };
+    let solid = difference(&difference(&difference(inner, &sparse), &top_skin), &bridge);
     Skins {
         top: top_skin,
         solid,
         sparse,
+        bridge,
     }
 }

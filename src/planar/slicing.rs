@@ -177,6 +177,7 @@ impl Slicing {
             k,
             s.top_solid_layers,
             s.bottom_solid_layers,
+            s.extrusion_width,
         );
         // the external perimeters' lines, which travels go round (avoid_crossing_perimeters)
         let lines: Vec<region::Contour> = if s.avoid_crossing_perimeters {
@@ -221,6 +222,21 @@ impl Slicing {
                 },
             ),
         ];
+        // bridges first (PrusaSlicer prints them before the layer's other infill), at the
+        // round thread's cross-section and spacing, in the layer's fill direction
+        let bridge_section = s.bridge_area();
+        let bridges: Vec<Path> = infill::rectilinear(&sk.bridge, angle, s.bridge_spacing())
+            .into_iter()
+            .map(|l| Path {
+                role: Role::BridgeInfill,
+                points: l.to_vec(),
+                closed: false,
+                section: vec![bridge_section; 2],
+            })
+            .collect();
+        for p in order::nearest_neighbour(bridges, at) {
+            print(w, &p, speed(s.bridge_speed));
+        }
         for (role, region, pitch) in fills {
             let lines: Vec<Path> = infill::rectilinear(region, angle, pitch)
                 .into_iter()
