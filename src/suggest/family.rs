@@ -229,6 +229,10 @@ pub fn flags(params: &WarpParams) -> String {
             direction_name(*direction),
             f(*offset)
         )),
+        // quoted as a shell takes it (an expression may hold spaces)
+        WarpSpec::Field { expr } => {
+            s.push_str(&format!(" --expr '{}'", expr.replace('\'', r"'\''")))
+        }
         _ => {}
     }
     if let Some([z0, z1]) = params.base {
