@@ -86,7 +86,7 @@ fn a_field_typed_as_the_tilted_roof_warps_and_unwarps_as_the_tilted_warp() {
     }
     // the job stores the expression as typed
     match &outs[1].0.warp.spec {
-        WarpSpec::Field { expr } => assert_eq!(expr, ROOF),
+        WarpSpec::Field { expr, .. } => assert_eq!(expr, ROOF),
         other => panic!("the field job holds {other:?}"),
     }
     let (t, f) = (&outs[0].1, &outs[1].1);
@@ -150,4 +150,52 @@ fn overhangs_and_run_take_a_field_and_refuse_bad_ones_by_code() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(!o.status.success() && err.contains(says), "{expr}: {err}");
     }
+}
+
+/// `suggest` lists a fitted field whose `flags` `warpslice warp` takes (split at spaces, as a
+/// shell would), and `warp --suggested N` of that entry writes the same warped part.
+#[test]
+fn a_suggested_field_is_applied_by_its_flags_and_by_suggested_n() {
+    let d = dir("suggested");
+    let p = |f: &str| d.join(f).to_str().unwrap().to_string();
+    ok(&["example", "overhang", "-o", &p("part.stl")]);
+    let json = ok(&[
+        "suggest",
+        &p("part.stl"),
+        "--machine",
+        "pax-5axis",
+        "--top",
+        "20",
+        "--json",
+    ]);
+    let list: Vec<serde_json::Value> = serde_json::from_str(&json).unwrap();
+    let (n, field) = list
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s["flags"].as_str().unwrap().starts_with("--warp field --grid "))
+        .expect("a fitted field among the suggestions");
+    let flags = field["flags"].as_str().unwrap();
+    let mut args = vec!["warp", "--machine", "pax-5axis", "-o"];
+    let by_flags = p("F.stl");
+    args.push(&by_flags);
+    let part = p("part.stl");
+    args.push(&part);
+    args.extend(flags.split_whitespace());
+    ok(&args);
+    let nth = (n + 1).to_string();
+    ok(&[
+        "warp",
+        &part,
+        "--suggested",
+        &nth,
+        "--machine",
+        "pax-5axis",
+        "-o",
+        &p("N.stl"),
+    ]);
+    assert_eq!(
+        std::fs::read(p("F.stl")).unwrap(),
+        std::fs::read(p("N.stl")).unwrap(),
+        "{flags}"
+    );
 }

@@ -109,7 +109,10 @@ fn field_warps() -> Vec<WarpSpec> {
         "-0.1*abs(x - 3) + 0.05*y",
     ]
     .into_iter()
-    .map(|e| WarpSpec::Field { expr: e.into() })
+    .map(|e| WarpSpec::Field {
+        expr: e.into(),
+        grid: None,
+    })
     .collect()
 }
 
@@ -120,7 +123,7 @@ fn kink_distance(spec: &WarpSpec, p: DVec3) -> f64 {
         WarpSpec::Conic { center, .. } => {
             ((p.x - center[0]).powi(2) + (p.y - center[1]).powi(2)).sqrt()
         }
-        WarpSpec::Field { ref expr } if expr.contains("abs(x - 3)") => (p.x - 3.0).abs(),
+        WarpSpec::Field { ref expr, .. } if expr.contains("abs(x - 3)") => (p.x - 3.0).abs(),
         _ => f64::INFINITY,
     }
 }
@@ -173,7 +176,10 @@ fn a_field_typed_as_a_roof_or_a_plane_equals_the_tilted_and_belt_warps() {
                 base,
             };
             let mut b = WarpParams {
-                spec: WarpSpec::Field { expr: expr.clone() },
+                spec: WarpSpec::Field {
+                    expr: expr.clone(),
+                    grid: None,
+                },
                 base,
             };
             let (wa, wb) = (a.build(&bbox()).unwrap(), b.build(&bbox()).unwrap());

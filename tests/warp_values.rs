@@ -823,7 +823,13 @@ fn field_expressions_warp_as_their_hand_written_heights() {
         ("-0.25*abs(x - 1) + 0.1*y", roof, NUMERIC_AXIS_TOL),
     ] {
         for base in [None, Some([1.0, 25.0])] {
-            let w = build(WarpSpec::Field { expr: expr.into() }, base);
+            let w = build(
+                WarpSpec::Field {
+                    expr: expr.into(),
+                    grid: None,
+                },
+                base,
+            );
             for p in POINTS {
                 check_shear_to(expr, w.as_ref(), &g, base, DVec3::from_array(p), axis_tol);
             }
@@ -844,7 +850,10 @@ fn bad_field_expressions_get_named_codes() {
         ("6*y", "warp.field-too-steep"),
     ] {
         let mut p = WarpParams {
-            spec: WarpSpec::Field { expr: expr.into() },
+            spec: WarpSpec::Field {
+                expr: expr.into(),
+                grid: None,
+            },
             base: None,
         };
         let err = p.build(&bbox()).expect_err(expr);
@@ -855,6 +864,7 @@ fn bad_field_expressions_get_named_codes() {
     let mut p = WarpParams {
         spec: WarpSpec::Field {
             expr: "5.6*y".into(),
+            grid: None,
         },
         base: None,
     };

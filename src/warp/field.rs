@@ -1,5 +1,6 @@
 //! The typed field warp (issue 15 item 3b): T_z = z + w(z)·g(x, y) with g an expression of x
-//! and y the user types (`--warp field --expr "2*sin(x/5)*cos(y/7)"`).
+//! and y the user types (`--warp field --expr "2*sin(x/5)*cos(y/7)"`), or the B-spline
+//! `suggest` fits (`--grid`, [`super::spline`]).
 //!
 //! x and y are mm in the **model frame** (the STL moved so the centre of its XY bounding box is
 //! at the origin), like the other warps' centres and offsets, and g is in mm. The warp is the
@@ -183,6 +184,15 @@ pub const EXPR: Param = Param::number("expr", "--expr", "g(x, y)")
          of the model's XY box at 0,0), e.g. 2*sin(x/5)*cos(y/7) or 0.01*(x^2+y^2)",
     );
 
+/// `--grid`: the fitted field's B-spline ([`super::spline`]), as `suggest` writes it.
+pub const GRID: Param = Param::number("grid", "--grid", "B-spline grid")
+    .of(ParamType::Text)
+    .optional()
+    .help(
+        "instead of --expr: a bicubic B-spline height x0,y0,dx,dy,nx,ny:c00,c10,… (knots and \
+         coefficients in mm, x fastest), as `suggest` fits it",
+    );
+
 /// What the field warp says of itself ([`crate::describe`]).
 pub const INFO: WarpInfo = WarpInfo {
     name: "field",
@@ -191,7 +201,7 @@ pub const INFO: WarpInfo = WarpInfo {
     formula: "T_z = z + g(x, y)",
     seed: "issue 15",
     base: true,
-    params: &[EXPR],
+    params: &[EXPR, GRID],
 };
 
 #[cfg(test)]

@@ -12,7 +12,7 @@
 //! | [`belt`] | z + (d·(x, y))·tan α | 002 (`--axis=3`) |
 //! | [`cylindrical`] | ρ − R, ρ = distance to a horizontal axis ∥ X | 002 (mandrel) |
 //! | [`spherical`] | ρ − R, ρ = distance to a centre | 002 (5-axis) |
-//! | [`field`] | z + g(x, y), g typed as an expression of x, y (mm) | issue 15 |
+//! | [`field`] | z + g(x, y), g typed as an expression of x, y (mm), or a fitted [`spline`] | issue 15 |
 //!
 //! c = +1 for `outward` (z' = z + g, g ≥ 0 growing away from the centre: layers fall outward and
 //! the tool tilts outward), −1 for `inward`. The first four are shears in z: T(x,y,z) = (x, y, z + g(x,y)),
@@ -36,6 +36,7 @@ pub mod field;
 pub mod laws;
 pub mod shear;
 pub mod spherical;
+pub mod spline;
 pub mod thickness;
 pub mod tilted;
 
@@ -248,10 +249,15 @@ pub enum WarpSpec {
         /// (x, y, z) of the spheres' centre, model frame, mm.
         center: [f64; 3],
     },
-    /// Issue 15: T_z = z + g(x, y) with g typed by the user ([`field`]).
+    /// Issue 15: T_z = z + g(x, y) with g typed by the user ([`field`]) or fitted by
+    /// `suggest` (a bicubic B-spline, [`spline`]): exactly one of the two.
     Field {
-        /// g(x, y) in mm, x and y in mm in the model frame (e.g. `2*sin(x/5)`).
+        /// g(x, y) in mm, x and y in mm in the model frame (e.g. `2*sin(x/5)`); empty with `grid`.
+        #[serde(default, skip_serializing_if = "String::is_empty")]
         expr: String,
+        /// The B-spline's text form (`x0,y0,dx,dy,nx,ny:c00,c10,…`, [`spline`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        grid: Option<String>,
     },
 }
 
@@ -380,9 +386,21 @@ impl WarpSpec {
                 }
                 positive_radius(radius)?;
             }
-            WarpSpec::Field { ref expr } => {
-                field::Expression::parse(expr)?;
-            }
+            WarpSpec::Field { ref expr, ref grid } => match grid {
+                None => {
+                    field::Expression::parse(expr)?;
+                }
+                Some(_) if !expr.is_empty() => {
+                    return Err(WarpError::BadParameter {
+                        name: "grid",
+                        value: "with --expr".into(),
+                        allowed: "either --expr or --grid, not both".into(),
+                    })
+                }
+                Some(text) => {
+                    spline::Spline::parse(text)?;
+                }
+            },
         }
         Ok(())
     }
@@ -417,7 +435,11 @@ impl WarpSpec {
                 center,
             } => Box::new(conic::Conic::new(angle, direction, center)),
             WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
-            WarpSpec::Field { ref expr } => Box::new(field::Expression::parse(expr).ok()?),
+            WarpSpec::Field {
+                grid: Some(ref text),
+                ..
+            } => Box::new(spline::Spline::parse(text).ok()?),
+            WarpSpec::Field { ref expr, .. } => Box::new(field::Expression::parse(expr).ok()?),
             WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. } => return None,
         })
     }
@@ -645,8 +667,9 @@ impl WarpParams {
                 warp: self.spec.name(),
             });
         };
-        if let WarpSpec::Field { expr } = &self.spec {
-            field::check_over(height.as_ref(), model_bbox, expr)?;
+        if let WarpSpec::Field { expr, grid } = &self.spec {
+            let name = if grid.is_some() { "grid" } else { expr };
+            field::check_over(height.as_ref(), model_bbox, name)?;
         }
         let shear = Shear::new(height, blend);
         if let Some(b) = blend {
