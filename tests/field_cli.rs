@@ -172,7 +172,12 @@ fn a_suggested_field_is_applied_by_its_flags_and_by_suggested_n() {
     let (n, field) = list
         .iter()
         .enumerate()
-        .find(|(_, s)| s["flags"].as_str().unwrap().starts_with("--warp field --grid "))
+        .find(|(_, s)| {
+            s["flags"]
+                .as_str()
+                .unwrap()
+                .starts_with("--warp field --grid ")
+        })
         .expect("a fitted field among the suggestions");
     let flags = field["flags"].as_str().unwrap();
     let mut args = vec!["warp", "--machine", "pax-5axis", "-o"];

@@ -22,7 +22,8 @@
 //! coefficient in turn moves by ±step to the first neighbour that lowers J by more than the
 //! tie, sweeps repeat until none moves, then the step halves ([`FIT_HALVINGS`] times).
 //! **Cost**: one measure per candidate (a tool axis per coarse sample and per facet that can
-//! overhang, like one family candidate), at most [`MAX_FIT_EVALS`] candidates; J is
+//! overhang, like one family candidate), at most [`MAX_FIT_EVALS`] candidates and
+//! [`FIT_FACET_BUDGET`] facet measures in all; J is
 //! non-increasing sweep by sweep (the trace is [`super::search::Search::fit_trace`]).
 
 use super::family::{Family, Point};
@@ -42,6 +43,10 @@ pub const FIRST_STEP_SHARE: f64 = 0.25;
 pub const FIT_HALVINGS: usize = 3;
 /// Most candidates the fit measures.
 pub const MAX_FIT_EVALS: usize = 1000;
+/// Most facet measures (candidates × facets that can overhang) the fit spends: on the
+/// 225 000-triangle bench sphere this caps it at about 1 s of CPU (`examples/suggest_bench`);
+/// models below ~10 000 such facets get the full [`MAX_FIT_EVALS`].
+pub const FIT_FACET_BUDGET: usize = 10_000_000;
 /// The scales each family warp's sampled height is tried at as a start: a family's best warp
 /// often puts facets exactly at the overhang angle (a ledge under a 45° belt at θ = 45°), where
 /// the sampled copy's rounding tips them over; a slightly steeper copy stays on the good side.
@@ -88,12 +93,17 @@ impl Search<'_> {
     pub fn fit_field(&mut self, starts: &[Scored]) -> Option<Scored> {
         let lambda = SMOOTHNESS_GAINS * self.min_gain;
         let objective = |sc: &Scored, s: &Spline| sc.area_mm2 + lambda * roughness(&s.rounded());
+        let budget = MAX_FIT_EVALS.min(FIT_FACET_BUDGET / self.subset.areas.len().max(1));
         let mut evals = 0;
         // the start: the family warp whose sampled field leaves the least (a plane, a belt
         // warp, is sampled exactly; a cone's apex is rounded off)
         let mut begun: Option<(Scored, Spline, Scored)> = None;
         for start in starts {
             for &scale in START_SCALES {
+                // the starts share the budget (the first is always measured)
+                if begun.is_some() && evals >= budget {
+                    break;
+                }
                 let Some((sc, s)) = self.start_from(start, scale, &mut evals) else {
                     continue;
                 };
@@ -124,7 +134,7 @@ impl Search<'_> {
                 let top = s.c.iter().fold(0.0f64, |m, c| m.max(c.abs())).max(1e-9);
                 for k in 0..=s.c.len() {
                     for sign in [-1.0, 1.0] {
-                        if evals >= MAX_FIT_EVALS {
+                        if evals >= budget {
                             break;
                         }
                         let mut t = s.clone();
@@ -152,7 +162,7 @@ impl Search<'_> {
                     }
                 }
                 self.fit_trace.push(j_best);
-                if !moved || evals >= MAX_FIT_EVALS {
+                if !moved || evals >= budget {
                     break;
                 }
             }
