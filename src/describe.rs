@@ -183,6 +183,7 @@ mod tests {
             "belt",
             "cylindrical",
             "spherical",
+            "field",
         ] {
             assert!(json.contains(&format!("\"name\":\"{kind}\"")), "{kind}");
         }

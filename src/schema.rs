@@ -23,6 +23,8 @@ pub enum ParamType {
     Pair,
     /// Three numbers `x,y,z`.
     Triple,
+    /// Free text (the field warp's expression).
+    Text,
 }
 
 /// A parameter's default value.

@@ -93,10 +93,11 @@ struct Matrix<'a> {
 enum Rotate {
     /// The corpus: i mod [`COMBOS`] = slot (each case with one slicer × E mode).
     OneOf(usize),
-    /// The generated parts: i mod [`SLICERS`] = slot / 2, so that each case runs with one
-    /// slicer in both E modes (slots 2k and 2k + 1 are slicer k's relative and absolute E). A
-    /// part's seven warps are seven consecutive cases: every part meets every slicer in both E
-    /// modes, and every warp (its cases 7m + w of the five parts) every slicer, in every run.
+    /// The generated parts: (m + w) mod [`SLICERS`] = slot / 2 for part m and warp w, so that
+    /// each case runs with one slicer in both E modes (slots 2k and 2k + 1 are slicer k's
+    /// relative and absolute E): every part meets every slicer in both E modes (its eight
+    /// warps), and every warp every slicer (its cases on the five parts), in every run. (Until
+    /// the field warp made them eight, i mod 4 of i = 7m + w did the same.)
     /// Until 2026-11-27 each case ran with six of the eight combinations (210 case runs, most of
     /// the rotation's time); now 70, for the suite's 30-minute budget.
     BothModesOf(usize),
@@ -106,10 +107,11 @@ enum Rotate {
 const SLICERS: usize = 4;
 
 impl Rotate {
-    fn runs(self, i: usize) -> bool {
+    /// Whether case (part `m`, warp `w`) of a matrix with `nw` warps runs.
+    fn runs(self, m: usize, w: usize, nw: usize) -> bool {
         match self {
-            Rotate::OneOf(slot) => i % COMBOS == slot,
-            Rotate::BothModesOf(slot) => i % SLICERS == slot / 2,
+            Rotate::OneOf(slot) => (m * nw + w) % COMBOS == slot,
+            Rotate::BothModesOf(slot) => (m + w) % SLICERS == slot / 2,
         }
     }
 }
@@ -259,7 +261,7 @@ fn matrix(kind: impl Into<Slicer>, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     let full = std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1");
     let mut cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
-        .filter(|&(m, w)| full || rotate.runs(m * nw + w))
+        .filter(|&(m, w)| full || rotate.runs(m, w, nw))
         .collect();
     // WARPSLICE_CASES="model:warp,…" (local reproduction of one case; substrings): only those
     if let Ok(only) = std::env::var("WARPSLICE_CASES") {
@@ -827,9 +829,11 @@ const MACHINE_E_TOLERANCE: f64 = 1e-4;
 /// Radius of the mandrel of the cylindrical warp cases (the lathe's axis is there), mm.
 const MANDREL_RADIUS: f64 = 20.0;
 
-/// The generated parts' warps: the acceptance five and the machines' pairings.
+/// The generated parts' warps: the acceptance five, the machines' pairings and a typed field
+/// (issue 15).
 fn generated_warps() -> Vec<(&'static str, WarpParams)> {
     let mut w = common::acceptance_warps();
+    w.push(common::acceptance::field_ripple());
     w.push((
         "cylindrical-20",
         WarpParams {

@@ -58,6 +58,7 @@ fn all_warps() -> Vec<WarpParams> {
             toward: [1.0, 1.0],
         },
     ];
+    let specs = specs.into_iter().chain(field_warps());
     let mut out = Vec::new();
     for s in specs {
         out.push(WarpParams {
@@ -99,6 +100,22 @@ fn non_shear_warps() -> Vec<WarpSpec> {
     ]
 }
 
+/// Typed field warps (issue 15 item 3b): a sine ripple, a paraboloid (exact gradients from
+/// exmex) and a roof (`abs`: central differences), g within ±3.5 mm over the box.
+fn field_warps() -> Vec<WarpSpec> {
+    [
+        "2*sin(x/5)*cos(y/7)",
+        "0.004*(x^2 + 2*y^2) - 1.5",
+        "-0.1*abs(x - 3) + 0.05*y",
+    ]
+    .into_iter()
+    .map(|e| WarpSpec::Field {
+        expr: e.into(),
+        grid: None,
+    })
+    .collect()
+}
+
 /// Distance from the nearest kink of the warp's height function (crease, apex), mm.
 fn kink_distance(spec: &WarpSpec, p: DVec3) -> f64 {
     match *spec {
@@ -106,6 +123,7 @@ fn kink_distance(spec: &WarpSpec, p: DVec3) -> f64 {
         WarpSpec::Conic { center, .. } => {
             ((p.x - center[0]).powi(2) + (p.y - center[1]).powi(2)).sqrt()
         }
+        WarpSpec::Field { ref expr, .. } if expr.contains("abs(x - 3)") => (p.x - 3.0).abs(),
         _ => f64::INFINITY,
     }
 }
@@ -122,6 +140,68 @@ proptest! {
             let smooth = kink_distance(&params.spec, p) > 1e-3 && !near_blend_end;
             if let Err(e) = laws::check_point(w.as_ref(), p, smooth) {
                 prop_assert!(false, "{}", e);
+            }
+        }
+    }
+}
+
+/// The field warp typed as the tilted warp's roof s·c·|x + a| and as the belt's plane
+/// tan α·(d·(x, y)) warps, unwarps and tilts the tool exactly as those warps do (the seed warps'
+/// own code is the oracle: a different parser, evaluator and derivative), with and without the
+/// base blend.
+#[test]
+fn a_field_typed_as_a_roof_or_a_plane_equals_the_tilted_and_belt_warps() {
+    let t30 = 30f64.to_radians().tan();
+    let cases = [
+        (
+            WarpSpec::Tilted {
+                strength: 0.3,
+                direction: Direction::Inward,
+                offset: 2.0,
+            },
+            "-0.3*abs(x + 2)".to_string(),
+        ),
+        (
+            WarpSpec::Belt {
+                angle: 30.0,
+                toward: [0.6, 0.8],
+            },
+            format!("{t30}*(0.6*x + 0.8*y)"),
+        ),
+    ];
+    for (seed, expr) in cases {
+        for base in [None, Some([0.6, 40.0])] {
+            let mut a = WarpParams {
+                spec: seed.clone(),
+                base,
+            };
+            let mut b = WarpParams {
+                spec: WarpSpec::Field {
+                    expr: expr.clone(),
+                    grid: None,
+                },
+                base,
+            };
+            let (wa, wb) = (a.build(&bbox()).unwrap(), b.build(&bbox()).unwrap());
+            for i in 0..=20 {
+                for j in 0..=10 {
+                    for z in [0.0, 0.6, 7.3, 21.0, 30.0] {
+                        let p =
+                            DVec3::new(-20.0 + 2.0 * i as f64 + 0.01, -15.0 + 3.0 * j as f64, z);
+                        let (qa, qb) = (wa.forward(p), wb.forward(p));
+                        assert!((qa - qb).length() < 1e-12, "{expr} at {p}: {qa} vs {qb}");
+                        let q = qa + DVec3::new(0.0, 0.0, 0.37);
+                        assert!(
+                            (wa.inverse(q) - wb.inverse(q)).length() < 1e-9,
+                            "{expr} inverse at {q}"
+                        );
+                        let (na, nb) = (wa.tool_axis(p), wb.tool_axis(p));
+                        assert!(
+                            (na - nb).length() < 1e-7,
+                            "{expr} tool axis at {p}: {na} vs {nb}"
+                        );
+                    }
+                }
             }
         }
     }

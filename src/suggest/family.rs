@@ -24,13 +24,21 @@ pub enum Family {
     Curved,
     /// Roof layers (seed 000 Eq. 2): direction, strength, offset.
     Tilted,
+    /// A bicubic B-spline height fitted from the best warp of the others ([`super::fit`]).
+    Field,
 }
 
 /// Every family, in the order ties are broken.
-pub const FAMILIES: &[Family] = &[Family::Conic, Family::Belt, Family::Curved, Family::Tilted];
+pub const FAMILIES: &[Family] = &[
+    Family::Conic,
+    Family::Belt,
+    Family::Curved,
+    Family::Tilted,
+    Family::Field,
+];
 
 /// Every family's name (the `--families` choices).
-pub const FAMILY_NAMES: &[&str] = &["conic", "belt", "curved", "tilted"];
+pub const FAMILY_NAMES: &[&str] = &["conic", "belt", "curved", "tilted", "field"];
 
 impl Family {
     /// The warp's name (`--warp`).
@@ -40,6 +48,7 @@ impl Family {
             Family::Belt => "belt",
             Family::Curved => "curved",
             Family::Tilted => "tilted",
+            Family::Field => "field",
         }
     }
 
@@ -100,6 +109,8 @@ pub fn resolution(family: Family) -> [f64; 3] {
         Family::Belt => [0.1, 1.0, 1.0],
         Family::Curved => [0.001, 0.1, 1.0],
         Family::Tilted => [0.1, 0.1, 1.0],
+        // no coordinates: the fit moves the grid's coefficients ([`super::fit`])
+        Family::Field => [1.0, 1.0, 1.0],
     }
 }
 
@@ -122,7 +133,7 @@ impl Point {
 
     /// The warp of this point for a model whose model-frame box is `bbox` (`None` when the
     /// coordinates leave the family's range: an angle outside (0°, 90°), a negative strength,
-    /// or a base blend the model is too low for).
+    /// or a base blend the model is too low for; and for the field, which has no coordinates).
     pub fn params(&self, bbox: &Aabb) -> Option<WarpParams> {
         let p = self.rounded();
         let spec = match p.family {
@@ -167,6 +178,7 @@ impl Point {
                     offset: p.x[1],
                 }
             }
+            Family::Field => return None,
         };
         let base = if p.base {
             Some(base_for(&spec, bbox)?)
@@ -229,6 +241,13 @@ pub fn flags(params: &WarpParams) -> String {
             direction_name(*direction),
             f(*offset)
         )),
+        // the grid's text has no spaces; an expression is quoted as a shell takes it
+        WarpSpec::Field {
+            grid: Some(text), ..
+        } => s.push_str(&format!(" --grid {text}")),
+        WarpSpec::Field { expr, .. } => {
+            s.push_str(&format!(" --expr '{}'", expr.replace('\'', r"'\''")))
+        }
         _ => {}
     }
     if let Some([z0, z1]) = params.base {

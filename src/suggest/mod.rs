@@ -19,6 +19,7 @@ use crate::warp::{WarpError, WarpParams};
 
 pub mod admissible;
 pub mod family;
+pub mod fit;
 pub mod model;
 pub mod search;
 
@@ -101,7 +102,7 @@ pub const PARAMS: &[Param] = &[
     Param::number("families", "--families", "Families")
         .choices(FAMILY_NAMES)
         .of(ParamType::Choices)
-        .default(ParamDefault::Text("conic,belt,curved,tilted"))
+        .default(ParamDefault::Text("conic,belt,curved,tilted,field"))
         .help("the warp families searched (comma-separated)"),
     Param::number("top", "--top", "Suggestions")
         .range(Some(1.0), None, (false, false))
@@ -213,7 +214,7 @@ impl SuggestOptions {
             return Err(SuggestError::BadOption {
                 flag: "--families",
                 value: String::new(),
-                allowed: "one or more of conic, belt, curved, tilted",
+                allowed: "one or more of conic, belt, curved, tilted, field",
             });
         }
         Ok(())

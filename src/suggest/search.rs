@@ -92,24 +92,26 @@ impl Scored {
 
 /// The search over one model and machine.
 pub struct Search<'a> {
-    model: &'a Model,
-    limits: &'a MachineLimits,
-    overhang_angle_deg: f64,
-    layer_height: f64,
+    pub(super) model: &'a Model,
+    pub(super) limits: &'a MachineLimits,
+    pub(super) overhang_angle_deg: f64,
+    pub(super) layer_height: f64,
     /// The steepest layer angle tried, degrees.
-    bound_deg: f64,
+    pub(super) bound_deg: f64,
     /// The machine's fixed tilt (rotating nozzles), else 0, degrees.
-    fixed_deg: f64,
+    pub(super) fixed_deg: f64,
     /// The facets that can overhang at tilts up to `bound_deg`.
-    subset: Facets,
+    pub(super) subset: Facets,
     /// Every k-th of `subset` with its area ×k (at most [`ROUGH_FACETS`]): the coarse grid's
     /// estimate, which only picks where the pattern search starts.
     rough: Facets,
     /// Every candidate measured, by flags (`None`: not admissible).
     seen: BTreeMap<String, Option<Scored>>,
+    /// The fitted field's objective after each sweep of its pattern search ([`super::fit`]).
+    pub(super) fit_trace: Vec<f64>,
     /// The least area gain the pattern search moves for, mm² ([`REFINE_MIN_GAIN`] of the
     /// planar overhang, at least [`AREA_TIE_MM2`]).
-    min_gain: f64,
+    pub(super) min_gain: f64,
     /// Candidates whose area passed a cutoff before it was summed, by flags: the cutoff, mm².
     cut: BTreeMap<String, f64>,
 }
@@ -146,6 +148,7 @@ impl<'a> Search<'a> {
             min_gain,
             seen: BTreeMap::new(),
             cut: BTreeMap::new(),
+            fit_trace: Vec::new(),
         }
     }
 
@@ -155,6 +158,12 @@ impl<'a> Search<'a> {
     pub fn eval(&mut self, point: Point, cutoff: f64) -> Option<Scored> {
         let point = point.rounded();
         let params = point.params(&self.model.bbox)?;
+        self.measure(point, params, cutoff)
+    }
+
+    /// [`Search::eval`] of a warp given as its parameters (`point` names its family, direction
+    /// and base: the fitted field's, which has no coordinates).
+    pub fn measure(&mut self, point: Point, params: WarpParams, cutoff: f64) -> Option<Scored> {
         let key = flags(&params);
         if let Some(s) = self.seen.get(&key) {
             return s.clone();
@@ -271,6 +280,8 @@ impl<'a> Search<'a> {
                     }
                 }
             }
+            // fitted from the others' best ([`super::fit`]), not gridded
+            Family::Field => {}
         }
         out
     }
@@ -283,6 +294,7 @@ impl<'a> Search<'a> {
             Family::Belt => [5.0, 22.5, 0.0],
             Family::Curved => [0.05, size.x / 8.0, 0.0],
             Family::Tilted => [5.0, size.x / 8.0, 0.0],
+            Family::Field => [0.0; 3],
         }
     }
 
@@ -395,7 +407,7 @@ impl<'a> Search<'a> {
     /// blend.
     pub fn run(&mut self, families: &[Family]) -> Vec<Scored> {
         for &family in families {
-            if !self.limits.prints(family) {
+            if !self.limits.prints(family) || family == Family::Field {
                 continue;
             }
             let mut coarse: Vec<(Point, f64)> = self
@@ -426,6 +438,18 @@ impl<'a> Search<'a> {
                     self.refine(b, BASE_FIRST_HALVING);
                 }
             }
+        }
+        if families.contains(&Family::Field) && self.limits.prints(Family::Field) {
+            let mut ranked: Vec<Scored> = self.seen.values().flatten().cloned().collect();
+            ranked.sort_by(|a, b| a.rank(b));
+            // the best of each family starts the fit
+            let mut starts: Vec<Scored> = Vec::new();
+            for c in ranked {
+                if !starts.iter().any(|s| s.point.family == c.point.family) {
+                    starts.push(c);
+                }
+            }
+            self.fit_field(&starts);
         }
         let mut all: Vec<Scored> = self.seen.values().flatten().cloned().collect();
         all.sort_by(|a, b| a.rank(b));

@@ -12,6 +12,7 @@
 //! | [`belt`] | z + (d·(x, y))·tan α | 002 (`--axis=3`) |
 //! | [`cylindrical`] | ρ − R, ρ = distance to a horizontal axis ∥ X | 002 (mandrel) |
 //! | [`spherical`] | ρ − R, ρ = distance to a centre | 002 (5-axis) |
+//! | [`field`] | z + g(x, y), g typed as an expression of x, y (mm), or a fitted [`spline`] | issue 15 |
 //!
 //! c = +1 for `outward` (z' = z + g, g ≥ 0 growing away from the centre: layers fall outward and
 //! the tool tilts outward), −1 for `inward`. The first four are shears in z: T(x,y,z) = (x, y, z + g(x,y)),
@@ -31,9 +32,11 @@ pub mod belt;
 pub mod conic;
 pub mod curved;
 pub mod cylindrical;
+pub mod field;
 pub mod laws;
 pub mod shear;
 pub mod spherical;
+pub mod spline;
 pub mod thickness;
 pub mod tilted;
 
@@ -49,6 +52,7 @@ pub const WARPS: &[WarpInfo] = &[
     belt::INFO,
     cylindrical::INFO,
     spherical::INFO,
+    field::INFO,
 ];
 
 /// Complete a warp spec given as a JSON object (`{"kind": …, …}`, as the CLI and the web page
@@ -245,6 +249,16 @@ pub enum WarpSpec {
         /// (x, y, z) of the spheres' centre, model frame, mm.
         center: [f64; 3],
     },
+    /// Issue 15: T_z = z + g(x, y) with g typed by the user ([`field`]) or fitted by
+    /// `suggest` (a bicubic B-spline, [`spline`]): exactly one of the two.
+    Field {
+        /// g(x, y) in mm, x and y in mm in the model frame (e.g. `2*sin(x/5)`); empty with `grid`.
+        #[serde(default, skip_serializing_if = "String::is_empty")]
+        expr: String,
+        /// The B-spline's text form (`x0,y0,dx,dy,nx,ny:c00,c10,…`, [`spline`]).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        grid: Option<String>,
+    },
 }
 
 impl WarpSpec {
@@ -257,6 +271,7 @@ impl WarpSpec {
             WarpSpec::Belt { .. } => "belt",
             WarpSpec::Cylindrical { .. } => "cylindrical",
             WarpSpec::Spherical { .. } => "spherical",
+            WarpSpec::Field { .. } => "field",
         }
     }
 
@@ -371,6 +386,21 @@ impl WarpSpec {
                 }
                 positive_radius(radius)?;
             }
+            WarpSpec::Field { ref expr, ref grid } => match grid {
+                None => {
+                    field::Expression::parse(expr)?;
+                }
+                Some(_) if !expr.is_empty() => {
+                    return Err(WarpError::BadParameter {
+                        name: "grid",
+                        value: "with --expr".into(),
+                        allowed: "either --expr or --grid, not both".into(),
+                    })
+                }
+                Some(text) => {
+                    spline::Spline::parse(text)?;
+                }
+            },
         }
         Ok(())
     }
@@ -384,7 +414,8 @@ impl WarpSpec {
     }
 
     /// The height function g(x, y) of a shear warp (`None` for the cylindrical and spherical
-    /// warps, which are not shears).
+    /// warps, which are not shears, and for a field whose expression does not parse:
+    /// [`WarpSpec::validate`] names why).
     pub fn height(&self) -> Option<Box<dyn Height>> {
         Some(match *self {
             WarpSpec::Curved {
@@ -404,6 +435,11 @@ impl WarpSpec {
                 center,
             } => Box::new(conic::Conic::new(angle, direction, center)),
             WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
+            WarpSpec::Field {
+                grid: Some(ref text),
+                ..
+            } => Box::new(spline::Spline::parse(text).ok()?),
+            WarpSpec::Field { ref expr, .. } => Box::new(field::Expression::parse(expr).ok()?),
             WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. } => return None,
         })
     }
@@ -435,6 +471,8 @@ impl WarpSpec {
             WarpSpec::Cylindrical { radius, .. } | WarpSpec::Spherical { radius, .. } => {
                 ("radius", radius)
             }
+            // g scaled by `ratio` keeps the layers from folding
+            WarpSpec::Field { .. } => ("scale of the expression", ratio),
         }
     }
 }
@@ -475,6 +513,42 @@ pub enum WarpError {
         /// The warp's name (`cylindrical` or `spherical`).
         warp: &'static str,
     },
+    /// The field's `--expr` does not parse.
+    ExpressionUnparsable {
+        /// The expression as given.
+        expr: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// The field's `--expr` uses a name that is neither x nor y.
+    ExpressionUnknownVariable {
+        /// The expression as given.
+        expr: String,
+        /// The unknown name.
+        name: String,
+    },
+    /// g or ∇g is not a finite number somewhere over the model's footprint.
+    FieldNotFinite {
+        /// The expression (or `grid`).
+        expr: String,
+        /// `g`, `∂g/∂x` or `∂g/∂y`.
+        what: &'static str,
+        /// Model-frame (x, y) where it is not finite, mm.
+        at: [f64; 2],
+        /// The value there.
+        value: f64,
+    },
+    /// |∇g| beyond tan [`field::MAX_FIELD_TILT_DEG`] somewhere over the model's footprint.
+    FieldTooSteep {
+        /// The expression (or `grid`).
+        expr: String,
+        /// Model-frame (x, y) of the first such point found, mm.
+        at: [f64; 2],
+        /// |∇g| there (dimensionless).
+        slope: f64,
+        /// The largest allowed |∇g|.
+        limit: f64,
+    },
 }
 
 impl std::fmt::Display for WarpError {
@@ -493,6 +567,27 @@ impl std::fmt::Display for WarpError {
                 f,
                 "the {warp} warp does not take --base (its layers are not heights over the bed); remove --base"
             ),
+            WarpError::ExpressionUnparsable { expr, message } => write!(
+                f,
+                "--expr \"{expr}\" is not an expression of x and y: {message}; write it like 2*sin(x/5)*cos(y/7) \
+                 (operators + - * / ^, functions sin cos tan exp ln sqrt abs min max …)"
+            ),
+            WarpError::ExpressionUnknownVariable { expr, name } => write!(
+                f,
+                "--expr \"{expr}\" uses {name}, but a field is g(x, y): use only x and y (mm, model frame)"
+            ),
+            WarpError::FieldNotFinite { expr, what, at, value } => write!(
+                f,
+                "the field \"{expr}\" has {what} = {value} at x = {:.2}, y = {:.2} (model frame, mm): \
+                 it must be finite over the model's footprint; avoid division by zero, ln or sqrt of negatives there",
+                at[0], at[1]
+            ),
+            WarpError::FieldTooSteep { expr, at, slope, limit } => write!(
+                f,
+                "the field \"{expr}\" is too steep at x = {:.2}, y = {:.2} (model frame, mm): |∇g| = {slope:.3} > {limit:.3} \
+                 (layers steeper than {}°); scale the expression down",
+                at[0], at[1], field::MAX_FIELD_TILT_DEG
+            ),
             WarpError::InverseFailed { point } => write!(
                 f,
                 "cannot invert the warp at ({:.4}, {:.4}, {:.4}): the point lies outside the warped model's domain",
@@ -509,6 +604,10 @@ crate::error_codes!(WarpError, ERROR_CODES, "warp" {
     NotMonotonic => "warp.not-monotonic", "the base blend would fold the layers over";
     InverseFailed => "warp.inverse-failed", "a point outside the warp's domain";
     BaseNotSupported => "warp.base-not-supported", "--base given for a warp that is not a shear";
+    ExpressionUnparsable => "warp.expression-unparsable", "the field's --expr does not parse";
+    ExpressionUnknownVariable => "warp.expression-unknown-variable", "the field's --expr uses a name other than x and y";
+    FieldNotFinite => "warp.field-not-finite", "the field's g or ∇g is not finite over the model's footprint";
+    FieldTooSteep => "warp.field-too-steep", "the field's |∇g| passes the steepest allowed layer";
 } wraps {});
 
 /// Everything that defines a warp: the spec and the optional flat base `[z0, z1]` (mm).
@@ -568,6 +667,10 @@ impl WarpParams {
                 warp: self.spec.name(),
             });
         };
+        if let WarpSpec::Field { expr, grid } = &self.spec {
+            let name = if grid.is_some() { "grid" } else { expr };
+            field::check_over(height.as_ref(), model_bbox, name)?;
+        }
         let shear = Shear::new(height, blend);
         if let Some(b) = blend {
             // ∂z'/∂z = 1 + w'(z)·g(x,y) ≥ 1 − w'_max·max(−g): check g over the bbox.

@@ -64,3 +64,24 @@ pub fn acceptance_warps() -> Vec<(&'static str, WarpParams)> {
         ),
     ]
 }
+
+/// The field warp of the real-slicer matrix (issue 15 item 3b): a typed ripple
+/// g = 1.5·sin(x/6)·cos(y/8) mm (slopes ≤ 0.25·… ≈ 16°, within every preset's tilt), whose closed
+/// form tests/common/closed.rs writes by hand. (Unused where this file is included by path.)
+#[allow(dead_code)]
+pub const FIELD_RIPPLE_EXPR: &str = "1.5*sin(x/6)*cos(y/8)";
+
+/// The ripple field as a matrix warp.
+#[allow(dead_code)]
+pub fn field_ripple() -> (&'static str, WarpParams) {
+    (
+        "field-ripple",
+        WarpParams {
+            spec: WarpSpec::Field {
+                expr: FIELD_RIPPLE_EXPR.into(),
+                grid: None,
+            },
+            base: None,
+        },
+    )
+}

@@ -28,9 +28,45 @@ pub const REALISE_SLACK_DEG: f64 = 1.0;
 /// The anchor rule's least first-layer area, mm² (README "The anchor").
 pub const MIN_FIRST_LAYER_MM2: f64 = 25.0;
 
+/// The fitted field's g at (x, y) from its `--grid` text `x0,y0,dx,dy,nx,ny:c…` (x fastest):
+/// the uniform cubic B-spline in its segment form — in the cell k = ⌊u⌋, t = u − k of
+/// u = (x − x0)/dx, the weights of coefficients k−1 … k+2 are (1−t)³/6, (3t³ − 6t² + 4)/6,
+/// (−3t³ + 3t² + 3t + 1)/6, t³/6 (the same in y); coefficients outside the grid count 0.
+pub fn uniform_bspline(grid: &str, x: f64, y: f64) -> f64 {
+    let (head, body) = grid.split_once(':').expect("grid head:coefficients");
+    let h: Vec<f64> = head.split(',').map(|v| v.parse().unwrap()).collect();
+    let c: Vec<f64> = body.split(',').map(|v| v.parse().unwrap()).collect();
+    let (nx, ny) = (h[4] as i64, h[5] as i64);
+    assert_eq!(c.len() as i64, nx * ny, "coefficients");
+    let weights = |t: f64| {
+        [
+            (1.0 - t).powi(3) / 6.0,
+            (3.0 * t.powi(3) - 6.0 * t * t + 4.0) / 6.0,
+            (-3.0 * t.powi(3) + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+            t.powi(3) / 6.0,
+        ]
+    };
+    let (u, v) = ((x - h[0]) / h[2], (y - h[1]) / h[3]);
+    let (ku, kv) = (u.floor(), v.floor());
+    let (wu, wv) = (weights(u - ku), weights(v - kv));
+    let mut g = 0.0;
+    for (b, wy) in wv.iter().enumerate() {
+        let j = kv as i64 - 1 + b as i64;
+        for (a, wx) in wu.iter().enumerate() {
+            let i = ku as i64 - 1 + a as i64;
+            if (0..nx).contains(&i) && (0..ny).contains(&j) {
+                g += c[(j * nx + i) as usize] * wx * wy;
+            }
+        }
+    }
+    g
+}
+
 /// T_z of a warp given by its flags, model frame (README's table).
 pub struct Tz {
     kind: String,
+    /// The fitted field's `--grid` text (README: `x0,y0,dx,dy,nx,ny:c00,c10,…`).
+    grid: Option<String>,
     num: std::collections::HashMap<String, Vec<f64>>,
     outward: bool,
     base: Option<[f64; 2]>,
@@ -43,6 +79,7 @@ impl Tz {
         let words: Vec<&str> = flags.split_whitespace().collect();
         let mut t = Tz {
             kind: String::new(),
+            grid: None,
             num: Default::default(),
             outward: true,
             base: None,
@@ -53,6 +90,7 @@ impl Tz {
             match k {
                 "warp" => t.kind = v.to_string(),
                 "direction" => t.outward = v == "outward",
+                "grid" => t.grid = Some(v.to_string()),
                 _ => {
                     let vals: Vec<f64> = v.split(',').map(|x| x.parse().unwrap()).collect();
                     if k == "base" {
@@ -94,6 +132,7 @@ impl Tz {
                 let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
                 (d[0] * x + d[1] * y) / l * al.to_radians().tan()
             }
+            "field" => uniform_bspline(self.grid.as_deref().expect("--grid"), x, y),
             k => panic!("not a family: {k}"),
         }
     }

@@ -21,6 +21,9 @@ enum G {
     Conic { k: f64, c: DVec2 },
     /// Seed 002 tilted planes: g = (d̂·(x, y))·tan α; here d = d̂·tan α.
     Belt { d: DVec2 },
+    /// The matrix's typed field ([`super::acceptance::FIELD_RIPPLE_EXPR`]):
+    /// g = a·sin(x/bx)·cos(y/by).
+    Ripple { a: f64, bx: f64, by: f64 },
 }
 
 impl G {
@@ -30,6 +33,7 @@ impl G {
             G::Tilted { k, a } => k * (x + a).abs(),
             G::Conic { k, c } => k * (DVec2::new(x, y) - c).length(),
             G::Belt { d } => d.dot(DVec2::new(x, y)),
+            G::Ripple { a, bx, by } => a * (x / bx).sin() * (y / by).cos(),
         }
     }
     /// ∇g; 0 at the tilted crease and the cone's axis (the tool axis is vertical there).
@@ -50,6 +54,10 @@ impl G {
                 }
             }
             G::Belt { d } => d,
+            G::Ripple { a, bx, by } => DVec2::new(
+                a / bx * (x / bx).cos() * (y / by).cos(),
+                -a / by * (x / bx).sin() * (y / by).sin(),
+            ),
         }
     }
 }
@@ -157,6 +165,14 @@ impl Closed {
                 r: radius,
                 c: DVec3::from_array(center),
             },
+            // the one typed field the matrix uses, its closed form written here
+            WarpSpec::Field { ref expr, .. } if expr == super::acceptance::FIELD_RIPPLE_EXPR => {
+                shear(G::Ripple {
+                    a: 1.5,
+                    bx: 6.0,
+                    by: 8.0,
+                })
+            }
             ref other => return Err(format!("no closed form for the warp {other:?}")),
         };
         Ok(Closed { kind })

@@ -4,7 +4,7 @@
 // worker.js), machines.js, params.js + forms.js (forms from the schema), settings.js (JSON and
 // URL hash), steps.js (model → warp → unwarp → result), view.js (3D view), preview.js
 // (toolpath preview), advice.js + errors.js (errors and what to do, by code), dom.js.
-import { doSuggest, refreshOverhangs } from './overhang.js';
+import { doSuggest, refreshOverhangs, watchFieldExpression } from './overhang.js';
 import { state } from './state.js';
 import { doCheck } from './check.js';
 import { $ } from './dom.js';
@@ -91,6 +91,7 @@ async function main() {
     scheduleWarp();
   });
   $('warp-params').addEventListener('change', scheduleWarp);
+  watchFieldExpression();
   $('warp-options').addEventListener('change', scheduleWarp);
   $('unwarp-options').addEventListener('change', () => {
     enforceLimits();

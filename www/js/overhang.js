@@ -1,7 +1,10 @@
 // Issue 15 in the page: how much of the model overhangs, planar and under the current warp (the
 // core's `overhangs`, the measure of `warpslice overhangs`), the model's overhanging facets
 // coloured in the view, and "Suggest a warp": the core's ranked admissible warps for the machine
-// (`warpslice suggest`), each applied to the form with one click. Both run in the worker.
+// (`warpslice suggest`), each applied to the form with one click; and the field warp's
+// expression box checked as it is typed (the core's `overhangs` under the typed g: its error
+// code and message, or the overhang left and the largest tilt, under the box). All run in the
+// worker.
 import { state } from './state.js';
 import { $, el } from './dom.js';
 import { call } from './worker-client.js';
@@ -111,4 +114,61 @@ function applySuggestion(i) {
   applySettings(settings);
   // the form's change handlers re-warp; this says it at once
   $('warp-params').dispatchEvent(new Event('change'));
+}
+
+/** Milliseconds after the last keystroke in the field's expression box before it is checked. */
+const FIELD_CHECK_DELAY_MS = 300;
+let fieldTimer = null;
+
+/** Checks the field warp's expression while it is typed (the box's `input` events). */
+export function watchFieldExpression() {
+  $('warp-params').addEventListener('input', (e) => {
+    if (e.target?.dataset?.param !== 'expr') return;
+    clearTimeout(fieldTimer);
+    fieldTimer = setTimeout(checkFieldExpression, FIELD_CHECK_DELAY_MS);
+  });
+}
+
+/** The status line under the expression box (made on first use), or null without one. */
+function fieldStatus() {
+  const row = $('warp-params').querySelector('.param[data-key="expr"]');
+  if (!row) return null;
+  let s = row.querySelector('[data-testid="field-check"]');
+  if (!s) {
+    s = el('small', { className: 'field-check', role: 'status', dataset: { testid: 'field-check' } });
+    row.append(s);
+  }
+  return s;
+}
+
+/**
+ * The core's verdict on the typed field over the loaded model: `warpslice overhangs` under the
+ * warp of the form, in the worker. Refused: the core's code and message under the box; else the
+ * overhang left under the field (planar beside it) and the largest tilt, and the view colours
+ * the facets that still overhang under it.
+ */
+export async function checkFieldExpression() {
+  const box = fieldStatus();
+  if (!box || !state.stl) return;
+  const seq = ++state.fieldSeq;
+  const expr = $('warp-params').querySelector('[data-param="expr"]')?.value ?? '';
+  box.dataset.state = 'checking';
+  try {
+    const options = JSON.stringify(warpOptions());
+    const out = await call('overhangs', { stl: state.stl.buffer.slice(0), options, angle: overhangAngle() });
+    if (seq !== state.fieldSeq) return;
+    const r = out.report;
+    box.textContent = `the core takes g(x, y): ${measureText(r.warped)} overhanging (planar ${r.planar.area_mm2.toFixed(1)} mm²), largest tilt ${r.warped.largest_tilt_deg.toFixed(1)}°`;
+    box.dataset.warpedMm2 = String(r.warped.area_mm2);
+    delete box.dataset.code;
+    box.dataset.expr = expr;
+    box.dataset.state = 'ok';
+  } catch (e) {
+    if (seq !== state.fieldSeq || e.cancelled) return;
+    box.textContent = `${e.code ?? 'error'}: ${e.message}`;
+    box.dataset.code = e.code ?? '';
+    delete box.dataset.warpedMm2;
+    box.dataset.expr = expr;
+    box.dataset.state = 'error';
+  }
 }

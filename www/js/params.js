@@ -1,5 +1,5 @@
 // One form row per parameter of the core's schema (`describe()`'s `Param`):
-//   { key, flag, label, type: number|choice|bool|pair|triple, unit, min, max, min_exclusive,
+//   { key, flag, label, type: number|choice|bool|pair|triple|text, unit, min, max, min_exclusive,
 //     max_exclusive, step, default, optional, choices, help }
 // A row is `<div class="param" data-group data-key data-type>` holding its input(s); reading
 // and writing a row's value and clamping it to its limits work from the Param alone, so a new
@@ -64,6 +64,8 @@ export function paramRow(p, group, idBase, value) {
       inputs[0].checked = true;
       inputs[0].disabled = true;
     }
+  } else if (p.type === 'text') {
+    inputs = [el('input', { type: 'text', id: ids[0], value: v == null ? '' : String(v), spellcheck: false, autocomplete: 'off' })];
   } else if (ARITY[p.type]) {
     const arr = Array.isArray(v) ? v : [];
     inputs = ids.map((id, k) => numberInput(p, id, arr[k] ?? (Array.isArray(p.default) ? p.default[k] : '')));
@@ -119,6 +121,7 @@ export function readRow(row, p) {
   const inputs = rowInputs(row);
   if (p.type === 'bool') return inputs[0].checked;
   if (p.type === 'choice') return inputs[0].value === '' ? null : inputs[0].value;
+  if (p.type === 'text') return inputs[0].value;
   const nums = inputs.map((i) => Number(i.value));
   return ARITY[p.type] ? nums : nums[0];
 }
@@ -128,6 +131,7 @@ export function validValue(p, v) {
   if (v == null) return !!p.optional;
   if (p.type === 'bool') return typeof v === 'boolean';
   if (p.type === 'choice') return (p.choices ?? []).includes(v);
+  if (p.type === 'text') return typeof v === 'string';
   if (ARITY[p.type]) return Array.isArray(v) && v.length === ARITY[p.type] && v.every(Number.isFinite);
   return Number.isFinite(v);
 }

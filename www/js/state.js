@@ -31,6 +31,8 @@ export const state = {
   overhangs: null,
   /** Sequence number of the newest overhang request (older answers are dropped). */
   overhangSeq: 0,
+  /** The field expression check's sequence number (a newer keystroke wins). */
+  fieldSeq: 0,
   /** The last "Suggest a warp" answer (`suggest` in the worker), or null. */
   suggestions: null,
   /**

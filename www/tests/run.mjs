@@ -301,7 +301,7 @@ async function formRows(container) {
 /** Checks the rows against the schema's Params; `maxFor(p)` is the max a number input must show. */
 function checkRows(where, rows, params, maxFor = (p) => p.max) {
   assert(JSON.stringify(rows.map((r) => r.key)) === JSON.stringify(params.map((p) => p.key)), `${where}: rows ${rows.map((r) => r.key)} ≠ schema ${params.map((p) => p.key)}`);
-  const arity = { number: 1, pair: 2, triple: 3, choice: 1, bool: 1 };
+  const arity = { number: 1, pair: 2, triple: 3, choice: 1, bool: 1, text: 1 };
   params.forEach((p, k) => {
     const r = rows[k];
     const what = `${where} ${p.key}`;
@@ -318,6 +318,8 @@ function checkRows(where, rows, params, maxFor = (p) => p.max) {
         assert(i.tag === 'select' && JSON.stringify(i.choices) === JSON.stringify(want), `${what}: choices ${i.choices} ≠ ${want}`);
       } else if (p.type === 'bool') {
         assert(i.type === 'checkbox', `${what}: a checkbox`);
+      } else if (p.type === 'text') {
+        assert(i.tag === 'input' && i.type === 'text', `${what}: a text input`);
       } else {
         const max = maxFor(p);
         assert(i.type === 'number', `${what}: a number input`);
@@ -859,6 +861,7 @@ try {
     await page.waitForSelector('body[data-ready="1"]');
     const warps = await tid('warp-select').locator('option').evaluateAll((os) => os.map((o) => o.value));
     assert(JSON.stringify(warps) === JSON.stringify(schema.warps.map((w) => w.name)), `warp options ${warps} ≠ schema ${schema.warps.map((w) => w.name)}`);
+    const [firstMachine, firstWarp] = [await tid('machine-select').inputValue(), await tid('warp-select').inputValue()];
     for (const w of schema.warps) {
       // a machine that prints this warp; a degree parameter (the layer tilt) is capped at its tilt limit
       const m = schema.machines.find((x) => x.warps.includes(w.name));
@@ -869,6 +872,10 @@ try {
       checkRows(`warp ${w.name} on ${m.name}`, await formRows('#warp-params'), w.params, cap);
       assert((await page.locator('#warp-params .formula').innerText()).includes(w.formula), `${w.name}: the formula is shown`);
     }
+    // the form as the page starts (the last warp, the field, waits for an expression: the
+    // tests after this one load models into the form)
+    await tid('machine-select').selectOption(firstMachine);
+    await tid('warp-select').selectOption(firstWarp);
     checkRows('warp options', await formRows('#warp-options'), schema.warp_options);
     checkRows('unwarp options', await formRows('#unwarp-options'), schema.unwarp_options);
     // Every flag of the CLI is a field of the page: --warp is the warp select, --machine the

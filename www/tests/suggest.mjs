@@ -5,7 +5,10 @@
 //    overhanging facets (their count);
 //  - "Suggest a warp" on pax-5axis lists the CLI's suggestions in its order (flags and areas);
 //  - "Apply" on the best one puts its warp into the form (the page re-warps): the page's warped
-//    overhang area and coloured facets are then the CLI's `overhangs` under those flags.
+//    overhang area and coloured facets are then the CLI's `overhangs` under those flags;
+//  - the field warp's expression box: a typed expression is checked as it is typed, and the
+//    overhang area shown under the box is the CLI's `overhangs --warp field --expr … --json`;
+//    an expression the core refuses shows the core's error code under the box.
 //
 // Used by tests/run.mjs, which passes its page and helpers (`ctx`).
 import { writeFileSync } from 'node:fs';
@@ -63,5 +66,33 @@ export async function suggestTests(ctx) {
     await tid('show-overhangs').setChecked(false);
     assert((await page.locator('#canvas-wrap').getAttribute('data-overhang-facets')) === null, 'colouring off');
     await tid('show-overhangs').setChecked(true);
+  });
+
+  await test('overhangs: the field warp\'s expression box shows the CLI\'s overhang area, or the core\'s error code', async () => {
+    await tid('warp-select').selectOption('field');
+    const box = tid('param-expr');
+    const status = page.locator('[data-testid="field-check"]');
+    // the check of exactly `expr` has answered
+    const settle = async (expr) => page.waitForFunction((e) => {
+      const d = document.querySelector('[data-testid="field-check"]')?.dataset;
+      return d && d.expr === e && d.state !== 'checking';
+    }, expr, { timeout: 60000 });
+    // a bowl that tilts the ledges of the overhang part: the area differs from planar
+    const expr = '0.02*(x^2 + y^2) - 0.5*x';
+    await box.fill(expr);
+    await settle(expr);
+    assert((await status.getAttribute('data-state')) === 'ok', `field ${expr}: ${await status.textContent()}`);
+    const want = cli(['overhangs', stl, '--warp', 'field', '--expr', expr, '--json']);
+    const got = Number(await status.getAttribute('data-warped-mm2'));
+    assert(Math.abs(got - want.warped.area_mm2) <= AREA_TOL, `field ${expr}: page ${got} mm², CLI ${want.warped.area_mm2} mm²`);
+    assert(Math.abs(want.warped.area_mm2 - want.planar.area_mm2) > 1, `the test's field changes the overhang (${want.warped.area_mm2} vs planar ${want.planar.area_mm2} mm²)`);
+    await screenshot('field-expression');
+    for (const [bad, code] of [['0.02*(x^2 + y', 'warp.expression-unparsable'], ['x*t', 'warp.expression-unknown-variable'], ['40*x', 'warp.field-too-steep']]) {
+      await box.fill(bad);
+      await settle(bad);
+      const shownCode = await status.getAttribute('data-code');
+      const text = await status.textContent();
+      assert(shownCode === code && text.startsWith(code), `field ${bad}: under the box “${text}” (code ${shownCode}), want ${code}`);
+    }
   });
 }

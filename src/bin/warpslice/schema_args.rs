@@ -89,6 +89,7 @@ fn arg(p: &Param, warps: &[&str]) -> Arg {
             .allow_hyphen_values(true)
             .value_name("X,Y,Z"),
         ParamType::Choice => a.value_parser(PossibleValuesParser::new(p.choices.iter().copied())),
+        ParamType::Text => a.allow_hyphen_values(true).value_name("TEXT"),
         ParamType::Choices => a
             .value_parser(PossibleValuesParser::new(p.choices.iter().copied()))
             .value_delimiter(',')
@@ -117,7 +118,9 @@ fn value(m: &ArgMatches, p: &Param) -> Option<Value> {
         ParamType::Triple => m
             .get_one::<[f64; 3]>(id(p))
             .map(|v| Value::from(v.to_vec())),
-        ParamType::Choice => m.get_one::<String>(id(p)).map(|v| Value::from(v.as_str())),
+        ParamType::Choice | ParamType::Text => {
+            m.get_one::<String>(id(p)).map(|v| Value::from(v.as_str()))
+        }
         ParamType::Choices => m
             .get_many::<String>(id(p))
             .map(|v| Value::from(v.map(String::as_str).collect::<Vec<_>>())),
