@@ -29,6 +29,11 @@ pub const TILE: usize = 64;
 /// Cells per block side (a block keeps its maximum).
 pub const BLOCK: usize = 8;
 const BLOCKS: usize = TILE / BLOCK;
+/// Blocks per group side (a group of GROUP² blocks, 6.4 mm, keeps its maximum too: a query
+/// tests a group before its blocks, so a head part far above most of a tile's area is turned
+/// away at once).
+pub const GROUP: usize = 4;
+const GROUPS: usize = BLOCKS / GROUP;
 
 /// One tile of the height field.
 struct Tile {
@@ -36,6 +41,7 @@ struct Tile {
     /// The bead (1-based index in file order, 0: none) whose top is the cell's height.
     owner: Vec<u32>,
     block_max: [f32; BLOCKS * BLOCKS],
+    group_max: [f32; GROUPS * GROUPS],
     max: f32,
 }
 
@@ -45,6 +51,7 @@ impl Tile {
             h: vec![f32::NEG_INFINITY; TILE * TILE],
             owner: vec![0; TILE * TILE],
             block_max: [f32::NEG_INFINITY; BLOCKS * BLOCKS],
+            group_max: [f32::NEG_INFINITY; GROUPS * GROUPS],
             max: f32::NEG_INFINITY,
         }
     }
@@ -156,6 +163,8 @@ impl Material {
             t.owner[cj * TILE + ci] = bead;
             let b = &mut t.block_max[(cj / BLOCK) * BLOCKS + ci / BLOCK];
             *b = b.max(z);
+            let g = &mut t.group_max[(cj / (BLOCK * GROUP)) * GROUPS + ci / (BLOCK * GROUP)];
+            *g = g.max(z);
             t.max = t.max.max(z);
         }
     }
@@ -279,9 +288,12 @@ impl Material {
     }
 
     /// Visit every cell of the rectangle `[x0, x1] × [y0, y1]` whose material top exceeds
-    /// `above`, skipping tiles and blocks below it, blocks for which `skip(centre,
-    /// half_diagonal, top)` says the solid cannot reach the block's material (its centre and
-    /// the half diagonal of its square seen from above, its highest top), and in each row
+    /// `above`, skipping tiles, groups and blocks below it, groups and blocks for which
+    /// `skip(centre, half_diagonal, top)` says the solid cannot reach their material (the
+    /// centre and the half diagonal of the square seen from above, its highest top: `skip`
+    /// must hold for any square and any `top` at least its cells'; a group is asked once, when
+    /// its first block in the rectangle is reached, so the cells come in the same order as
+    /// without groups), and in each row
     /// `y` of a block the cells whose centres lie outside `row(y, top)` (an x-interval;
     /// `None`: none of the row); `visit(i, j, top, bead)` (the bead whose top it is).
     pub fn for_cells_above(
@@ -303,6 +315,8 @@ impl Material {
                 if (tile.max as f64) <= above {
                     continue;
                 }
+                // per group: may its cells give a finding (asked on its first block)
+                let mut group_open: [Option<bool>; GROUPS * GROUPS] = [None; GROUPS * GROUPS];
                 for bj in 0..BLOCKS as i64 {
                     let cj0 = tj * t + bj * b;
                     if cj0 + b - 1 < j0 || cj0 > j1 {
@@ -315,6 +329,19 @@ impl Material {
                         }
                         let top = tile.block_max[(bj * BLOCKS as i64 + bi) as usize] as f64;
                         if top <= above {
+                            continue;
+                        }
+                        let (gi, gj) = (bi as usize / GROUP, bj as usize / GROUP);
+                        let open = *group_open[gj * GROUPS + gi].get_or_insert_with(|| {
+                            let gside = (b as usize * GROUP) as f64 * CELL_MM;
+                            let c = glam::DVec2::new(
+                                (ti * t) as f64 * CELL_MM + (gi as f64 + 0.5) * gside,
+                                (tj * t) as f64 * CELL_MM + (gj as f64 + 0.5) * gside,
+                            );
+                            let gtop = tile.group_max[gj * GROUPS + gi] as f64;
+                            !skip(c, 0.5 * gside * std::f64::consts::SQRT_2, gtop)
+                        });
+                        if !open {
                             continue;
                         }
                         let side = b as f64 * CELL_MM;

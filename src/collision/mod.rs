@@ -49,6 +49,7 @@ pub mod cull;
 pub mod material;
 pub mod posed_head;
 pub mod solid;
+mod stretch;
 pub mod sweep;
 pub mod walk;
 
