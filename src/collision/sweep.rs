@@ -1113,6 +1113,37 @@ mod tests {
         best
     }
 
+    /// The cells `part` reaches at `pose` against the checker's material now, with their depth:
+    /// its own solid's column through each cell centre under its box, the material's top, and
+    /// for the nozzle the part above its own contact surface — per cell, without any growth,
+    /// floor or block bound (the oracle of the stretch laws).
+    fn reached_cells(ck: &Checker, part: &Part, pose: &Pose) -> Vec<((i64, i64), f64)> {
+        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+        let surface = part
+            .tip
+            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
+        let (lo, hi) = solid.aabb();
+        let mut out = Vec::new();
+        for j in cell_of(lo.y)..=cell_of(hi.y) {
+            for i in cell_of(lo.x)..=cell_of(hi.x) {
+                let h = ck.material.height(i, j);
+                let (x, y) = (centre(i), centre(j));
+                let Some((zi, zo)) = solid.column(x, y) else {
+                    continue;
+                };
+                let top = h.min(zo);
+                let d = match &surface {
+                    Some(c) => c.depth_above(x, y, zi, top),
+                    None => top - zi,
+                };
+                if d > CONTACT_TOLERANCE_MM {
+                    out.push(((i, j), d));
+                }
+            }
+        }
+        out
+    }
+
     /// Law of the stretch bound ([`Checker::cells_near`]): every cell that any pose of a stretch
     /// reaches (its own solid's column entering more than the tolerance below the material's top,
     /// above its own contact surface for the nozzle) is listed for the stretch's first pose
@@ -1123,7 +1154,6 @@ mod tests {
     #[test]
     fn a_stretch_lists_every_cell_any_of_its_poses_reaches() {
         let mut rng = Lcg(7);
-        let tol = CONTACT_TOLERANCE_MM;
         let mut reached_total = 0;
         for name in [
             "fullcontrol-prusa-b",
@@ -1211,34 +1241,17 @@ mod tests {
                         .map(|c| (cell_of(c.x), cell_of(c.y)))
                         .collect();
                     for pose in &stretch {
-                        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
-                        let surface = part
-                            .tip
-                            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
-                        let (lo, hi) = solid.aabb();
-                        for j in cell_of(lo.y)..=cell_of(hi.y) {
-                            for i in cell_of(lo.x)..=cell_of(hi.x) {
-                                let h = ck.material.height(i, j);
-                                let (x, y) = (centre(i), centre(j));
-                                let Some((zi, zo)) = solid.column(x, y) else {
-                                    continue;
-                                };
-                                let top = h.min(zo);
-                                let d = match &surface {
-                                    Some(c) => c.depth_above(x, y, zi, top),
-                                    None => top - zi,
-                                };
-                                if d > tol {
-                                    reached += 1;
-                                    assert!(
-                                        listed.contains(&(i, j)),
-                                        "{name}, {}: the cell ({x:.1}, {y:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
-                                        part.name,
-                                        pose.p,
-                                        first.p
-                                    );
-                                }
-                            }
+                        for ((i, j), d) in reached_cells(&ck, part, pose) {
+                            reached += 1;
+                            assert!(
+                                listed.contains(&(i, j)),
+                                "{name}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
+                                part.name,
+                                centre(i),
+                                centre(j),
+                                pose.p,
+                                first.p
+                            );
                         }
                     }
                 }
@@ -1262,7 +1275,6 @@ mod tests {
     #[test]
     fn a_stretch_carried_over_moves_and_deposits_lists_every_cell_reached() {
         let mut rng = Lcg(23);
-        let tol = CONTACT_TOLERANCE_MM;
         let (mut carried_poses, mut carried_reached, mut kept_over_deposit) = (0, 0, 0);
         for name in ["pax-5axis", "fullcontrol-prusa-b", "open5x-ab"] {
             let spec = preset(name).unwrap();
@@ -1323,34 +1335,17 @@ mod tests {
                             .collect();
                         let from_before = carried[pi] && lists.of[pi][k] == lists.of[pi][0];
                         carried_poses += usize::from(from_before);
-                        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
-                        let surface = part
-                            .tip
-                            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
-                        let (lo, hi) = solid.aabb();
-                        for j in cell_of(lo.y)..=cell_of(hi.y) {
-                            for i in cell_of(lo.x)..=cell_of(hi.x) {
-                                let h = ck.material.height(i, j);
-                                let (x, y) = (centre(i), centre(j));
-                                let Some((zi, zo)) = solid.column(x, y) else {
-                                    continue;
-                                };
-                                let top = h.min(zo);
-                                let d = match &surface {
-                                    Some(s) => s.depth_above(x, y, zi, top),
-                                    None => top - zi,
-                                };
-                                if d > tol {
-                                    carried_reached += usize::from(from_before);
-                                    assert!(
-                                        listed.contains(&(i, j)),
-                                        "{name}, move {step}, {}: the cell ({x:.1}, {y:.1}) is reached {d:.3} mm deep at pose {k} (tip {:?}) but not in its list{}",
-                                        part.name,
-                                        pose.p,
-                                        if from_before { " (carried from an earlier move)" } else { "" }
-                                    );
-                                }
-                            }
+                        for ((i, j), d) in reached_cells(&ck, part, pose) {
+                            carried_reached += usize::from(from_before);
+                            assert!(
+                                listed.contains(&(i, j)),
+                                "{name}, move {step}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at pose {k} (tip {:?}) but not in its list{}",
+                                part.name,
+                                centre(i),
+                                centre(j),
+                                pose.p,
+                                if from_before { " (carried from an earlier move)" } else { "" }
+                            );
                         }
                     }
                 }
