@@ -56,7 +56,7 @@ pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
 pub const STRETCH_MM: f64 = 0.3;
 /// [`STRETCH_MM`] for a part without the contact rule (heater block, heat sink) whose last list
 /// was empty, mm: such a part is usually far from the material, its grown solid still reaches
-/// nothing, and one search covers many more poses (and moves: [`super::stretch`]).
+/// nothing, and one search covers many more poses (and moves: `collision/stretch.rs`).
 pub const CLEAR_STRETCH_MM: f64 = 1.0;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
