@@ -37,7 +37,11 @@
 //! contact surface moved back by the same ([`contact::ContactSurface::grown`]), contains the
 //! part and its counted region at every pose of the stretch; each pose then visits only those
 //! cells (law test `a_stretch_lists_every_cell_any_of_its_poses_reaches` in `sweep.rs`, against
-//! each pose's own columns). Each part is checked only at the poses its own reach needs
+//! each pose's own columns). A part's last stretch of a move is carried into the next moves
+//! while their poses stay within its growth and no deposit raises a cell its list's own test
+//! passes (`stretch.rs`, law test `a_stretch_carried_over_moves_and_deposits_lists_every_cell_reached`);
+//! a part without the contact rule whose last list was empty grows by
+//! [`sweep::CLEAR_STRETCH_MM`]. Each part is checked only at the poses its own reach needs
 //! (`checked_poses`). [`Checker::exhaustive`] switches every bound off: the law test
 //! in `tests/collision_check.rs` compares the findings. The
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
@@ -49,6 +53,7 @@ pub mod cull;
 pub mod material;
 pub mod posed_head;
 pub mod solid;
+mod stretch;
 pub mod sweep;
 pub mod walk;
 

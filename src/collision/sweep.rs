@@ -30,6 +30,7 @@ use super::contact::ContactSurface;
 use super::cull::Reach;
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
+use super::stretch::Stretch;
 use crate::emit::CollisionFinding;
 use crate::machine::head::{BedSpec, HeadPart};
 use crate::machine::{Machine, MachineError, MachineSpec};
@@ -53,6 +54,10 @@ pub const DEFAULT_LAYER_HEIGHT_MM: f64 = 0.2;
 /// 30°, 0.3 mm was the best of 0.15–2.5 for the long RTN/RotBot nozzles and within 15 % of the
 /// best for the PAX head (`cargo run --release --example bench`, section 3).
 pub const STRETCH_MM: f64 = 0.3;
+/// [`STRETCH_MM`] for a part without the contact rule (heater block, heat sink) whose last list
+/// was empty, mm: such a part is usually far from the material, its grown solid still reaches
+/// nothing, and one search covers many more poses (and moves: `collision/stretch.rs`).
+pub const CLEAR_STRETCH_MM: f64 = 1.0;
 /// Most samples of one move.
 pub const MAX_SAMPLES: usize = 1 << 14;
 /// Most axes of a machine the check reads (the presets have 3 to 6; a pose is interpolated on
@@ -188,12 +193,26 @@ struct SweptCell {
     bead: u32,
 }
 
+/// The cells each part may reach over one move ([`Checker::lists`]).
+struct Lists {
+    /// The lists.
+    cells: Vec<Vec<SweptCell>>,
+    /// `of[part][pose]`: the pose's list (None: the part is not checked there, or not against
+    /// the material's cells this way).
+    of: Vec<Vec<Option<usize>>>,
+    /// The stretches still open at the move's end (part, stretch, list).
+    open: Vec<(usize, Stretch, usize)>,
+}
+
 /// One sampled pose.
 #[derive(Clone, Copy, Debug)]
-struct Pose {
-    p: DVec3,
-    n: DVec3,
-    frame: Option<DMat3>,
+pub(crate) struct Pose {
+    /// The tip.
+    pub p: DVec3,
+    /// The tool axis.
+    pub n: DVec3,
+    /// The head frame, where the machine knows it.
+    pub frame: Option<DMat3>,
 }
 
 /// Upper bound of the displacement between poses `a` and `b` of any head point within `reach`
@@ -201,7 +220,7 @@ struct Pose {
 /// point at distance ρ ≤ reach from the tip moves by at most `2ρ sin(θ/2) ≤ ρθ` about it), or
 /// the angle between the tool axes when the frame is unknown (the solids are then of
 /// revolution about the axis: [`Part::pose`]).
-fn displacement(a: &Pose, b: &Pose, reach: f64) -> f64 {
+pub(crate) fn displacement(a: &Pose, b: &Pose, reach: f64) -> f64 {
     let theta = match (&a.frame, &b.frame) {
         (Some(ra), Some(rb)) => {
             let r = *rb * ra.transpose();
@@ -255,6 +274,12 @@ pub struct Checker {
     /// Check every cell under every part at every pose, without the bounds
     /// ([`Checker::exhaustive`]).
     exhaustive: bool,
+    /// Per part, the stretch whose list the next move may go on using, with the list
+    /// ([`super::stretch`]).
+    live: Vec<Option<(Stretch, Vec<SweptCell>)>>,
+    /// Per part, whether its last searched list was empty (a part without the contact rule then
+    /// searches over [`CLEAR_STRETCH_MM`]).
+    clear: Vec<bool>,
 }
 
 impl std::fmt::Debug for Checker {
@@ -281,6 +306,7 @@ impl Checker {
         }
         let parts: Vec<Part> = spec.head()?.parts.iter().map(Part::new).collect();
         let reach = parts.iter().map(|p| p.reach).fold(0.0, f64::max);
+        let n = parts.len();
         Ok(Checker {
             machine,
             parts,
@@ -294,6 +320,8 @@ impl Checker {
             layer_height: DEFAULT_LAYER_HEIGHT_MM,
             stop: false,
             exhaustive: false,
+            live: vec![None; n],
+            clear: vec![false; n],
         })
     }
 
@@ -493,51 +521,10 @@ impl Checker {
         // the cells a part may reach, found once for many poses: over the whole move for a
         // frustum part that translates (the pose fixed, `swept_cells`), else over stretches
         // of its checked poses whose points stay within STRETCH_MM of the stretch's first
-        // (`cells_near`); `lists[list_of[part][pose]]`
+        // (`cells_near`), the last one carried into the next moves while it covers their poses
+        // (`super::stretch`); `lists.cells[lists.of[part][pose]]`
         let fixed = !self.exhaustive && p0.n.angle_between(p1.n) < 1e-12 && p0.frame == p1.frame;
-        let mut lists: Vec<Vec<SweptCell>> = Vec::new();
-        let mut list_of: Vec<Vec<Option<usize>>> = vec![vec![None; poses.len()]; self.parts.len()];
-        for (pi, part) in self.parts.iter().enumerate() {
-            if self.exhaustive || !reachable[pi].0 {
-                continue;
-            }
-            let idx: Vec<usize> = (0..poses.len()).filter(|&k| checked[pi][k]).collect();
-            if fixed {
-                // a box that translates: each pose's own scan (its candidates would be every
-                // cell near the box's lower faces over the whole stretch)
-                if let Some(cells) = self.swept_cells(part, &p0, &p1) {
-                    for &k in &idx {
-                        list_of[pi][k] = Some(lists.len());
-                    }
-                    lists.push(cells);
-                }
-                continue;
-            }
-            let mut i = 0;
-            while i < idx.len() {
-                let first = &poses[idx[i]];
-                let (mut j, mut delta) = (i + 1, 0.0f64);
-                while let Some(&k) = idx.get(j) {
-                    let d = displacement(first, &poses[k], part.reach);
-                    if d > STRETCH_MM {
-                        break;
-                    }
-                    delta = delta.max(d);
-                    j += 1;
-                }
-                // the contact surface bounds the nozzle's depth only where it applies at every
-                // pose of the stretch (a steeper pose counts its whole overlap)
-                let contact = part.tip
-                    && idx[i..j].iter().all(|&k| {
-                        ContactSurface::new(poses[k].p, poses[k].n, self.max_width).applies()
-                    });
-                for &k in &idx[i..j] {
-                    list_of[pi][k] = Some(lists.len());
-                }
-                lists.push(self.cells_near(part, first, delta, contact));
-                i = j;
-            }
-        }
+        let mut lists = self.lists(&poses, &checked, &reachable, fixed);
         let mut found: Vec<CollisionFinding> = Vec::new();
         for (k, pose) in poses.iter().enumerate().skip(start) {
             self.stats.samples += 1;
@@ -546,12 +533,12 @@ impl Checker {
                 .iter()
                 .zip(&reachable)
                 .zip(&checked)
-                .zip(&list_of)
+                .zip(&lists.of)
             {
                 if !keep[k] {
                     continue;
                 }
-                let cells = list[k].map(|id| lists[id].as_slice());
+                let cells = list[k].map(|id| lists.cells[id].as_slice());
                 if cells.is_some_and(|c| c.is_empty()) {
                     mat = false;
                 }
@@ -588,7 +575,112 @@ impl Checker {
             }
         }
         self.findings.extend(found);
+        self.carry(&mut lists);
         Ok(())
+    }
+
+    /// The lists of the cells each part may reach at its checked poses of one move (`poses`,
+    /// `checked[part][pose]`; `reachable[part].0`: the part may reach material at all; `fixed`:
+    /// the move translates, the pose fixed): see [`Checker::check_move`].
+    fn lists(
+        &mut self,
+        poses: &[Pose],
+        checked: &[Vec<bool>],
+        reachable: &[(bool, bool)],
+        fixed: bool,
+    ) -> Lists {
+        let (p0, p1) = (poses[0], poses[poses.len() - 1]);
+        let mut all: Vec<Vec<SweptCell>> = Vec::new();
+        let mut list_of: Vec<Vec<Option<usize>>> = vec![vec![None; poses.len()]; self.parts.len()];
+        // the stretches still open at the move's end, with their list's index
+        let mut open: Vec<(usize, Stretch, usize)> = Vec::new();
+        for pi in 0..self.parts.len() {
+            if self.exhaustive || !reachable[pi].0 {
+                continue;
+            }
+            let part = &self.parts[pi];
+            let idx: Vec<usize> = (0..poses.len()).filter(|&k| checked[pi][k]).collect();
+            if fixed {
+                // a box that translates: each pose's own scan (its candidates would be every
+                // cell near the box's lower faces over the whole stretch)
+                if let Some(cells) = self.swept_cells(part, &p0, &p1) {
+                    for &k in &idx {
+                        list_of[pi][k] = Some(all.len());
+                    }
+                    all.push(cells);
+                }
+                continue;
+            }
+            let mut i = 0;
+            // the poses the stretch carried from earlier moves still covers
+            if let Some((live, cells)) = self.live[pi].take() {
+                while idx
+                    .get(i)
+                    .is_some_and(|&k| live.covers(&poses[k], part.reach, self.max_width))
+                {
+                    list_of[pi][idx[i]] = Some(all.len());
+                    i += 1;
+                }
+                if i == idx.len() {
+                    open.push((pi, live, all.len()));
+                }
+                all.push(cells);
+            }
+            while i < idx.len() {
+                let cap = if !part.tip && self.clear[pi] {
+                    CLEAR_STRETCH_MM
+                } else {
+                    STRETCH_MM
+                };
+                let first = poses[idx[i]];
+                let (mut j, mut delta) = (i + 1, 0.0f64);
+                while let Some(&k) = idx.get(j) {
+                    let d = displacement(&first, &poses[k], part.reach);
+                    if d > cap {
+                        break;
+                    }
+                    delta = delta.max(d);
+                    j += 1;
+                }
+                // the contact surface bounds the nozzle's depth only where it applies at every
+                // pose of the stretch (a steeper pose counts its whole overlap)
+                let contact = part.tip
+                    && idx[i..j].iter().all(|&k| {
+                        ContactSurface::new(poses[k].p, poses[k].n, self.max_width).applies()
+                    });
+                // a stretch that reaches the move's end may go on into the next (grown by the
+                // whole cap); not the nozzle's: the bead it lays is within its reach, so the
+                // next deposit would end it
+                if j == idx.len() && !part.tip {
+                    delta = cap;
+                    let stretch = Stretch {
+                        first,
+                        delta,
+                        contact,
+                    };
+                    open.push((pi, stretch, all.len()));
+                }
+                for &k in &idx[i..j] {
+                    list_of[pi][k] = Some(all.len());
+                }
+                let cells = self.cells_near(part, &first, delta, contact, None);
+                self.clear[pi] = cells.is_empty();
+                all.push(cells);
+                i = j;
+            }
+        }
+        Lists {
+            cells: all,
+            of: list_of,
+            open,
+        }
+    }
+
+    /// Keep the stretches still open at the move's end, with their lists, for the next moves.
+    fn carry(&mut self, lists: &mut Lists) {
+        for (pi, stretch, id) in lists.open.drain(..) {
+            self.live[pi] = Some((stretch, std::mem::take(&mut lists.cells[id])));
+        }
     }
 
     /// The deepest overlap of `solid` with the material and with the bed (each only if above
@@ -810,14 +902,33 @@ impl Checker {
     /// contact rule applying at every pose of the stretch) only the part of the grown column
     /// above the grown contact surface counts ([`ContactSurface::grown`]): a pose's counted
     /// region (inside the part and above its surface) lies within `delta` of the reference
-    /// pose's, so inside both grown regions.
-    fn cells_near(&self, part: &Part, at: &Pose, delta: f64, contact: bool) -> Vec<SweptCell> {
+    /// pose's, so inside both grown regions. `within`: only the cells of that rectangle
+    /// (x0, y0, x1, y1).
+    fn cells_near(
+        &self,
+        part: &Part,
+        at: &Pose,
+        delta: f64,
+        contact: bool,
+        within: Option<(f64, f64, f64, f64)>,
+    ) -> Vec<SweptCell> {
         let tol = CONTACT_TOLERANCE_MM;
         let solid = part.pose(at.p, at.n, at.frame.as_ref()).dilated(delta);
         let contact = contact.then(|| ContactSurface::new(at.p, at.n, self.max_width).grown(delta));
         let (lo, hi) = solid.aabb();
         let reach = Reach::new(&solid, contact.as_ref(), tol, lo.z);
-        let rect = (lo.x, lo.y, hi.x, hi.y);
+        let mut rect = (lo.x, lo.y, hi.x, hi.y);
+        if let Some((x0, y0, x1, y1)) = within {
+            rect = (
+                rect.0.max(x0),
+                rect.1.max(y0),
+                rect.2.min(x1),
+                rect.3.min(y1),
+            );
+            if rect.0 > rect.2 || rect.1 > rect.3 {
+                return Vec::new();
+            }
+        }
         let Some((x0, y0, x1, y1)) = reach.rect(rect, self.material.max_over(rect) - tol) else {
             return Vec::new();
         };
@@ -872,6 +983,33 @@ impl Checker {
     /// Deposit the bead of a move from `from` to `to` of line width `width` (mm): the tip path
     /// sampled at the pieces the firmware's interpolation gives, each piece a straight bead.
     pub fn deposit(&mut self, from: &[f64], to: &[f64], width: f64) -> Result<(), MachineError> {
+        let rect = self.lay(from, to, width)?;
+        // a carried stretch survives only if no raised cell now passes its list's test
+        // (`super::stretch`: the test is monotone in the cell's top)
+        for pi in 0..self.live.len() {
+            if let Some((st, _)) = &self.live[pi] {
+                let part = &self.parts[pi];
+                if !self
+                    .cells_near(part, &st.first, st.delta, st.contact, Some(rect))
+                    .is_empty()
+                {
+                    self.live[pi] = None;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The bead of [`Checker::deposit`] laid into the material: the rectangle (x0, y0, x1, y1)
+    /// holding the centre of every cell it may have raised (`Material::deposit` raises cells
+    /// whose centres lie within `max(w/2, half a cell diagonal)` of a piece; the pieces' ends
+    /// bound the path, and a cell more).
+    fn lay(
+        &mut self,
+        from: &[f64],
+        to: &[f64],
+        width: f64,
+    ) -> Result<(f64, f64, f64, f64), MachineError> {
         self.max_width = self.max_width.max(width);
         let a = self.pose(from)?;
         let b = self.pose(to)?;
@@ -882,6 +1020,7 @@ impl Checker {
             ((b.p - a.p).length() / CELL_MM).ceil().clamp(1.0, 4096.0) as usize
         };
         let mut prev = a;
+        let (mut lo, mut hi) = (a.p.min(b.p), a.p.max(b.p));
         for k in 1..=pieces {
             let t = k as f64 / pieces as f64;
             let next = if k == pieces {
@@ -893,9 +1032,11 @@ impl Checker {
             let slope = self.cross_slope(prev.p, next.p, n, width);
             self.material
                 .deposit(prev.p, next.p, slope, width, self.layer);
+            (lo, hi) = (lo.min(next.p), hi.max(next.p));
             prev = next;
         }
-        Ok(())
+        let spread = (0.5 * width).max(CELL_MM) + CELL_MM;
+        Ok((lo.x - spread, lo.y - spread, hi.x + spread, hi.y + spread))
     }
 }
 
@@ -972,6 +1113,37 @@ mod tests {
         best
     }
 
+    /// The cells `part` reaches at `pose` against the checker's material now, with their depth:
+    /// its own solid's column through each cell centre under its box, the material's top, and
+    /// for the nozzle the part above its own contact surface — per cell, without any growth,
+    /// floor or block bound (the oracle of the stretch laws).
+    fn reached_cells(ck: &Checker, part: &Part, pose: &Pose) -> Vec<((i64, i64), f64)> {
+        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+        let surface = part
+            .tip
+            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
+        let (lo, hi) = solid.aabb();
+        let mut out = Vec::new();
+        for j in cell_of(lo.y)..=cell_of(hi.y) {
+            for i in cell_of(lo.x)..=cell_of(hi.x) {
+                let h = ck.material.height(i, j);
+                let (x, y) = (centre(i), centre(j));
+                let Some((zi, zo)) = solid.column(x, y) else {
+                    continue;
+                };
+                let top = h.min(zo);
+                let d = match &surface {
+                    Some(c) => c.depth_above(x, y, zi, top),
+                    None => top - zi,
+                };
+                if d > CONTACT_TOLERANCE_MM {
+                    out.push(((i, j), d));
+                }
+            }
+        }
+        out
+    }
+
     /// Law of the stretch bound ([`Checker::cells_near`]): every cell that any pose of a stretch
     /// reaches (its own solid's column entering more than the tolerance below the material's top,
     /// above its own contact surface for the nozzle) is listed for the stretch's first pose
@@ -982,7 +1154,6 @@ mod tests {
     #[test]
     fn a_stretch_lists_every_cell_any_of_its_poses_reaches() {
         let mut rng = Lcg(7);
-        let tol = CONTACT_TOLERANCE_MM;
         let mut reached_total = 0;
         for name in [
             "fullcontrol-prusa-b",
@@ -1065,39 +1236,22 @@ mod tests {
                             .iter()
                             .all(|p| ContactSurface::new(p.p, p.n, ck.max_width).applies());
                     let listed: std::collections::HashSet<(i64, i64)> = ck
-                        .cells_near(part, &first, delta, contact)
+                        .cells_near(part, &first, delta, contact, None)
                         .iter()
                         .map(|c| (cell_of(c.x), cell_of(c.y)))
                         .collect();
                     for pose in &stretch {
-                        let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
-                        let surface = part
-                            .tip
-                            .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
-                        let (lo, hi) = solid.aabb();
-                        for j in cell_of(lo.y)..=cell_of(hi.y) {
-                            for i in cell_of(lo.x)..=cell_of(hi.x) {
-                                let h = ck.material.height(i, j);
-                                let (x, y) = (centre(i), centre(j));
-                                let Some((zi, zo)) = solid.column(x, y) else {
-                                    continue;
-                                };
-                                let top = h.min(zo);
-                                let d = match &surface {
-                                    Some(c) => c.depth_above(x, y, zi, top),
-                                    None => top - zi,
-                                };
-                                if d > tol {
-                                    reached += 1;
-                                    assert!(
-                                        listed.contains(&(i, j)),
-                                        "{name}, {}: the cell ({x:.1}, {y:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
-                                        part.name,
-                                        pose.p,
-                                        first.p
-                                    );
-                                }
-                            }
+                        for ((i, j), d) in reached_cells(&ck, part, pose) {
+                            reached += 1;
+                            assert!(
+                                listed.contains(&(i, j)),
+                                "{name}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
+                                part.name,
+                                centre(i),
+                                centre(j),
+                                pose.p,
+                                first.p
+                            );
                         }
                     }
                 }
@@ -1109,6 +1263,180 @@ mod tests {
             reached_total > 100,
             "only {reached_total} cells reached in all"
         );
+    }
+
+    /// Law of the carried stretches ([`super::stretch`]): over a walk of short turning moves,
+    /// each starting where the last ended, with beads deposited between them (some tall, beside
+    /// the head, within the heater block's reach), every cell a part reaches at a pose (its own
+    /// solid at that pose against the material of that moment, per cell, without the growth,
+    /// the floors or the block bounds) is in the list [`Checker::lists`] gave that pose — the
+    /// poses served by a stretch begun in an earlier move and kept over deposits among them.
+    /// Three heads leaning 20–35° over a printed pad.
+    #[test]
+    fn a_stretch_carried_over_moves_and_deposits_lists_every_cell_reached() {
+        let mut rng = Lcg(23);
+        let (mut carried_poses, mut carried_reached, mut kept_over_deposit) = (0, 0, 0);
+        for name in ["pax-5axis", "fullcontrol-prusa-b", "open5x-ab"] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let c = if name == "open5x-ab" {
+                DVec3::ZERO
+            } else {
+                DVec3::new(100.0, 100.0, 0.0)
+            };
+            let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
+            // the pad: 3 layers of lines 0.45 apart, 30 mm square, printed vertically
+            for layer in 1..=3 {
+                let z = 0.2 * layer as f64;
+                for row in 0..67 {
+                    let y = c.y - 15.0 + 0.45 * row as f64;
+                    let a = at(DVec3::new(c.x - 15.0, y, z), DVec3::Z, None);
+                    let b = at(DVec3::new(c.x + 15.0, y, z), DVec3::Z, Some(&a));
+                    ck.layer = layer;
+                    ck.deposit(&a, &b, 0.45).unwrap();
+                }
+            }
+            ck.layer = 4;
+            let lean =
+                |t: f64, az: f64| DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos());
+            let (mut tilt, mut az) = (30f64.to_radians(), rng.range(0.0, std::f64::consts::TAU));
+            let mut p = c + DVec3::new(rng.range(-4.0, 4.0), rng.range(-4.0, 4.0), 0.9);
+            let mut axes = at(p, lean(tilt, az), None);
+            for step in 0..120 {
+                // a short move: the tip 0.1–0.6 mm on, the tool turning by up to 2°
+                let q = c
+                    + (p - c + DVec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), 0.0))
+                        .clamp(DVec3::new(-8.0, -8.0, 0.7), DVec3::new(8.0, 8.0, 1.2));
+                tilt =
+                    (tilt + rng.range(-0.02, 0.02)).clamp(20f64.to_radians(), 35f64.to_radians());
+                az += rng.range(-0.03, 0.03);
+                let next = at(q, lean(tilt, az), Some(&axes));
+                let poses: Vec<Pose> = (0..=12)
+                    .map(|k| ck.pose_between(&axes, &next, k as f64 / 12.0).unwrap())
+                    .collect();
+                let checked = vec![vec![true; poses.len()]; ck.parts.len()];
+                let reachable = vec![(true, true); ck.parts.len()];
+                let carried: Vec<bool> = (0..ck.parts.len())
+                    .map(|pi| {
+                        ck.live[pi].as_ref().is_some_and(|(st, _)| {
+                            st.covers(&poses[0], ck.parts[pi].reach, ck.max_width)
+                        })
+                    })
+                    .collect();
+                let mut lists = ck.lists(&poses, &checked, &reachable, false);
+                for (pi, part) in ck.parts.iter().enumerate() {
+                    for (k, pose) in poses.iter().enumerate() {
+                        let listed: std::collections::HashSet<(i64, i64)> = lists.of[pi][k]
+                            .map(|id| lists.cells[id].as_slice())
+                            .unwrap_or(&[])
+                            .iter()
+                            .map(|c| (cell_of(c.x), cell_of(c.y)))
+                            .collect();
+                        let from_before = carried[pi] && lists.of[pi][k] == lists.of[pi][0];
+                        carried_poses += usize::from(from_before);
+                        for ((i, j), d) in reached_cells(&ck, part, pose) {
+                            carried_reached += usize::from(from_before);
+                            assert!(
+                                listed.contains(&(i, j)),
+                                "{name}, move {step}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at pose {k} (tip {:?}) but not in its list{}",
+                                part.name,
+                                centre(i),
+                                centre(j),
+                                pose.p,
+                                if from_before { " (carried from an earlier move)" } else { "" }
+                            );
+                        }
+                    }
+                }
+                ck.carry(&mut lists);
+                // a bead where the tip went, and every third move a tall one beside the head
+                ck.deposit(&axes, &next, 0.45).unwrap();
+                if step % 3 == 0 {
+                    let side = lean(1.0, az) * rng.range(6.0, 16.0);
+                    let b0 = DVec3::new(q.x + side.x, q.y + side.y, rng.range(1.0, 5.0));
+                    // along x or y: cells beside the path, outside its own bounding box, rise
+                    let l = rng.range(-1.5, 1.5);
+                    let b1 = b0
+                        + if step % 2 == 0 {
+                            DVec3::new(l, 0.0, 0.0)
+                        } else {
+                            DVec3::new(0.0, l, 0.0)
+                        };
+                    let live_before = ck.live.iter().filter(|l| l.is_some()).count();
+                    let a0 = at(b0, DVec3::Z, None);
+                    let a1 = at(b1, DVec3::Z, Some(&a0));
+                    ck.deposit(&a0, &a1, 0.45).unwrap();
+                    kept_over_deposit += ck
+                        .live
+                        .iter()
+                        .filter(|l| l.is_some())
+                        .count()
+                        .min(live_before);
+                }
+                (p, axes) = (q, next);
+            }
+        }
+        // the carried stretches must serve poses that reach material, or the law says nothing
+        assert!(
+            carried_poses > 500 && carried_reached > 100 && kept_over_deposit > 20,
+            "{carried_poses} poses served by carried stretches, {carried_reached} cells reached there, {kept_over_deposit} stretches kept over a tall bead"
+        );
+    }
+
+    /// The rectangle [`Checker::deposit`] searches for the carried stretches holds every cell
+    /// the bead raised: the material's heights over a wide window compared before and after
+    /// random beads (straight, turning, along the axes, short and long, 0.3–1.2 mm wide) on
+    /// the PAX head, which tilts them.
+    #[test]
+    fn a_beads_rectangle_holds_every_cell_it_raised() {
+        let mut rng = Lcg(31);
+        let spec = preset("pax-5axis").unwrap();
+        let mut ck = Checker::new(&spec).unwrap();
+        let m = spec.build().unwrap();
+        let mut raised_total = 0;
+        for k in 0..200 {
+            let lean = |r: &mut Lcg| {
+                let (t, az) = (r.range(0.0, 0.6), r.range(0.0, std::f64::consts::TAU));
+                DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+            };
+            let p0 = DVec3::new(
+                rng.range(90.0, 110.0),
+                rng.range(90.0, 110.0),
+                0.2 * (k / 20 + 1) as f64,
+            );
+            let d = match k % 3 {
+                0 => DVec3::new(rng.range(-3.0, 3.0), 0.0, 0.0),
+                1 => DVec3::new(0.0, rng.range(-3.0, 3.0), 0.0),
+                _ => DVec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), 0.0),
+            };
+            let a0 = m.inverse(p0, lean(&mut rng), None).unwrap();
+            let a1 = m.inverse(p0 + d, lean(&mut rng), Some(&a0)).unwrap();
+            let window = |v: f64| (cell_of(v - 6.0), cell_of(v + 6.0));
+            let ((i0, i1), (j0, j1)) = (window(p0.x + 0.5 * d.x), window(p0.y + 0.5 * d.y));
+            let heights = |ck: &Checker| -> Vec<f64> {
+                (j0..=j1)
+                    .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+                    .map(|(i, j)| ck.material.height(i, j))
+                    .collect()
+            };
+            let before = heights(&ck);
+            ck.layer = (k / 20 + 1) as u32;
+            let (x0, y0, x1, y1) = ck.lay(&a0, &a1, rng.range(0.3, 1.2)).unwrap();
+            let after = heights(&ck);
+            let cells = (j0..=j1).flat_map(|j| (i0..=i1).map(move |i| (i, j)));
+            for ((i, j), (h0, h1)) in cells.zip(before.iter().zip(&after)) {
+                if h1 > h0 {
+                    raised_total += 1;
+                    let (x, y) = (centre(i), centre(j));
+                    assert!(
+                        x >= x0 && x <= x1 && y >= y0 && y <= y1,
+                        "bead {k}: the cell ({x:.2}, {y:.2}) rose from {h0:.3} to {h1:.3} outside ({x0:.2}, {y0:.2})–({x1:.2}, {y1:.2})"
+                    );
+                }
+            }
+        }
+        assert!(raised_total > 2000, "only {raised_total} cells raised");
     }
 
     /// Law of the per-part sampling ([`checked_poses`]): between two consecutive poses a part
