@@ -43,10 +43,12 @@ pub const FIRST_STEP_SHARE: f64 = 0.25;
 pub const FIT_HALVINGS: usize = 3;
 /// Most candidates the fit measures.
 pub const MAX_FIT_EVALS: usize = 1000;
-/// Most facet measures (candidates × facets that can overhang) the fit spends: on the
-/// 225 000-triangle bench sphere this caps it at about 1 s of CPU (`examples/suggest_bench`);
-/// models below ~10 000 such facets get the full [`MAX_FIT_EVALS`].
-pub const FIT_FACET_BUDGET: usize = 10_000_000;
+/// Most facet measures (candidates × facets that can overhang) the fit spends, so that
+/// `suggest` keeps issue 15's 2 s on a 225 000-triangle model: on the bench sphere the fit then
+/// costs under 0.1 s of CPU (`examples/suggest_bench`, 2026-11-27 21:21 UTC, load 3.7: pax-5axis
+/// 2.33 s with the field, 2.34 s without; 1e7 measures cost 1.4–1.7 s more); models below
+/// ~1 000 such facets get the full [`MAX_FIT_EVALS`].
+pub const FIT_FACET_BUDGET: usize = 1_000_000;
 /// The scales each family warp's sampled height is tried at as a start: a family's best warp
 /// often puts facets exactly at the overhang angle (a ledge under a 45° belt at θ = 45°), where
 /// the sampled copy's rounding tips them over; a slightly steeper copy stays on the good side.
