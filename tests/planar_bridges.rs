@@ -6,9 +6,13 @@
 //! the oracle is the table's geometry by hand, the G-code read by the tests' own reader
 //! (tests/common/written.rs) and the `;TYPE:` comments.
 
+#[path = "common/planar_lines.rs"]
+mod planar_lines;
 #[path = "common/written.rs"]
 #[allow(dead_code)]
 mod written;
+
+use planar_lines::Line;
 
 use glam::DVec3;
 use warpslice::mesh::shapes::cuboid;
@@ -33,51 +37,9 @@ const ANCHOR: f64 = 3.0;
 /// Slack on positions read back from 3-decimal G-code, mm.
 const READ_SLACK: f64 = 0.002;
 
-/// One extruding move of the object: its layer (0-based), ends, filament volume, `;TYPE:`.
-struct Line {
-    layer: usize,
-    from: [f64; 2],
-    to: [f64; 2],
-    volume: f64,
-    role: String,
-}
-
-impl Line {
-    fn length(&self) -> f64 {
-        (self.to[0] - self.from[0]).hypot(self.to[1] - self.from[1])
-    }
-    /// Distance from `p` to the line, mm.
-    fn distance(&self, p: [f64; 2]) -> f64 {
-        let d = [self.to[0] - self.from[0], self.to[1] - self.from[1]];
-        let l2 = d[0] * d[0] + d[1] * d[1];
-        let t =
-            (((p[0] - self.from[0]) * d[0] + (p[1] - self.from[1]) * d[1]) / l2).clamp(0.0, 1.0);
-        (self.from[0] + t * d[0] - p[0]).hypot(self.from[1] + t * d[1] - p[1])
-    }
-}
-
-/// The object's extrusions of a planar file.
+/// The object's extrusions of a planar file (layers [`H`] high, the default filament).
 fn lines(gcode: &str) -> Vec<Line> {
-    let mut roles = vec![String::new()];
-    let mut now = String::new();
-    for l in gcode.lines() {
-        if let Some(t) = l.trim().strip_prefix(";TYPE:") {
-            now = t.trim().to_string();
-        }
-        roles.push(now.clone());
-    }
-    let w = written::read(gcode.as_bytes()).unwrap();
-    let area = std::f64::consts::PI * FILAMENT * FILAMENT / 4.0;
-    w.extrusions()
-        .filter(|m| m.typed == written::Typed::Object && !m.e_only)
-        .map(|m| Line {
-            layer: (m.to.z / H).round() as usize - 1,
-            from: [m.from.x, m.from.y],
-            to: [m.to.x, m.to.y],
-            volume: m.e * area,
-            role: roles[m.line].clone(),
-        })
-        .collect()
+    planar_lines::lines(gcode, H, FILAMENT)
 }
 
 /// The table: the legs and the top as three boxes (touching shells, unioned by the slicer).
