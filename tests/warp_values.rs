@@ -839,19 +839,25 @@ fn field_expressions_warp_as_their_hand_written_heights() {
 
 /// Each bad field gets its own stable code: text that does not parse, a name other than x
 /// and y, a value that is not finite over the footprint (the bbox is x ∈ [−12, 12]), a slope
-/// past tan 80° ≈ 5.67.
+/// past tan 80° ≈ 5.67, and text nested or long enough to exhaust a stack (refused before the
+/// parser recurses).
 #[test]
 fn bad_field_expressions_get_named_codes() {
+    // nested past MAX_EXPRESSION_DEPTH (32), longer than MAX_EXPRESSION_LEN (1000)
+    let deep = format!("{}x{}", "(".repeat(40), ")".repeat(40));
+    let long = "x+".repeat(600) + "x";
     for (expr, code) in [
         ("2*sin(x/5", "warp.expression-unparsable"),
         ("x + t", "warp.expression-unknown-variable"),
         ("ln(x)", "warp.field-not-finite"),
         ("0.1*sqrt(x)", "warp.field-not-finite"),
         ("6*y", "warp.field-too-steep"),
+        (deep.as_str(), "warp.expression-unparsable"),
+        (long.as_str(), "warp.expression-unparsable"),
     ] {
         let mut p = WarpParams {
             spec: WarpSpec::Field {
-                expr: expr.into(),
+                expr: expr.to_string(),
                 grid: None,
             },
             base: None,

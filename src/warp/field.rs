@@ -68,9 +68,46 @@ pub struct Expression {
     partial: [Partial; 2],
 }
 
+/// Longest expression accepted, characters (a page's text box; a formula a teacher types is a
+/// line, not a page).
+pub const MAX_EXPRESSION_LEN: usize = 1000;
+/// Deepest nesting of parentheses accepted: the parser and its symbolic derivatives recurse
+/// once per level (in a debug wasm build a few levels of `sin(x/5)*cos(y/7)` already take
+/// more than wasm's default 1 MiB stack).
+pub const MAX_EXPRESSION_DEPTH: usize = 32;
+
 impl Expression {
     /// Parse `text` as g(x, y): refuses text that does not parse and names other than x and y.
     pub fn parse(text: &str) -> Result<Expression, WarpError> {
+        let unparsable = |message: String| WarpError::ExpressionUnparsable {
+            expr: text.to_string(),
+            message,
+        };
+        // the parser and its derivatives recurse with the nesting: bounded before parsing, so
+        // that no typed text can exhaust the stack (wasm's is 8 MiB, .cargo/config.toml)
+        if text.len() > MAX_EXPRESSION_LEN {
+            return Err(unparsable(format!(
+                "{} characters, at most {MAX_EXPRESSION_LEN}",
+                text.len()
+            )));
+        }
+        let depth = text
+            .chars()
+            .scan(0i64, |d, c| {
+                *d += match c {
+                    '(' => 1,
+                    ')' => -1,
+                    _ => 0,
+                };
+                Some(*d)
+            })
+            .max()
+            .unwrap_or(0);
+        if depth > MAX_EXPRESSION_DEPTH as i64 {
+            return Err(unparsable(format!(
+                "parentheses nested {depth} deep, at most {MAX_EXPRESSION_DEPTH}"
+            )));
+        }
         let g = exmex::parse::<f64>(text).map_err(|e| WarpError::ExpressionUnparsable {
             expr: text.to_string(),
             message: e.to_string(),
