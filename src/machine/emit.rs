@@ -141,6 +141,15 @@ struct Flip {
     turn: f64,
 }
 
+/// A branch flip found by [`MachineEmitter::flipped`]: the pose on the other branch, the
+/// lifted turn to it, and the move from it with its tessellation report.
+struct Flipped {
+    pose: Pose,
+    flip: Flip,
+    moves: Vec<MachineMove>,
+    tess: TessellationReport,
+}
+
 /// The previous pose: raw axes, tip, tool axis.
 #[derive(Clone, Debug)]
 struct Pose {
@@ -777,15 +786,15 @@ impl MachineEmitter {
             })
     }
 
-    /// The previous pose on the machine's other branch and the move to `tp` from it, when the
-    /// flip's lifted turn and the move stay within the travel (the module's "Branch flips");
-    /// `None` otherwise. Counts the move's tessellation only when it is kept.
+    /// The previous pose on the machine's other branch, the flip to it and the move to `tp`
+    /// from it with its tessellation report (`self.tess` plus the move), when the flip's lifted
+    /// turn and the move stay within the travel (the module's "Branch flips"); `None` otherwise.
     fn flipped(
-        &mut self,
+        &self,
         prev: &Pose,
         tp: &ToolPoint,
         printed: Option<&dyn Printed>,
-    ) -> Option<(Pose, Vec<MachineMove>)> {
+    ) -> Option<Flipped> {
         let alt = self.machine.other_branch(prev.p, prev.n, &prev.axes)?;
         if !self.in_travel(&alt) {
             return None;
@@ -811,8 +820,12 @@ impl MachineEmitter {
         if !self.move_in_travel(&pose, &moves, tp, printed) {
             return None;
         }
-        self.tess = tess;
-        Some((pose, moves))
+        Some(Flipped {
+            pose,
+            flip,
+            moves,
+            tess,
+        })
     }
 
     /// The lifted turn of a branch flip from `from` to the axes `to` (the same tip and tool
@@ -865,19 +878,18 @@ impl MachineEmitter {
         Ok(Flip { lift, air, turn })
     }
 
-    /// The branch flip from `from` to `to` ([`MachineEmitter::flip_air`]): lift along the tool
-    /// axis, turn, set down, with nothing extruded, every line tagged [`SWING_TAG`] and the place
-    /// listed with the swing lifts.
+    /// The branch flip `flip` from `from` to `to` ([`MachineEmitter::flip_air`]): lift along
+    /// the tool axis, turn, set down, with nothing extruded, every line tagged [`SWING_TAG`] and
+    /// the place listed with the swing lifts.
     fn flip_branch(
         &mut self,
         out: &mut Vec<u8>,
         from: &Pose,
         to: &Pose,
+        flip: &Flip,
         tp: &ToolPoint,
-        printed: Option<&dyn Printed>,
     ) -> Result<(), MachineError> {
         let output_line = self.next_output_line(out);
-        let flip = self.flip_air(from, &to.axes, printed)?;
         let mut at = (&from.axes[..], from.p);
         for (axes, tip) in &flip.air {
             let length = (*tip - at.1).length();
@@ -923,27 +935,23 @@ impl MachineEmitter {
             });
             return Ok(());
         };
-        let tess_before = self.tess;
+        // the report counts the move as written: on this branch, or on the other after a flip
+        let mut tess = self.tess;
         let mut moves = tessellate_move(
             self.machine.as_ref(),
             (&prev.axes, prev.p, prev.n),
             tp,
             &self.bounds,
-            &mut self.tess,
+            &mut tess,
         )?;
         let mut prev = prev;
         if !self.move_in_travel(&prev, &moves, tp, printed) {
-            let after = self.tess;
-            self.tess = tess_before;
-            match self.flipped(&prev, tp, printed) {
-                Some((pose, flipped)) => {
-                    self.flip_branch(out, &prev, &pose, tp, printed)?;
-                    prev = pose;
-                    moves = flipped;
-                }
-                None => self.tess = after,
+            if let Some(f) = self.flipped(&prev, tp, printed) {
+                self.flip_branch(out, &prev, &f.pose, &f.flip, tp)?;
+                (prev, moves, tess) = (f.pose, f.moves, f.tess);
             }
         }
+        self.tess = tess;
         // extruding or not: a travel's turn in place (a held axis catching up at the end of a
         // planar skirt) is done in the air too
         let swings = swing_runs(&prev.axes, &moves, &self.rotary);
