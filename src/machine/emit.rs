@@ -142,11 +142,12 @@ struct Flip {
 }
 
 /// A branch flip found by [`MachineEmitter::flipped`]: the pose on the other branch, the
-/// lifted turn to it, and the move from it with its tessellation report.
+/// lifted turn to it, and the move from it with its swing runs and tessellation report.
 struct Flipped {
     pose: Pose,
     flip: Flip,
     moves: Vec<MachineMove>,
+    swings: Vec<SwingRun>,
     tess: TessellationReport,
 }
 
@@ -758,32 +759,32 @@ impl MachineEmitter {
     }
 
     /// Whether the move `moves` from `prev` stays within the travel: its pieces, and the
-    /// lifted turns of its swing runs (lifted along +Z, they reach farther on a tilted table).
+    /// lifted turns of its swing runs `swings` (lifted along +Z, they reach farther on a tilted
+    /// table).
     fn move_in_travel(
         &self,
         prev: &Pose,
         moves: &[MachineMove],
+        swings: &[SwingRun],
         tp: &ToolPoint,
         printed: Option<&dyn Printed>,
     ) -> bool {
         if !moves.iter().all(|m| self.in_travel(&m.axes)) {
             return false;
         }
-        swing_runs(&prev.axes, moves, &self.rotary)
-            .iter()
-            .all(|run| {
-                let from = match run.pieces.start {
-                    0 => prev.clone(),
-                    k => Pose {
-                        axes: moves[k - 1].axes.clone(),
-                        p: moves[k - 1].p,
-                        n: moves[k - 1].n,
-                    },
-                };
-                let (lift, poses) = self.swing_air(&from, &moves[run.pieces.clone()], tp, printed);
-                self.air_axes(&from, lift, &poses)
-                    .is_ok_and(|air| air.iter().all(|a| self.in_travel(a)))
-            })
+        swings.iter().all(|run| {
+            let from = match run.pieces.start {
+                0 => prev.clone(),
+                k => Pose {
+                    axes: moves[k - 1].axes.clone(),
+                    p: moves[k - 1].p,
+                    n: moves[k - 1].n,
+                },
+            };
+            let (lift, poses) = self.swing_air(&from, &moves[run.pieces.clone()], tp, printed);
+            self.air_axes(&from, lift, &poses)
+                .is_ok_and(|air| air.iter().all(|a| self.in_travel(a)))
+        })
     }
 
     /// The previous pose on the machine's other branch, the flip to it and the move to `tp`
@@ -817,13 +818,15 @@ impl MachineEmitter {
             &mut tess,
         )
         .ok()?;
-        if !self.move_in_travel(&pose, &moves, tp, printed) {
+        let swings = swing_runs(&pose.axes, &moves, &self.rotary);
+        if !self.move_in_travel(&pose, &moves, &swings, tp, printed) {
             return None;
         }
         Some(Flipped {
             pose,
             flip,
             moves,
+            swings,
             tess,
         })
     }
@@ -945,16 +948,16 @@ impl MachineEmitter {
             &mut tess,
         )?;
         let mut prev = prev;
-        if !self.move_in_travel(&prev, &moves, tp, printed) {
+        // extruding or not: a travel's turn in place (a held axis catching up at the end of a
+        // planar skirt) is done in the air too
+        let mut swings = swing_runs(&prev.axes, &moves, &self.rotary);
+        if !self.move_in_travel(&prev, &moves, &swings, tp, printed) {
             if let Some(f) = self.flipped(&prev, tp, printed) {
                 self.flip_branch(out, &prev, &f.pose, &f.flip, tp)?;
-                (prev, moves, tess) = (f.pose, f.moves, f.tess);
+                (prev, moves, swings, tess) = (f.pose, f.moves, f.swings, f.tess);
             }
         }
         self.tess = tess;
-        // extruding or not: a travel's turn in place (a held axis catching up at the end of a
-        // planar skirt) is done in the air too
-        let swings = swing_runs(&prev.axes, &moves, &self.rotary);
         let mut from = prev.clone();
         let mut k = 0;
         while k < moves.len() {
