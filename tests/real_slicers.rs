@@ -694,15 +694,23 @@ fn machine_case(
     let r = common::machine::check(&spec, &out.toolpath, &lines, 0);
     // WARPSLICE_KEEP_FAILED=DIR (local reproduction): the failed case's machine G-code and
     // toolpath are kept there
-    if let (Err(_), Ok(dir)) = (&r, std::env::var("WARPSLICE_KEEP_FAILED")) {
+    if r.is_err() {
+        keep_failed(name, &text, &out.toolpath);
+    }
+    r.map(|m| outcome(m, checked))
+}
+
+/// WARPSLICE_KEEP_FAILED=DIR (local reproduction): a failed case's machine G-code and toolpath
+/// are kept there as `<preset>.gcode` and `<preset>.toolpath`.
+fn keep_failed(name: &str, gcode: &str, toolpath: &[ToolPoint]) {
+    if let Ok(dir) = std::env::var("WARPSLICE_KEEP_FAILED") {
         let stem = std::path::Path::new(&dir).join(name);
-        let tp: Vec<String> = out.toolpath.iter().map(|t| format!("{t:?}")).collect();
+        let tp: Vec<String> = toolpath.iter().map(|t| format!("{t:?}")).collect();
         let kept = std::fs::create_dir_all(&dir)
-            .and_then(|()| std::fs::write(stem.with_extension("gcode"), &text))
+            .and_then(|()| std::fs::write(stem.with_extension("gcode"), gcode))
             .and_then(|()| std::fs::write(stem.with_extension("toolpath"), tp.join("\n")));
         println!("{name}: failed case kept in {dir}: {kept:?}");
     }
-    r.map(|m| outcome(m, checked))
 }
 
 /// A walked machine file's outcome: written (`Ok`: how the check went) or refused by the
@@ -779,23 +787,76 @@ fn confirm_collision(
             f.line
         ));
     }
-    let text = String::from_utf8_lossy(&out.gcode);
-    let c = match common::collide::confirm(spec, &text, f.line as usize, &f.part, &f.obstacle) {
-        Ok(c) => c,
-        // shallower than the helper's bead sampling can see: said so, not called confirmed
-        Err(why) if f.depth_mm <= common::collide::UNSEEN_DEPTH_MM => {
-            return Ok((out, format!(
-                "NOT re-found, below the helper's resolution ({:.3} ≤ {} mm): line {} (input line {}), layer {}, {} into {}: {why}",
-                f.depth_mm,
-                common::collide::UNSEEN_DEPTH_MM,
+    let text = String::from_utf8_lossy(&out.gcode).into_owned();
+    let (f, c, first) = match common::collide::confirm_or_miss(
+        spec,
+        &text,
+        f.line as usize,
+        &f.part,
+        &f.obstacle,
+    ) {
+        Ok(c) => (f, c, String::new()),
+        // shallower than the helper can see on that move: a deeper finding of the whole
+        // listing (allow_collisions) is confirmed instead, or said to be below it too
+        Err(m) if f.depth_mm <= m.unseen_mm => {
+            let first = format!(
+                "the first finding, line {} (input line {}), layer {}, {} into {}, {:.3} mm, is below the helper's resolution there ({:.3} mm: {}); ",
                 f.line,
                 f.input_line.map_or("-".into(), |l| l.to_string()),
                 f.layer,
                 f.part,
-                f.obstacle
-            )))
+                f.obstacle,
+                f.depth_mm,
+                m.unseen_mm,
+                m.why
+            );
+            let mut listing = opts.clone();
+            listing.output.allow_collisions = true;
+            let all = unwarp_with_stl(input, job, &listing, Some(stl))
+                .map_err(|e| format!("refused ({refusal}), and with allow_collisions: {e}"))?;
+            // the first finding twice as deep as the helper's resolution on the first's move
+            // (early in the file: the helper walks the file up to it), else the deepest
+            let listed = all
+                .report
+                .machine
+                .as_ref()
+                .map_or(&[][..], |m| &m.collisions[..]);
+            let deepest = listed
+                .iter()
+                .find(|g| g.depth_mm > 2.0 * m.unseen_mm)
+                .or_else(|| {
+                    listed
+                        .iter()
+                        .max_by(|a, b| a.depth_mm.total_cmp(&b.depth_mm))
+                })
+                .ok_or(format!(
+                    "refused ({refusal}), but allow_collisions lists no finding"
+                ))?
+                .clone();
+            match common::collide::confirm_or_miss(spec, &text, deepest.line as usize, &deepest.part, &deepest.obstacle) {
+                Ok(c) => (deepest, c, first),
+                Err(d) if deepest.depth_mm <= d.unseen_mm => {
+                    return Ok((out, format!(
+                        "NOT re-found, below the helper's resolution: {first}the next, line {}, {:.3} mm, too ({:.3} mm: {})",
+                        deepest.line, deepest.depth_mm, d.unseen_mm, d.why
+                    )))
+                }
+                Err(d) => {
+                    keep_failed(&spec.name, &text, &out.toolpath);
+                    return Err(format!(
+                        "refused ({refusal}): {first}the next finding, line {} ({} into {}, {:.3} mm), is not confirmed independently: {}",
+                        deepest.line, deepest.part, deepest.obstacle, deepest.depth_mm, d.why
+                    ));
+                }
+            }
         }
-        Err(why) => return Err(format!("refused ({refusal}), not confirmed independently: {why}")),
+        Err(m) => {
+            keep_failed(&spec.name, &text, &out.toolpath);
+            return Err(format!(
+                "refused ({refusal}), not confirmed independently: {}",
+                m.why
+            ));
+        }
     };
     // a box checked as its enclosing cylinder (no head frame in the helper for this machine)
     // is a larger solid: its depth bounds the checker's from above only
@@ -808,7 +869,7 @@ fn confirm_collision(
         ));
     }
     let why = format!(
-        "confirmed: at least {total} finding(s); first line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
+        "confirmed: at least {total} finding(s); {first}line {} (input line {}), layer {}, {} into {}: checker {:.3} mm, helper {:.3} mm{}",
         f.line,
         f.input_line.map_or("-".into(), |l| l.to_string()),
         f.layer,

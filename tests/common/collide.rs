@@ -69,12 +69,36 @@ pub const POSE_STEP_MM: f64 = 0.025;
 /// Sum: 0.62 mm, rounded up to 0.65. A depth beyond it on either side is a disagreement.
 pub const DEPTH_TOLERANCE_MM: f64 = 0.65;
 
-/// The shallowest overlap the helper is sure to see, mm: its bead points are within 0.075 mm
+/// The overlap the helper may miss between its points, mm: its bead points are within 0.075 mm
 /// horizontally of any bead point (see [`DEPTH_TOLERANCE_MM`]), and a part's lower face rises
 /// at most 1.19 mm per mm (the 40° nozzle cone), so an overlap shallower than 0.075 × 1.19 =
-/// 0.09 mm may lie wholly between the points. A finding shallower than this that the helper
-/// does not re-find is reported as below its resolution, not as confirmed.
+/// 0.09 mm may lie wholly between the points. On a sloped layer the checker's material also
+/// stands higher than the helper's flat beads (see [`unseen_depth_mm`]).
 pub const UNSEEN_DEPTH_MM: f64 = 0.09;
+
+/// Half the diagonal of the checker's 0.2 mm material cell, mm, rounded up: a cell keeps the
+/// highest bead top in it, up to this far across from where the helper has its point.
+pub const CELL_REACH_MM: f64 = 0.14;
+
+/// The shallowest overlap the helper is sure to see on a move whose tool axis is tilted by up to
+/// `tilt_deg` from the part's vertical with beads `w` mm wide, mm: [`UNSEEN_DEPTH_MM`] between
+/// the points, plus how much higher the checker's material may stand than the helper's flat
+/// beads — its bead top follows the layer's slope (the tool axis is the layer's normal) across
+/// the half-width, and its cell keeps the highest top within [`CELL_REACH_MM`]: `(w/2 +
+/// CELL_REACH_MM)·tan(tilt)`. At 30° and w = 0.45: 0.09 + 0.21 = 0.30 mm. A finding shallower
+/// than this that the helper does not re-find is reported as below its resolution, not as
+/// confirmed.
+pub fn unseen_depth_mm(tilt_deg: f64, w: f64) -> f64 {
+    UNSEEN_DEPTH_MM + (0.5 * w + CELL_REACH_MM) * tilt_deg.to_radians().tan()
+}
+
+/// A finding the helper did not re-find: why, and the shallowest overlap it is sure to see on
+/// that move ([`unseen_depth_mm`] at the move's largest tilt).
+#[derive(Clone, Debug)]
+pub struct Missed {
+    pub why: String,
+    pub unseen_mm: f64,
+}
 
 /// What the helper found for a finding.
 #[derive(Clone, Debug)]
@@ -282,6 +306,33 @@ pub fn confirm(
     part: &str,
     obstacle: &str,
 ) -> Result<Confirmed, String> {
+    confirm_or_miss(spec, gcode, line, part, obstacle).map_err(|m| m.why)
+}
+
+/// [`confirm`], saying on a miss how shallow an overlap the helper may miss on that move.
+pub fn confirm_or_miss(
+    spec: &MachineSpec,
+    gcode: &str,
+    line: usize,
+    part: &str,
+    obstacle: &str,
+) -> Result<Confirmed, Missed> {
+    walk(spec, gcode, line, part, obstacle).unwrap_or_else(|why| {
+        Err(Missed {
+            why,
+            unseen_mm: UNSEEN_DEPTH_MM,
+        })
+    })
+}
+
+/// Reads the file up to `line` and judges that move: `Err` when the file cannot be read so far.
+fn walk(
+    spec: &MachineSpec,
+    gcode: &str,
+    line: usize,
+    part: &str,
+    obstacle: &str,
+) -> Result<Result<Confirmed, Missed>, String> {
     let fk = Fk::from_spec(spec)?;
     let letters: Vec<String> = spec
         .axis_names()
@@ -422,7 +473,7 @@ fn judge(
     w: f64,
     h: f64,
     at: &dyn Fn(f64) -> Vec<f64>,
-) -> Result<Confirmed, String> {
+) -> Result<Result<Confirmed, Missed>, String> {
     let far = reach(part);
     let mut best: Option<Confirmed> = None;
     let mut enclosing = false;
@@ -520,8 +571,17 @@ fn judge(
             }
         }
     }
-    best.ok_or(format!(
-        "no {obstacle} inside the {} over the move's {POSES} poses",
-        part.name()
-    ))
+    // the largest tilt of the tool axis from the part's vertical over the move (the layer's
+    // slope there: the tool axis is the layer's normal)
+    let tilt = poses
+        .iter()
+        .map(|(_, _, n)| n.z.clamp(-1.0, 1.0).acos().to_degrees())
+        .fold(0.0, f64::max);
+    Ok(best.ok_or(Missed {
+        why: format!(
+            "no {obstacle} inside the {} over the move's {POSES} poses (tilt up to {tilt:.1}°)",
+            part.name()
+        ),
+        unseen_mm: unseen_depth_mm(tilt, w),
+    }))
 }
