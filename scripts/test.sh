@@ -93,6 +93,13 @@ tier_native() {
       echo "NOTE: ../shared/corpus/stl/INDEX.txt not found next to the repository: the corpus tests will FAIL (WARPSLICE_ALLOW_SKIP=1 skips them in a local run)"
     fi
   fi
+  # The real-slicer matrix's rotation (tests/real_slicers.rs): each run gives every case the
+  # next slicer × E mode; the commit count shifts it from one CI run to the next.
+  if [[ -z "${WARPSLICE_ROTATION:-}" ]]; then
+    WARPSLICE_ROTATION=$(git rev-list --count HEAD 2>/dev/null || echo 0)
+    export WARPSLICE_ROTATION
+  fi
+  echo "real-slicer matrix rotation: WARPSLICE_ROTATION=$WARPSLICE_ROTATION (WARPSLICE_FULL_MATRIX=1: the whole product)"
   timed native cargo test --release
 }
 
@@ -101,9 +108,22 @@ tier_fuzz() {
   timed fuzz cargo build --manifest-path fuzz/Cargo.toml --bins
 }
 
+# The test files with wasm-bindgen tests for node (the others are native-only or plain
+# #[test]s, which the wasm-bindgen runner does not run: each would still be bindgen'd and
+# started in node, 3 s apiece; tests/web_wasm.rs runs in the browser, in the web tier).
+wasm_test_args() {
+  local f
+  for f in tests/*.rs; do
+    if grep -q 'wasm_bindgen_test' "$f" && ! grep -q 'run_in_browser' "$f"; then
+      printf -- '--test %s ' "$(basename "$f" .rs)"
+    fi
+  done
+}
+
 tier_wasm() {
-  header wasm "wasm-pack test --node"
-  timed wasm wasm-pack test --node
+  header wasm "wasm-pack test --node -- $(wasm_test_args)"
+  # shellcheck disable=SC2046 # one word per argument
+  timed wasm wasm-pack test --node -- $(wasm_test_args)
 }
 
 # ---------------------------------------------------------------------------------------------
@@ -121,7 +141,7 @@ web_tests() {
   fi
   # Browser-only wasm tests (File, Blob, Worker) in headless chromium (chromedriver on PATH;
   # webdriver.json passes chromium's flags).
-  wasm-pack test --headless --chrome -- --features browser-tests --test web_wasm || return
+  wasm-pack test --headless --chrome -- --test web_wasm || return
   if [[ -f www/tests/run.mjs ]]; then
     node www/tests/run.mjs
   else

@@ -2,9 +2,10 @@
 //! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them) and the built-in planar
 //! slicer (`builtin`, issue 14: its default settings, checked exactly like the others): for
 //! each slicer × {relative E, absolute E} × the five acceptance warps on the generated parts
-//! (each case with one slicer in both E modes, in turn: [`Rotate::BothModesOf`]); and every
+//! (each case with one slicer and E mode, in turn: [`Rotate::OneComboOf`]); and every
 //! corpus model marked `accept` × the five warps, each
 //! case with one slicer and E mode in turn (so every slicer and E mode meets every model; the
+//! combinations shift by one each CI run, [`rotation`]; the
 //! full product, `WARPSLICE_FULL_MATRIX=1`, runs every generated case with every slicer and E
 //! mode and all 640 corpus cases, over the suite's budget: see the README for its time):
 //! warp → slice → unwarp, then the independent checker of the written G-code
@@ -88,30 +89,39 @@ struct Matrix<'a> {
     rotate: Rotate,
 }
 
-/// Which cases i = m·warps + w of a matrix a test runs (`WARPSLICE_FULL_MATRIX=1`: all).
+/// Which cases i = m·warps + w of a matrix a test runs (`WARPSLICE_FULL_MATRIX=1`: all). Each
+/// case runs with one slicer × E mode of the [`COMBOS`], shifted by the run's rotation r
+/// ([`rotation`]): a run covers every case once, and consecutive runs (CI sets r from the
+/// commit count) give each case the next slicer and E mode, so that eight runs meet the
+/// whole product.
 #[derive(Clone, Copy)]
 enum Rotate {
-    /// The corpus: i mod [`COMBOS`] = slot (each case with one slicer × E mode).
+    /// The corpus: (i + r) mod [`COMBOS`] = slot — every model meets five of the eight slicer ×
+    /// E-mode slots per run (its five warps), and the models together all of them.
     OneOf(usize),
-    /// The generated parts: (m + w) mod [`SLICERS`] = slot / 2 for part m and warp w, so that
-    /// each case runs with one slicer in both E modes (slots 2k and 2k + 1 are slicer k's
-    /// relative and absolute E): every part meets every slicer in both E modes (its eight
-    /// warps), and every warp every slicer (its cases on the five parts), in every run. (Until
-    /// the field warp made them eight, i mod 4 of i = 7m + w did the same.)
-    /// Until 2026-11-27 each case ran with six of the eight combinations (210 case runs, most of
-    /// the rotation's time); now 70, for the suite's 30-minute budget.
-    BothModesOf(usize),
+    /// The generated parts: (m + w + r) mod [`COMBOS`] = slot for part m and warp w — every part
+    /// meets every slicer in both E modes in every run (its eight warps), every warp five slots
+    /// (three or four slicers) per run and all eight over the rotation. (Until 2026-11-28 each
+    /// case ran with one slicer in both E modes: 80 case runs, about half of the matrix's
+    /// time; now 40, for the suite's 30-minute budget.)
+    OneComboOf(usize),
 }
 
-/// The slicers of the matrix: PrusaSlicer, Slic3r, CuraEngine and the built-in one.
-const SLICERS: usize = 4;
+/// The run's rotation r: `WARPSLICE_ROTATION` (a number; `scripts/test.sh` sets it to the
+/// commit count, so each CI run shifts every case to its next slicer × E mode), else 0.
+fn rotation() -> usize {
+    std::env::var("WARPSLICE_ROTATION")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .unwrap_or(0)
+}
 
 impl Rotate {
-    /// Whether case (part `m`, warp `w`) of a matrix with `nw` warps runs.
-    fn runs(self, m: usize, w: usize, nw: usize) -> bool {
+    /// Whether case (part `m`, warp `w`) of a matrix with `nw` warps runs at rotation `r`.
+    fn runs(self, m: usize, w: usize, nw: usize, r: usize) -> bool {
         match self {
-            Rotate::OneOf(slot) => (m * nw + w) % COMBOS == slot,
-            Rotate::BothModesOf(slot) => (m + w) % SLICERS == slot / 2,
+            Rotate::OneOf(slot) => (m * nw + w + r) % COMBOS == slot,
+            Rotate::OneComboOf(slot) => (m + w + r) % COMBOS == slot,
         }
     }
 }
@@ -259,9 +269,13 @@ fn matrix(kind: impl Into<Slicer>, e_mode: EMode, tag: &str, mx: Matrix<'_>) {
     // WARPSLICE_FULL_MATRIX=1: every corpus case with every slicer × E mode (6× longer, over
     // the suite's budget)
     let full = std::env::var("WARPSLICE_FULL_MATRIX").as_deref() == Ok("1");
+    let r = rotation();
+    if !full {
+        println!("{tag}: rotation {r} (WARPSLICE_ROTATION; WARPSLICE_FULL_MATRIX=1 runs every case with every slicer and E mode)");
+    }
     let mut cases: Vec<(usize, usize)> = (0..models.len())
         .flat_map(|m| (0..nw).map(move |w| (m, w)))
-        .filter(|&(m, w)| full || rotate.runs(m, w, nw))
+        .filter(|&(m, w)| full || rotate.runs(m, w, nw, r))
         .collect();
     // WARPSLICE_CASES="model:warp,…" (local reproduction of one case; substrings): only those
     if let Ok(only) = std::env::var("WARPSLICE_CASES") {
@@ -924,7 +938,7 @@ fn generated<'a>(slot: usize) -> Matrix<'a> {
         models: common::generated_models(),
         warps: generated_warps(),
         presets: Presets::ThreeRound,
-        rotate: Rotate::BothModesOf(slot),
+        rotate: Rotate::OneComboOf(slot),
     }
 }
 
