@@ -91,7 +91,7 @@ struct Matrix<'a> {
 
 /// Which cases i = m·warps + w of a matrix a test runs (`WARPSLICE_FULL_MATRIX=1`: all). Each
 /// case runs with one slicer × E mode of the [`COMBOS`], shifted by the run's rotation r
-/// ([`rotation`]): a run covers every case once, and consecutive runs (CI sets r from the
+/// ([`rotation`]): a run covers every case once, and consecutive runs (CI sets r from the code
 /// commit count) give each case the next slicer and E mode, so that eight runs meet the
 /// whole product.
 #[derive(Clone, Copy)]
@@ -108,7 +108,8 @@ enum Rotate {
 }
 
 /// The run's rotation r: `WARPSLICE_ROTATION` (a number; `scripts/test.sh` sets it to the
-/// commit count, so each CI run shifts every case to its next slicer × E mode), else 0.
+/// count of commits that change src/ or tests/, so each CI run after a code change shifts every
+/// case to its next slicer × E mode), else 0.
 fn rotation() -> usize {
     std::env::var("WARPSLICE_ROTATION")
         .ok()
