@@ -4,8 +4,8 @@
 //! 1. The bench sphere of `examples/bench.rs` (radius 120 mm, 301 × 375, 225 000 triangles),
 //!    in the model frame: preparing the facets ([`Facets::new`] and the search's samples),
 //!    one overhang measure under a 30° cone, and `suggest` on two presets with different tilt
-//!    limits (`ratrig-vcore3-3z` 30°, `pax-5axis` 90°), all four families (issue 15's target:
-//!    ≤ 2 s natively).
+//!    limits (`ratrig-vcore3-3z` 30°, `pax-5axis` 90°), the default families with the fitted
+//!    field and then without it (issue 15's target: ≤ 2 s natively).
 //! 2. The largest `accept` model of the corpus (`np_rear_case_bin_solidheader.stl`, 18 808
 //!    triangles) when `../shared/corpus/stl` is there.
 //!
@@ -16,7 +16,7 @@ use std::time::Instant;
 use glam::DVec3;
 use warpslice::machine::preset;
 use warpslice::overhang::Facets;
-use warpslice::suggest::{self, Model, SuggestOptions};
+use warpslice::suggest::{self, Family, Model, SuggestOptions, FAMILIES};
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 /// This process' CPU time (user + system), seconds, from /proc/self/stat (Linux; 0 elsewhere).
@@ -74,13 +74,29 @@ fn run_on(name: &str, model: &Model, rounds: usize) {
         m.area_mm2,
         model.facets.measure(None, 45.0).area_mm2
     );
+    // the default families, then without the fitted field (what the fit itself costs)
+    let families = [
+        ("", SuggestOptions::default()),
+        (
+            " without the field",
+            SuggestOptions {
+                families: FAMILIES
+                    .iter()
+                    .copied()
+                    .filter(|&f| f != Family::Field)
+                    .collect(),
+                ..SuggestOptions::default()
+            },
+        ),
+    ];
     for machine in ["ratrig-vcore3-3z", "pax-5axis"] {
         let spec = preset(machine).expect("preset");
-        let ((t, cpu), r) = best_of(rounds, || {
-            suggest::suggest(model, &spec, &SuggestOptions::default()).expect("suggest")
-        });
-        println!(
-            "  suggest on {machine}: {t:.3} s wall, {cpu:.2} s CPU, {} warps measured; best: {}",
+        for (what, options) in &families {
+            let ((t, cpu), r) = best_of(rounds, || {
+                suggest::suggest(model, &spec, options).expect("suggest")
+            });
+            println!(
+            "  suggest{what} on {machine}: {t:.3} s wall, {cpu:.2} s CPU, {} warps measured; best: {}",
             r.measured,
             r.suggestions
                 .first()
@@ -89,6 +105,7 @@ fn run_on(name: &str, model: &Model, rounds: usize) {
                     s.flags, s.overhang_area_mm2
                 ))
         );
+        }
     }
 }
 
