@@ -4,9 +4,12 @@
 //! each slicer × {relative E, absolute E} × the five acceptance warps on the generated parts
 //! (each case with one slicer in both E modes, in turn: [`Rotate::BothModesOf`]); and every
 //! corpus model marked `accept` × the five warps, each
-//! case with one slicer and E mode in turn (so every slicer and E mode meets every model; the
+//! case with one slicer and E mode in turn (so every slicer and E mode meets every model), and
+//! the typed field on every other corpus model, one case per corpus test
+//! ([`Rotate::OneOfWithField`]); the
 //! full product, `WARPSLICE_FULL_MATRIX=1`, runs every generated case with every slicer and E
-//! mode and all 640 corpus cases, over the suite's budget: see the README for its time):
+//! mode and all 768 corpus cases (the field on every model), over the suite's budget: see the
+//! README for its time):
 //! warp → slice → unwarp, then the independent checker of the written G-code
 //! (tests/common/check.rs: placement, layer surfaces on vertices and chords, segment length, E
 //! per class, travels, retractions, bed) and checks b and e of tests/common. A warp that the acceptance requires to
@@ -101,6 +104,14 @@ enum Rotate {
     /// Until 2026-11-27 each case ran with six of the eight combinations (210 case runs, most of
     /// the rotation's time); now 70, for the suite's 30-minute budget.
     BothModesOf(usize),
+    /// The corpus with the typed field last among its warps (issue 15: "field warps through
+    /// the real-slicer matrix like every other warp, one slicer per model, rotating"): the
+    /// other warps as [`Rotate::OneOf`] (i = m·(warps − 1) + w, so their cases keep their
+    /// slots), and the field on every other model (m even: eight of the sixteen `accept`
+    /// models), model m in slot m/2 mod [`COMBOS`] — one case per corpus test, each model with
+    /// one slicer, the slicers rotating over the models. `WARPSLICE_FULL_MATRIX=1` runs the
+    /// field on every model with every slicer.
+    OneOfWithField(usize),
 }
 
 /// The slicers of the matrix: PrusaSlicer, Slic3r, CuraEngine and the built-in one.
@@ -112,6 +123,10 @@ impl Rotate {
         match self {
             Rotate::OneOf(slot) => (m * nw + w) % COMBOS == slot,
             Rotate::BothModesOf(slot) => (m + w) % SLICERS == slot / 2,
+            Rotate::OneOfWithField(slot) if w + 1 == nw => {
+                m.is_multiple_of(2) && (m / 2) % COMBOS == slot
+            }
+            Rotate::OneOfWithField(slot) => Rotate::OneOf(slot).runs(m, w, nw - 1),
         }
     }
 }
@@ -928,12 +943,16 @@ fn generated<'a>(slot: usize) -> Matrix<'a> {
     }
 }
 
+/// The corpus for slicer × E-mode slot `slot` (0–7): the acceptance warps and, last, the
+/// typed field ([`Rotate::OneOfWithField`]).
 fn corpus<'a>(slot: usize) -> Matrix<'a> {
+    let mut warps = common::acceptance_warps();
+    warps.push(common::acceptance::field_ripple());
     Matrix {
         models: common::corpus_accept(),
-        warps: common::acceptance_warps(),
+        warps,
         presets: Presets::TwoByWarp,
-        rotate: Rotate::OneOf(slot),
+        rotate: Rotate::OneOfWithField(slot),
     }
 }
 
