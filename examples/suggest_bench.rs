@@ -9,7 +9,9 @@
 //! 2. The largest `accept` model of the corpus (`np_rear_case_bin_solidheader.stl`, 18 808
 //!    triangles) when `../shared/corpus/stl` is there.
 //!
-//! Times are the best of `--rounds` (default 1) wall-clock runs on this machine.
+//! Times are the best of `--rounds` (default 1) wall-clock runs on this machine, with that
+//! run's CPU time. `--stl-out PATH` writes the bench sphere's STL and measures the sphere read
+//! back from it: the input of `bench/suggest-wasm.mjs`, the same `suggest` in Node wasm.
 
 use std::time::Instant;
 
@@ -118,6 +120,21 @@ fn main() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(1);
     let sphere = warpslice::mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
+    // `--stl-out PATH`: write the sphere as STL and run on it as read back (f32 vertices), the
+    // input `bench/suggest-wasm.mjs` times in wasm
+    let stl_out = args
+        .iter()
+        .position(|a| a == "--stl-out")
+        .and_then(|i| args.get(i + 1));
+    let sphere = match stl_out {
+        Some(path) => {
+            let bytes = warpslice::mesh::write_stl(&sphere, "suggest_bench sphere");
+            std::fs::write(path, &bytes).expect("--stl-out");
+            println!("bench sphere written to {path}; measured as read back");
+            suggest::model_of(&bytes).expect("the written STL").mesh
+        }
+        None => sphere,
+    };
     let ((t, _), model) = best_of(rounds, || Model::new(sphere.clone()));
     let ((tf, _), _) = best_of(rounds, || Facets::new(&sphere));
     println!(
