@@ -51,10 +51,12 @@ pub const FIT_HALVINGS: usize = 3;
 /// Most candidates the fit measures.
 pub const MAX_FIT_EVALS: usize = 1000;
 /// Most facet measures (candidates × facets that can overhang) the fit spends, so that
-/// `suggest` keeps issue 15's 2 s on a 225 000-triangle model: on the bench sphere the fit then
-/// costs under 0.1 s of CPU (`examples/suggest_bench`, 2026-11-27 21:21 UTC, load 3.7: pax-5axis
-/// 2.33 s with the field, 2.34 s without; 1e7 measures cost 1.4–1.7 s more); models below
-/// ~1 000 such facets get the full [`MAX_FIT_EVALS`].
+/// `suggest` keeps near issue 15's 2 s on a 225 000-triangle model: on the bench sphere the fit
+/// then costs 0.1–0.3 s of CPU (`examples/suggest_bench`, which prints `suggest` with and
+/// without the field; 2026-11-28 00:15 UTC, load 4.5: ratrig-vcore3-3z 1.76 s with, 1.49 s
+/// without; pax-5axis 2.18 s, 2.04 s, where the fit stops after its exact starts: the cone
+/// leaves 0; 1e7 measures cost 1.4–1.7 s more); models below ~1 000 such facets get the full
+/// [`MAX_FIT_EVALS`].
 pub const FIT_FACET_BUDGET: usize = 1_000_000;
 /// The scales each family warp's sampled height is tried at as a start: a family's best warp
 /// often puts facets exactly at the overhang angle (a ledge under a 45° belt at θ = 45°), where
