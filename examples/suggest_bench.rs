@@ -4,19 +4,21 @@
 //! 1. The bench sphere of `examples/bench.rs` (radius 120 mm, 301 × 375, 225 000 triangles),
 //!    in the model frame: preparing the facets ([`Facets::new`] and the search's samples),
 //!    one overhang measure under a 30° cone, and `suggest` on two presets with different tilt
-//!    limits (`ratrig-vcore3-3z` 30°, `pax-5axis` 90°), all four families (issue 15's target:
-//!    ≤ 2 s natively).
+//!    limits (`ratrig-vcore3-3z` 30°, `pax-5axis` 90°), the default families with the fitted
+//!    field and then without it (issue 15's target: ≤ 2 s natively).
 //! 2. The largest `accept` model of the corpus (`np_rear_case_bin_solidheader.stl`, 18 808
 //!    triangles) when `../shared/corpus/stl` is there.
 //!
-//! Times are the best of `--rounds` (default 1) wall-clock runs on this machine.
+//! Times are the best of `--rounds` (default 1) wall-clock runs on this machine, with that
+//! run's CPU time. `--stl-out PATH` writes the bench sphere's STL and measures the sphere read
+//! back from it: the input of `bench/suggest-wasm.mjs`, the same `suggest` in Node wasm.
 
 use std::time::Instant;
 
 use glam::DVec3;
 use warpslice::machine::preset;
 use warpslice::overhang::Facets;
-use warpslice::suggest::{self, Model, SuggestOptions};
+use warpslice::suggest::{self, Family, Model, SuggestOptions, FAMILIES};
 use warpslice::warp::{Direction, WarpParams, WarpSpec};
 
 /// This process' CPU time (user + system), seconds, from /proc/self/stat (Linux; 0 elsewhere).
@@ -74,13 +76,29 @@ fn run_on(name: &str, model: &Model, rounds: usize) {
         m.area_mm2,
         model.facets.measure(None, 45.0).area_mm2
     );
+    // the default families, then without the fitted field (what the fit itself costs)
+    let families = [
+        ("", SuggestOptions::default()),
+        (
+            " without the field",
+            SuggestOptions {
+                families: FAMILIES
+                    .iter()
+                    .copied()
+                    .filter(|&f| f != Family::Field)
+                    .collect(),
+                ..SuggestOptions::default()
+            },
+        ),
+    ];
     for machine in ["ratrig-vcore3-3z", "pax-5axis"] {
         let spec = preset(machine).expect("preset");
-        let ((t, cpu), r) = best_of(rounds, || {
-            suggest::suggest(model, &spec, &SuggestOptions::default()).expect("suggest")
-        });
-        println!(
-            "  suggest on {machine}: {t:.3} s wall, {cpu:.2} s CPU, {} warps measured; best: {}",
+        for (what, options) in &families {
+            let ((t, cpu), r) = best_of(rounds, || {
+                suggest::suggest(model, &spec, options).expect("suggest")
+            });
+            println!(
+            "  suggest{what} on {machine}: {t:.3} s wall, {cpu:.2} s CPU, {} warps measured; best: {}",
             r.measured,
             r.suggestions
                 .first()
@@ -89,6 +107,7 @@ fn run_on(name: &str, model: &Model, rounds: usize) {
                     s.flags, s.overhang_area_mm2
                 ))
         );
+        }
     }
 }
 
@@ -101,6 +120,21 @@ fn main() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(1);
     let sphere = warpslice::mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
+    // `--stl-out PATH`: write the sphere as STL and run on it as read back (f32 vertices), the
+    // input `bench/suggest-wasm.mjs` times in wasm
+    let stl_out = args
+        .iter()
+        .position(|a| a == "--stl-out")
+        .and_then(|i| args.get(i + 1));
+    let sphere = match stl_out {
+        Some(path) => {
+            let bytes = warpslice::mesh::write_stl(&sphere, "suggest_bench sphere");
+            std::fs::write(path, &bytes).expect("--stl-out");
+            println!("bench sphere written to {path}; measured as read back");
+            suggest::model_of(&bytes).expect("the written STL").mesh
+        }
+        None => sphere,
+    };
     let ((t, _), model) = best_of(rounds, || Model::new(sphere.clone()));
     let ((tf, _), _) = best_of(rounds, || Facets::new(&sphere));
     println!(

@@ -204,8 +204,22 @@ impl Facets {
             .chain(&self.vertices)
             .map(|&p| warp.tool_axis(p).z)
             .fold(1.0_f64, f64::min);
-        crate::num::deg(crate::num::acos(min_cos.clamp(-1.0, 1.0)))
+        tilt_deg(min_cos)
     }
+
+    /// The tilt of `warp`'s tool axis from +z at each facet's centroid (the point the overhang
+    /// rule reads n at), degrees, facet order: the page's tilt map.
+    pub fn tilts_deg(&self, warp: &dyn Warp) -> Vec<f64> {
+        self.centroids
+            .iter()
+            .map(|&p| tilt_deg(warp.tool_axis(p).z))
+            .collect()
+    }
+}
+
+/// ∠(n, +z) = acos n_z of a unit n with z component `cos`, degrees.
+fn tilt_deg(cos: f64) -> f64 {
+    crate::num::deg(crate::num::acos(cos.clamp(-1.0, 1.0)))
 }
 
 fn tool_axis(warp: Option<&dyn Warp>, p: DVec3) -> DVec3 {

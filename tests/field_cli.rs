@@ -153,7 +153,8 @@ fn overhangs_and_run_take_a_field_and_refuse_bad_ones_by_code() {
 }
 
 /// `suggest` lists a fitted field whose `flags` `warpslice warp` takes (split at spaces, as a
-/// shell would), and `warp --suggested N` of that entry writes the same warped part.
+/// shell would), and `warp --suggested N` of that entry writes the same warped part; the field
+/// is a correction over the best family warp (`--over`), which both jobs store.
 #[test]
 fn a_suggested_field_is_applied_by_its_flags_and_by_suggested_n() {
     let d = dir("suggested");
@@ -180,6 +181,12 @@ fn a_suggested_field_is_applied_by_its_flags_and_by_suggested_n() {
         })
         .expect("a fitted field among the suggestions");
     let flags = field["flags"].as_str().unwrap();
+    // the fit starts at the best family warp and keeps it as the field's family part
+    let over = flags
+        .split_whitespace()
+        .skip_while(|w| *w != "--over")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no --over in {flags}"));
     let mut args = vec!["warp", "--machine", "pax-5axis", "-o"];
     let by_flags = p("F.stl");
     args.push(&by_flags);
@@ -203,4 +210,10 @@ fn a_suggested_field_is_applied_by_its_flags_and_by_suggested_n() {
         std::fs::read(p("N.stl")).unwrap(),
         "{flags}"
     );
+    // both jobs store the family part
+    for job in ["F.job.json", "N.job.json"] {
+        let j: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(p(job)).unwrap()).unwrap();
+        assert_eq!(j["warp"]["spec"]["over"], over, "{job}: {j}");
+    }
 }

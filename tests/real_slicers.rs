@@ -5,9 +5,11 @@
 //! (each case with one slicer and E mode, in turn: [`Rotate::OneComboOf`]); and every
 //! corpus model marked `accept` × the five warps, each
 //! case with one slicer and E mode in turn (so every slicer and E mode meets every model; the
-//! combinations shift by one each CI run, [`rotation`]; the
+//! combinations shift by one each CI run, [`rotation`]), and the typed field on every other
+//! corpus model, one case per corpus test ([`Rotate::OneOfWithField`]); the
 //! full product, `WARPSLICE_FULL_MATRIX=1`, runs every generated case with every slicer and E
-//! mode and all 640 corpus cases, over the suite's budget: see the README for its time):
+//! mode and all 768 corpus cases (the field on every model), over the suite's budget: see the
+//! README for its time):
 //! warp → slice → unwarp, then the independent checker of the written G-code
 //! (tests/common/check.rs: placement, layer surfaces on vertices and chords, segment length, E
 //! per class, travels, retractions, bed) and checks b and e of tests/common. A warp that the acceptance requires to
@@ -105,6 +107,14 @@ enum Rotate {
     /// case ran with one slicer in both E modes: 80 case runs, about half of the matrix's
     /// time; now 40, for the suite's 30-minute budget.)
     OneComboOf(usize),
+    /// The corpus with the typed field last among its warps (issue 15: "field warps through
+    /// the real-slicer matrix like every other warp, one slicer per model, rotating"): the
+    /// other warps as [`Rotate::OneOf`] (i = m·(warps − 1) + w, so their cases keep their
+    /// slots), and the field on every other model (m + r even: eight of the sixteen `accept`
+    /// models, the other eight in the next run), model m in slot (m + r)/2 mod [`COMBOS`] — one
+    /// case per corpus test, each model with one slicer, the slicers rotating over the models.
+    /// `WARPSLICE_FULL_MATRIX=1` runs the field on every model with every slicer.
+    OneOfWithField(usize),
 }
 
 /// The run's rotation r: `WARPSLICE_ROTATION` (a number; `scripts/test.sh` sets it to the
@@ -123,6 +133,10 @@ impl Rotate {
         match self {
             Rotate::OneOf(slot) => (m * nw + w + r) % COMBOS == slot,
             Rotate::OneComboOf(slot) => (m + w + r) % COMBOS == slot,
+            Rotate::OneOfWithField(slot) if w + 1 == nw => {
+                (m + r).is_multiple_of(2) && ((m + r) / 2) % COMBOS == slot
+            }
+            Rotate::OneOfWithField(slot) => Rotate::OneOf(slot).runs(m, w, nw - 1, r),
         }
     }
 }
@@ -943,12 +957,16 @@ fn generated<'a>(slot: usize) -> Matrix<'a> {
     }
 }
 
+/// The corpus for slicer × E-mode slot `slot` (0–7): the acceptance warps and, last, the
+/// typed field ([`Rotate::OneOfWithField`]).
 fn corpus<'a>(slot: usize) -> Matrix<'a> {
+    let mut warps = common::acceptance_warps();
+    warps.push(common::acceptance::field_ripple());
     Matrix {
         models: common::corpus_accept(),
-        warps: common::acceptance_warps(),
+        warps,
         presets: Presets::TwoByWarp,
-        rotate: Rotate::OneOf(slot),
+        rotate: Rotate::OneOfWithField(slot),
     }
 }
 

@@ -399,16 +399,17 @@ fn a_part_with_no_footprint_is_not_sliceable_under_any_warp() {
     }
 }
 
-/// Issue 15 item 3a: on the generated overhang part and the `accept` corpus models, on presets
-/// with different tilt limits, the fitted field (`--families` default, field included) leaves
-/// no more overhang than the best family warp and is admissible by the independent helper
-/// (its g read back from the `--grid` flags by the helper's own B-spline); the fit's
-/// objective never rises from sweep to sweep (printed).
+/// Issue 15 item 3a: on the generated overhang part, the generated sphere and the `accept`
+/// corpus models, on presets with different tilt limits, the fitted field (`--families`
+/// default, field included) leaves no more overhang than the best family warp and is
+/// admissible by the independent helper (its g read back from the `--grid` and `--over` flags
+/// by the helper's own B-spline and family formulas); the fit's objective never rises from
+/// sweep to sweep (printed).
 #[test]
 fn the_fitted_field_leaves_no_more_overhang_than_the_best_family_warp() {
     let theta = 45.0;
     let mut failures = Vec::new();
-    for (name, model) in models().into_iter().filter(|(n, _)| n != "gen-sphere") {
+    for (name, model) in models() {
         for preset in PRESETS {
             let json = preset_json(preset);
             let limits = Limits::of_preset(&json);
@@ -482,4 +483,87 @@ fn the_fitted_field_leaves_no_more_overhang_than_the_best_family_warp() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Issue 15 item 5's tilt map: `overhangs`' per-facet tilts (`warped_tilts_deg`, what the page
+/// colours) are the tilt of the helper's tool axis (∇T_z/|∇T_z| by central differences of T_z
+/// read back from the flags) at each facet's centroid, under a cone, a belt with a base blend
+/// and a typed field over a cone, on the generated overhang part and sphere.
+#[test]
+fn the_per_facet_tilts_are_the_helpers_tool_tilts_at_the_centroids() {
+    // a B-spline ripple (knots every 10 mm over ±70 mm) over an inward cone
+    let c: Vec<String> = (0..15 * 15)
+        .map(|k| {
+            format!(
+                "{:.3}",
+                0.4 * ((k % 15) as f64).sin() * ((k / 15) as f64 / 2.0).cos()
+            )
+        })
+        .collect();
+    let field = format!(
+        "--warp field --grid -70,-70,10,10,15,15:{} --over conic:angle=20:center=-4,1:direction=inward",
+        c.join(",")
+    );
+    let warps = [
+        "--warp conic --angle 30 --direction outward --center 3,-2",
+        "--warp belt --angle 10 --toward 0.6,0.8 --base 0,30",
+        &field,
+    ];
+    for (name, model) in models().into_iter().filter(|(n, _)| n.starts_with("gen-")) {
+        for flags in warps {
+            let params = spec_of(flags);
+            let r = suggest::overhangs(&model, Some(&params), 45.0, true).unwrap();
+            let mesh = &model.mesh;
+            assert_eq!(
+                r.warped_tilts_deg.len(),
+                mesh.triangles.len(),
+                "{name}: {flags}"
+            );
+            let t = by_hand::Tz::from_flags(flags, mesh.bbox().size().x);
+            let mut checked = 0;
+            for (tri, &got) in mesh.triangles.iter().zip(&r.warped_tilts_deg) {
+                let c = tri
+                    .iter()
+                    .map(|&i| mesh.vertices[i as usize])
+                    .sum::<glam::DVec3>()
+                    / 3.0;
+                if t.near_kink(c) {
+                    continue;
+                }
+                let want = t.axis(c).z.clamp(-1.0, 1.0).acos().to_degrees();
+                assert!(
+                    (got - want).abs() <= by_hand::TILT_SLACK_DEG,
+                    "{name}: {flags}: facet at {c}: {got}° vs the helper's {want}°"
+                );
+                checked += 1;
+            }
+            assert!(checked > mesh.triangles.len() / 2, "{name}: {flags}");
+        }
+    }
+}
+
+/// The warp of `flags` as the CLI reads them (`warpslice warp` takes the same words).
+fn spec_of(flags: &str) -> warpslice::warp::WarpParams {
+    let words: Vec<&str> = flags.split_whitespace().collect();
+    let mut spec = serde_json::Map::new();
+    let mut base = None;
+    for pair in words.chunks(2) {
+        let (k, v) = (pair[0].trim_start_matches("--"), pair[1]);
+        let nums: Option<Vec<f64>> = v.split(',').map(|x| x.parse().ok()).collect();
+        let value = match (k, nums) {
+            ("warp", _) => ("kind".to_string(), serde_json::json!(v)),
+            ("base", Some(n)) => {
+                base = Some([n[0], n[1]]);
+                continue;
+            }
+            (_, Some(n)) if n.len() > 1 => (k.to_string(), serde_json::json!(n)),
+            (_, Some(n)) => (k.to_string(), serde_json::json!(n[0])),
+            _ => (k.to_string(), serde_json::json!(v)),
+        };
+        spec.insert(value.0, value.1);
+    }
+    warpslice::warp::WarpParams {
+        spec: serde_json::from_value(serde_json::Value::Object(spec)).expect(flags),
+        base,
+    }
 }

@@ -112,8 +112,38 @@ fn field_warps() -> Vec<WarpSpec> {
     .map(|e| WarpSpec::Field {
         expr: e.into(),
         grid: None,
+        over: None,
     })
+    .chain(fields_over_families())
     .collect()
+}
+
+/// A B-spline grid over the sampled box (knots every 5 mm from (−25, −20), 11 × 9) with
+/// coefficients 0.4·sin(i)·cos(j/2) mm, as text.
+fn ripple_grid() -> String {
+    let c: Vec<String> = (0..9)
+        .flat_map(|j| {
+            (0..11).map(move |i| format!("{}", 0.4 * (i as f64).sin() * (j as f64 / 2.0).cos()))
+        })
+        .collect();
+    format!("-25,-20,5,5,11,9:{}", c.join(","))
+}
+
+/// Fields on top of a family warp (g = g_family + g_field, `--over`): a ripple over an
+/// outward cone (its apex at (2, −1) is a kink) and a B-spline over a belt.
+fn fields_over_families() -> Vec<WarpSpec> {
+    vec![
+        WarpSpec::Field {
+            expr: "0.3*sin(x/4)*cos(y/6)".into(),
+            grid: None,
+            over: Some("conic:angle=25:direction=outward:center=2,-1".into()),
+        },
+        WarpSpec::Field {
+            expr: String::new(),
+            grid: Some(ripple_grid()),
+            over: Some("belt:angle=20:toward=-0.6,0.8".into()),
+        },
+    ]
 }
 
 /// Distance from the nearest kink of the warp's height function (crease, apex), mm.
@@ -124,6 +154,9 @@ fn kink_distance(spec: &WarpSpec, p: DVec3) -> f64 {
             ((p.x - center[0]).powi(2) + (p.y - center[1]).powi(2)).sqrt()
         }
         WarpSpec::Field { ref expr, .. } if expr.contains("abs(x - 3)") => (p.x - 3.0).abs(),
+        WarpSpec::Field {
+            over: Some(ref o), ..
+        } if o.starts_with("conic") => ((p.x - 2.0).powi(2) + (p.y + 1.0).powi(2)).sqrt(),
         _ => f64::INFINITY,
     }
 }
@@ -179,30 +212,11 @@ fn a_field_typed_as_a_roof_or_a_plane_equals_the_tilted_and_belt_warps() {
                 spec: WarpSpec::Field {
                     expr: expr.clone(),
                     grid: None,
+                    over: None,
                 },
                 base,
             };
-            let (wa, wb) = (a.build(&bbox()).unwrap(), b.build(&bbox()).unwrap());
-            for i in 0..=20 {
-                for j in 0..=10 {
-                    for z in [0.0, 0.6, 7.3, 21.0, 30.0] {
-                        let p =
-                            DVec3::new(-20.0 + 2.0 * i as f64 + 0.01, -15.0 + 3.0 * j as f64, z);
-                        let (qa, qb) = (wa.forward(p), wb.forward(p));
-                        assert!((qa - qb).length() < 1e-12, "{expr} at {p}: {qa} vs {qb}");
-                        let q = qa + DVec3::new(0.0, 0.0, 0.37);
-                        assert!(
-                            (wa.inverse(q) - wb.inverse(q)).length() < 1e-9,
-                            "{expr} inverse at {q}"
-                        );
-                        let (na, nb) = (wa.tool_axis(p), wb.tool_axis(p));
-                        assert!(
-                            (na - nb).length() < 1e-7,
-                            "{expr} tool axis at {p}: {na} vs {nb}"
-                        );
-                    }
-                }
-            }
+            assert_same_warp(&mut a, &mut b, &expr, [1e-12, 1e-9, 1e-7]);
         }
     }
 }
@@ -454,4 +468,78 @@ fn base_is_refused_for_the_non_shear_warps_and_bad_radii_are_named() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("axis"), "{e}");
+}
+
+/// A field with an all-zero grid over a family warp warps, unwarps and tilts the tool exactly
+/// as the family warp alone (the family's own code is the oracle), with and without the base
+/// blend: the fitted field's start is the family optimum itself.
+#[test]
+fn a_zero_field_over_a_family_warp_equals_the_family_warp() {
+    let zero = format!("-25,-20,5,5,11,9:{}", vec!["0"; 99].join(","));
+    let families = [
+        WarpSpec::Conic {
+            angle: 25.0,
+            direction: Direction::Outward,
+            center: [2.0, -1.0],
+        },
+        WarpSpec::Belt {
+            angle: 20.0,
+            toward: [-0.6, 0.8],
+        },
+        WarpSpec::Curved {
+            strength: 0.2,
+            direction: Direction::Inward,
+            offset: 4.0,
+            width: 40.0,
+        },
+        WarpSpec::Tilted {
+            strength: 0.5,
+            direction: Direction::Inward,
+            offset: -3.0,
+        },
+    ];
+    for family in families {
+        let over = warpslice::warp::over::to_text(&family).unwrap();
+        for base in [None, Some([0.6, 40.0])] {
+            let mut a = WarpParams {
+                spec: family.clone(),
+                base,
+            };
+            let mut b = WarpParams {
+                spec: WarpSpec::Field {
+                    expr: String::new(),
+                    grid: Some(zero.clone()),
+                    over: Some(over.clone()),
+                },
+                base,
+            };
+            assert_same_warp(&mut a, &mut b, &over, [0.0, 1e-12, 0.0]);
+        }
+    }
+}
+
+/// Warps `a` and `b` move, unwarp and tilt the tool alike over a grid of the box: forward
+/// within `tol[0]`, inverse within `tol[1]`, tool axis within `tol[2]` (mm, mm, unit vector);
+/// `what` names the case.
+fn assert_same_warp(a: &mut WarpParams, b: &mut WarpParams, what: &str, tol: [f64; 3]) {
+    let (wa, wb) = (a.build(&bbox()).unwrap(), b.build(&bbox()).unwrap());
+    for i in 0..=20 {
+        for j in 0..=10 {
+            for z in [0.0, 0.6, 7.3, 21.0, 30.0] {
+                let p = DVec3::new(-20.0 + 2.0 * i as f64 + 0.01, -15.0 + 3.0 * j as f64, z);
+                let (qa, qb) = (wa.forward(p), wb.forward(p));
+                assert!((qa - qb).length() <= tol[0], "{what} at {p}: {qa} vs {qb}");
+                let q = qa + DVec3::new(0.0, 0.0, 0.37);
+                assert!(
+                    (wa.inverse(q) - wb.inverse(q)).length() <= tol[1],
+                    "{what} inverse at {q}"
+                );
+                let (na, nb) = (wa.tool_axis(p), wb.tool_axis(p));
+                assert!(
+                    (na - nb).length() <= tol[2],
+                    "{what} tool axis at {p}: {na} vs {nb}"
+                );
+            }
+        }
+    }
 }

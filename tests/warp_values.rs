@@ -827,6 +827,7 @@ fn field_expressions_warp_as_their_hand_written_heights() {
                 WarpSpec::Field {
                     expr: expr.into(),
                     grid: None,
+                    over: None,
                 },
                 base,
             );
@@ -859,6 +860,7 @@ fn bad_field_expressions_get_named_codes() {
             spec: WarpSpec::Field {
                 expr: expr.to_string(),
                 grid: None,
+                over: None,
             },
             base: None,
         };
@@ -871,6 +873,7 @@ fn bad_field_expressions_get_named_codes() {
         spec: WarpSpec::Field {
             expr: "5.6*y".into(),
             grid: None,
+            over: None,
         },
         base: None,
     };

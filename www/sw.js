@@ -1,6 +1,6 @@
 // Offline after the first visit: network first for the app's own files, falling back to the
 // cache (so an update is picked up when online). Only same-origin GETs are handled.
-const CACHE = 'warpslice-v6';
+const CACHE = 'warpslice-v7';
 const SHELL = ['./', './index.html', './style.css', './worker.js', './icon.svg', './manifest.webmanifest',
   './js/main.js', './js/state.js', './js/dom.js', './js/worker-client.js', './js/machines.js', './js/params.js', './js/forms.js',
   './js/settings.js', './js/steps.js', './js/view.js', './js/preview.js', './js/advice.js', './js/errors.js', './js/check.js', './js/builtin.js', './js/slicer-form.js', './js/overhang.js', './js/head.js',

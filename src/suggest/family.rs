@@ -242,11 +242,14 @@ pub fn flags(params: &WarpParams) -> String {
             f(*offset)
         )),
         // the grid's text has no spaces; an expression is quoted as a shell takes it
-        WarpSpec::Field {
-            grid: Some(text), ..
-        } => s.push_str(&format!(" --grid {text}")),
-        WarpSpec::Field { expr, .. } => {
-            s.push_str(&format!(" --expr '{}'", expr.replace('\'', r"'\''")))
+        WarpSpec::Field { expr, grid, over } => {
+            match grid {
+                Some(text) => s.push_str(&format!(" --grid {text}")),
+                None => s.push_str(&format!(" --expr '{}'", expr.replace('\'', r"'\''"))),
+            }
+            if let Some(text) = over {
+                s.push_str(&format!(" --over {text}"));
+            }
         }
         _ => {}
     }

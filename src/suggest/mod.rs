@@ -248,6 +248,10 @@ pub struct OverhangReport {
     /// Per facet: 1 when it overhangs under the warp, else 0 (`--json` only).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warped_facets: Vec<u8>,
+    /// Per facet: the warp's tool tilt from +z at its centroid, degrees (`--json` only, with a
+    /// warp): the page's tilt map.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warped_tilts_deg: Vec<f64>,
 }
 
 /// Measure the overhang of `model` planar and under `warp` (if given), with the per-facet
@@ -286,6 +290,10 @@ pub fn overhangs(
         planar_facets: if per_facet { bits(None) } else { Vec::new() },
         warped_facets: match (&built, per_facet) {
             (Some(w), true) => bits(Some(w.as_ref())),
+            _ => Vec::new(),
+        },
+        warped_tilts_deg: match (&built, per_facet) {
+            (Some(w), true) => model.facets.tilts_deg(w.as_ref()),
             _ => Vec::new(),
         },
     })

@@ -230,6 +230,15 @@ pub const GRID: Param = Param::number("grid", "--grid", "B-spline grid")
          coefficients in mm, x fastest), as `suggest` fits it",
     );
 
+/// `--over`: the family warp the field is added to ([`super::over`]).
+pub const OVER: Param = Param::number("over", "--over", "Over family warp")
+    .of(ParamType::Text)
+    .optional()
+    .help(
+        "add the field to a family warp (g = g_family + g_field), written kind:name=value:…, \
+         e.g. conic:angle=30:direction=outward:center=0,0, as `suggest` writes its fit",
+    );
+
 /// What the field warp says of itself ([`crate::describe`]).
 pub const INFO: WarpInfo = WarpInfo {
     name: "field",
@@ -238,7 +247,7 @@ pub const INFO: WarpInfo = WarpInfo {
     formula: "T_z = z + g(x, y)",
     seed: "issue 15",
     base: true,
-    params: &[EXPR, GRID],
+    params: &[EXPR, GRID, OVER],
 };
 
 #[cfg(test)]

@@ -34,6 +34,7 @@ pub mod curved;
 pub mod cylindrical;
 pub mod field;
 pub mod laws;
+pub mod over;
 pub mod shear;
 pub mod spherical;
 pub mod spline;
@@ -258,6 +259,10 @@ pub enum WarpSpec {
         /// The B-spline's text form (`x0,y0,dx,dy,nx,ny:c00,c10,…`, [`spline`]).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         grid: Option<String>,
+        /// A family warp the field is added to (g = g_family + g_field, [`over`]): how
+        /// `suggest` stores a fit that starts at the best family warp.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        over: Option<String>,
     },
 }
 
@@ -386,21 +391,30 @@ impl WarpSpec {
                 }
                 positive_radius(radius)?;
             }
-            WarpSpec::Field { ref expr, ref grid } => match grid {
-                None => {
-                    field::Expression::parse(expr)?;
+            WarpSpec::Field {
+                ref expr,
+                ref grid,
+                ref over,
+            } => {
+                if let Some(text) = over {
+                    over::parse(text)?;
                 }
-                Some(_) if !expr.is_empty() => {
-                    return Err(WarpError::BadParameter {
-                        name: "grid",
-                        value: "with --expr".into(),
-                        allowed: "either --expr or --grid, not both".into(),
-                    })
+                match grid {
+                    None => {
+                        field::Expression::parse(expr)?;
+                    }
+                    Some(_) if !expr.is_empty() => {
+                        return Err(WarpError::BadParameter {
+                            name: "grid",
+                            value: "with --expr".into(),
+                            allowed: "either --expr or --grid, not both".into(),
+                        })
+                    }
+                    Some(text) => {
+                        spline::Spline::parse(text)?;
+                    }
                 }
-                Some(text) => {
-                    spline::Spline::parse(text)?;
-                }
-            },
+            }
         }
         Ok(())
     }
@@ -436,10 +450,22 @@ impl WarpSpec {
             } => Box::new(conic::Conic::new(angle, direction, center)),
             WarpSpec::Belt { angle, toward } => Box::new(belt::Belt::new(angle, toward)),
             WarpSpec::Field {
-                grid: Some(ref text),
-                ..
-            } => Box::new(spline::Spline::parse(text).ok()?),
-            WarpSpec::Field { ref expr, .. } => Box::new(field::Expression::parse(expr).ok()?),
+                ref expr,
+                ref grid,
+                ref over,
+            } => {
+                let field: Box<dyn Height> = match grid {
+                    Some(text) => Box::new(spline::Spline::parse(text).ok()?),
+                    None => Box::new(field::Expression::parse(expr).ok()?),
+                };
+                match over {
+                    Some(text) => Box::new(over::Sum {
+                        family: over::parse(text).ok()?.height()?,
+                        field,
+                    }),
+                    None => field,
+                }
+            }
             WarpSpec::Cylindrical { .. } | WarpSpec::Spherical { .. } => return None,
         })
     }
@@ -667,7 +693,7 @@ impl WarpParams {
                 warp: self.spec.name(),
             });
         };
-        if let WarpSpec::Field { expr, grid } = &self.spec {
+        if let WarpSpec::Field { expr, grid, .. } = &self.spec {
             let name = if grid.is_some() { "grid" } else { expr };
             field::check_over(height.as_ref(), model_bbox, name)?;
         }

@@ -80,6 +80,7 @@ pub fn field_ripple() -> (&'static str, WarpParams) {
             spec: WarpSpec::Field {
                 expr: FIELD_RIPPLE_EXPR.into(),
                 grid: None,
+                over: None,
             },
             base: None,
         },

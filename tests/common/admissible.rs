@@ -67,6 +67,8 @@ pub struct Tz {
     kind: String,
     /// The fitted field's `--grid` text (README: `x0,y0,dx,dy,nx,ny:c00,c10,…`).
     grid: Option<String>,
+    /// The field's family part (`--over kind:name=value:…`, README), read as its own flags.
+    over: Option<Box<Tz>>,
     num: std::collections::HashMap<String, Vec<f64>>,
     outward: bool,
     base: Option<[f64; 2]>,
@@ -80,6 +82,7 @@ impl Tz {
         let mut t = Tz {
             kind: String::new(),
             grid: None,
+            over: None,
             num: Default::default(),
             outward: true,
             base: None,
@@ -91,6 +94,16 @@ impl Tz {
                 "warp" => t.kind = v.to_string(),
                 "direction" => t.outward = v == "outward",
                 "grid" => t.grid = Some(v.to_string()),
+                // `conic:angle=30:direction=outward:center=0,0` → `--warp conic --angle 30 …`
+                "over" => {
+                    let mut parts = v.split(':');
+                    let mut f = format!("--warp {}", parts.next().unwrap());
+                    for p in parts {
+                        let (name, value) = p.split_once('=').expect("over: name=value");
+                        f.push_str(&format!(" --{name} {value}"));
+                    }
+                    t.over = Some(Box::new(Tz::from_flags(&f, width)));
+                }
                 _ => {
                     let vals: Vec<f64> = v.split(',').map(|x| x.parse().unwrap()).collect();
                     if k == "base" {
@@ -111,13 +124,20 @@ impl Tz {
             .unwrap_or_else(|| panic!("{k} missing"))
     }
 
-    /// g(x, y), mm.
+    /// g(x, y), mm: the field's family part (`--over`) plus its own.
     pub fn g(&self, x: f64, y: f64) -> f64 {
+        self.over.as_ref().map_or(0.0, |o| o.g(x, y)) + self.own_g(x, y)
+    }
+
+    /// g(x, y) without the family part, mm.
+    fn own_g(&self, x: f64, y: f64) -> f64 {
         let c = if self.outward { 1.0 } else { -1.0 };
         match self.kind.as_str() {
             "curved" => {
                 let (s, a) = (self.n("strength")[0], self.n("offset")[0]);
-                s * c * (x + a).powi(2) / (self.width / 2.0 + a.abs())
+                // the README's w: the model's width, or the one written with the warp
+                let w = self.num.get("width").map_or(self.width, |v| v[0]);
+                s * c * (x + a).powi(2) / (w / 2.0 + a.abs())
             }
             "tilted" => {
                 let (s, a) = (self.n("strength")[0], self.n("offset")[0]);
@@ -172,6 +192,9 @@ impl Tz {
             if (p.z - z0).abs() < 2.0 * FD_STEP || (p.z - z1).abs() < 2.0 * FD_STEP {
                 return true;
             }
+        }
+        if self.over.as_ref().is_some_and(|o| o.near_kink(p)) {
+            return true;
         }
         match self.kind.as_str() {
             "conic" => {

@@ -118,6 +118,7 @@ async function main() {
   $('show-warped').addEventListener('change', showModel);
   $('show-layers').addEventListener('change', showModel);
   $('show-overhangs').addEventListener('change', showModel);
+  $('show-tilt-map').addEventListener('change', showModel);
   $('overhang-angle').addEventListener('change', async () => {
     await refreshOverhangs();
     showModel();

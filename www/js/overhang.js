@@ -1,6 +1,7 @@
 // Issue 15 in the page: how much of the model overhangs, planar and under the current warp (the
 // core's `overhangs`, the measure of `warpslice overhangs`), the model's overhanging facets
-// coloured in the view, and "Suggest a warp": the core's ranked admissible warps for the machine
+// coloured in the view (or, with the tilt map, every facet by the warp's tool tilt there), and
+// "Suggest a warp": the core's ranked admissible warps for the machine
 // (`warpslice suggest`), each applied to the form with one click; and the field warp's
 // expression box checked as it is typed (the core's `overhangs` under the typed g: its error
 // code and message, or the overhang left and the largest tilt, under the box). All run in the
@@ -65,6 +66,16 @@ export function overhangFacets() {
   const r = state.overhangs;
   if (!r || !$('show-overhangs').checked) return null;
   return r.warped ? r.warped_facets : r.planar_facets;
+}
+
+/**
+ * The tilt map: the warp's tool tilt from +z at each facet's centroid (degrees, the core's
+ * `warped_tilts_deg`, facet order), when a warp is applied and the map is switched on; or null.
+ */
+export function tiltFacets() {
+  const r = state.overhangs;
+  if (!r?.warped_tilts_deg?.length || !$('show-tilt-map').checked) return null;
+  return r.warped_tilts_deg;
 }
 
 /** The machine `suggest` is asked for: the custom machine JSON or the preset's name. */

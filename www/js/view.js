@@ -6,10 +6,12 @@ import { STLLoader } from '../vendor/STLLoader.js';
 import { state } from './state.js';
 import { $ } from './dom.js';
 import { currentMachine } from './machines.js';
-import { overhangFacets } from './overhang.js';
+import { overhangFacets, tiltFacets } from './overhang.js';
 
 /** Colour of a facet that overhangs (`overhang.js`). */
 const OVERHANG_COLOR = 0xd62728;
+/** Colour of what tilts beyond the machine's limit (layer-surface samples, tilt-map facets). */
+const OVER_LIMIT_COLOR = 0xff00ff;
 
 const view = state.view;
 
@@ -112,10 +114,35 @@ export function showModel() {
   const t = [-(r.bbox.min.x + r.bbox.max.x) / 2, -(r.bbox.min.y + r.bbox.max.y) / 2, -r.bbox.min.z];
   geom.translate(...t);
   const showLayers = state.warped && $('show-layers').checked;
-  // overhanging facets (the core's per-facet flags, STL order = the loader's triangle order)
+  // overhanging facets (the core's per-facet flags, STL order = the loader's triangle order),
+  // or with the tilt map every facet by the core's tool tilt at its centroid
   const facets = overhangFacets();
-  const coloured = facets && facets.length * 3 === geom.attributes.position.count;
-  if (coloured) {
+  const tilts = tiltFacets();
+  const triangles = geom.attributes.position.count / 3;
+  const limit = currentMachine()?.max_tilt_deg ?? null;
+  const maxTilt = Math.max(1, state.warped?.report.largest_tilt_deg ?? 0);
+  const wrap = $('canvas-wrap');
+  for (const k of ['tiltFacets', 'tiltOverLimit', 'tiltChecksum', 'tiltMax']) delete wrap.dataset[k];
+  const tiltMap = state.warped && tilts && tilts.length === triangles;
+  const coloured = tiltMap || (facets && facets.length === triangles);
+  if (tiltMap) {
+    const col = new Float32Array(tilts.length * 9);
+    const c = new THREE.Color(), over = new THREE.Color(OVER_LIMIT_COLOR);
+    let nOver = 0, checksum = 0, top = 0;
+    for (let f = 0; f < tilts.length; f++) {
+      const t = tilts[f];
+      const beyond = limit != null && t > limit + 1e-6;
+      nOver += beyond;
+      checksum += (f + 1) * t;
+      top = Math.max(top, t);
+      const fc = beyond ? over : tiltColor(t, maxTilt, c);
+      for (let v = 0; v < 3; v++) fc.toArray(col, f * 9 + v * 3);
+    }
+    geom.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    // what the page coloured, for the tests: Σ (i + 1)·tilt_i sees each facet's own tilt
+    Object.assign(wrap.dataset, { tiltFacets: String(tilts.length), tiltOverLimit: String(nOver), tiltChecksum: String(checksum), tiltMax: String(top) });
+    delete wrap.dataset.overhangFacets;
+  } else if (coloured) {
     const col = new Float32Array(facets.length * 9);
     const base = new THREE.Color(0xb8c4d0), hot = new THREE.Color(OVERHANG_COLOR);
     let n = 0;
@@ -134,15 +161,13 @@ export function showModel() {
   const box = new THREE.Box3().setFromBufferAttribute(geom.attributes.position);
   if (state.warped) {
     const w = state.warped;
-    const maxTilt = Math.max(1, w.report.largest_tilt_deg);
     if (showLayers && w.surfaces.length) {
       const n = w.surfaces.length / 5;
       const inside = footprint(geom, JSON.parse(w.job).model_bbox, SURFACE_GRID);
       const pos = new Float32Array(n * 3), col = new Float32Array(n * 3);
       const c = new THREE.Color();
       // Samples beyond the machine's tilt limit are drawn magenta.
-      const limit = currentMachine()?.max_tilt_deg ?? null;
-      const over = new THREE.Color(0xff00ff);
+      const over = new THREE.Color(OVER_LIMIT_COLOR);
       let nOver = 0;
       let k = 0;
       for (let i = 0; i < n; i++) {
@@ -172,8 +197,17 @@ export function showModel() {
       view.modelGroup.add(m);
       box.union(new THREE.Box3().setFromBufferAttribute(wg.attributes.position));
     }
-    legendTilt(maxTilt, 'layer tilt');
-    if (Number($('canvas-wrap').dataset.overLimit) > 0) {
+    legendTilt(maxTilt, tiltMap ? 'tool tilt (facets, layers)' : 'layer tilt');
+    // the machine's limit on the same scale, and the colour of what passes it
+    if (limit != null) {
+      const row = document.createElement('div');
+      row.dataset.testid = 'legend-tilt-limit';
+      const sw = document.createElement('span');
+      sw.className = 'sw';
+      sw.style.background = `#${(limit < maxTilt ? new THREE.Color(OVER_LIMIT_COLOR) : tiltColor(limit, maxTilt)).getHexString()}`;
+      row.append(sw, `machine limit ${limit}°${limit < maxTilt ? ': beyond it' : ''}`);
+      $('legend').append(row);
+    } else if (Number(wrap.dataset.overLimit) > 0) {
       const row = document.createElement('div');
       const sw = document.createElement('span');
       sw.className = 'sw';

@@ -6,16 +6,22 @@
 //  - "Suggest a warp" on pax-5axis lists the CLI's suggestions in its order (flags and areas);
 //  - "Apply" on the best one puts its warp into the form (the page re-warps): the page's warped
 //    overhang area and coloured facets are then the CLI's `overhangs` under those flags;
+//  - the tilt map: with a warp applied, each facet is coloured by the tool tilt at its centroid
+//    that `warpslice overhangs … --json` gives (`warped_tilts_deg`: count, Σ (i + 1)·tilt and
+//    the largest the same), facets beyond the machine's limit counted alike, the limit in the
+//    legend;
 //  - the field warp's expression box: a typed expression is checked as it is typed, and the
 //    overhang area shown under the box is the CLI's `overhangs --warp field --expr … --json`;
 //    an expression the core refuses shows the core's error code under the box.
 //
 // Used by tests/run.mjs, which passes its page and helpers (`ctx`).
-import { writeFileSync } from 'node:fs';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 
 /** The machine the suggestions are asked for (a tilt limit of 90°: every family admissible). */
 const MACHINE = 'pax-5axis';
+/** The tilt map's warp: a bowl with its low point off centre (tilts from 0° to ~40° on the part). */
+const TILT_MAP_EXPR = '0.02*(x^2 + y^2) - 0.5*x';
 /** Areas compare to the CLI's within this, mm²: the same core, native vs wasm (bit-equal here). */
 const AREA_TOL = 1e-6;
 
@@ -66,6 +72,38 @@ export async function suggestTests(ctx) {
     await tid('show-overhangs').setChecked(false);
     assert((await page.locator('#canvas-wrap').getAttribute('data-overhang-facets')) === null, 'colouring off');
     await tid('show-overhangs').setChecked(true);
+  });
+
+  await test('overhangs: the tilt map colours each facet by the tool tilt `warpslice overhangs --json` gives it, the machine\'s limit in the legend', async () => {
+    // a bowl field: the tilt differs from facet to facet (a cone's is the same everywhere)
+    await tid('warp-select').selectOption('field');
+    await tid('param-expr').fill(TILT_MAP_EXPR);
+    await page.locator('#warp-params').dispatchEvent('change');
+    await warpSettled();
+    await page.waitForFunction(() => document.querySelector('[data-testid="overhang-info"]').dataset.flags?.includes('--warp field'), null, { timeout: 60000 });
+    const flags = await shown('flags');
+    const want = cli(['overhangs', stl, '--warp', 'field', '--expr', TILT_MAP_EXPR, '--json']).warped_tilts_deg;
+    assert(flags.includes(TILT_MAP_EXPR), `the page applied ${flags}`);
+    assert(new Set(want.map((t) => t.toFixed(3))).size > 10, 'the test warp tilts the facets differently');
+    await tid('show-tilt-map').setChecked(true);
+    await page.waitForFunction(() => document.querySelector('#canvas-wrap').dataset.tiltFacets, null, { timeout: 60000 });
+    const d = await page.locator('#canvas-wrap').evaluate((w) => ({ ...w.dataset }));
+    assert(Number(d.tiltFacets) === want.length, `tilt map: ${d.tiltFacets} facets coloured, CLI ${want.length}`);
+    // Σ (i + 1)·tilt_i: each facet's own tilt, in the STL's order
+    const sum = want.reduce((a, t, i) => a + (i + 1) * t, 0);
+    assert(Math.abs(Number(d.tiltChecksum) - sum) <= 1e-9 * Math.max(1, sum), `tilt map: page Σ(i+1)·tilt ${d.tiltChecksum}, CLI ${sum}`);
+    assert(Math.abs(Number(d.tiltMax) - Math.max(...want)) <= 1e-9, `largest facet tilt: page ${d.tiltMax}°, CLI ${Math.max(...want)}°`);
+    assert(Math.max(...want) > 1, `the applied warp tilts the tool (${Math.max(...want)}°)`);
+    const limit = JSON.parse(readFileSync(new URL(`../../presets/${MACHINE}.json`, import.meta.url), 'utf8')).max_tilt_deg;
+    const beyond = want.filter((t) => t > limit + 1e-6).length;
+    assert(Number(d.tiltOverLimit) === beyond, `facets beyond the ${limit}° limit: page ${d.tiltOverLimit}, CLI ${beyond}`);
+    const legend = await tid('legend-tilt-limit').textContent();
+    assert(legend.includes(`machine limit ${limit}°`), `legend: “${legend}”`);
+    // the overhang colouring is replaced while the map is on, and back when it is off
+    assert(d.overhangFacets === undefined, 'tilt map on: no overhang colouring');
+    await screenshot('tilt-map');
+    await tid('show-tilt-map').setChecked(false);
+    assert((await page.locator('#canvas-wrap').getAttribute('data-tilt-facets')) === null, 'tilt map off');
   });
 
   await test('overhangs: the field warp\'s expression box shows the CLI\'s overhang area, or the core\'s error code', async () => {

@@ -106,7 +106,7 @@ mod cli {
             #[arg(long)]
             stl: Option<PathBuf>,
             #[command(flatten)]
-            unwarp: UnwarpArgs<false>,
+            unwarp: Box<UnwarpArgs<false>>,
             /// The unwarped G-code to write.
             #[arg(short, long)]
             output: PathBuf,
@@ -142,7 +142,7 @@ mod cli {
             #[command(flatten)]
             warp: WarpArgs,
             #[command(flatten)]
-            unwarp: UnwarpArgs<true>,
+            unwarp: Box<UnwarpArgs<true>>,
             /// The unwarped G-code to write (the warped STL, its job and the sliced G-code go
             /// next to it).
             #[arg(short, long)]
