@@ -15,7 +15,10 @@
 //!   leaves at most `h − m ≤ tol` of the column above it).
 //!
 //! A block is skipped when the part's floor over its square ([`Posed::floor_over_square`],
-//! [`ContactSurface::floor_over_square`]) is above its highest top but for `tol`, when its
+//! [`ContactSurface::floor_over_square`]) is above its highest top but for `tol`, when no point
+//! of its square at height `m` lies above the nozzle's contact surface (the concave `excess`
+//! under its tangent plane at the square's centre, [`ContactSurface::excess_over_square`]; the
+//! surface's rule applying, every point of a line under `m` is then under it too), when its
 //! square meets no such disc, or when the solid's distance from
 //! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. Every cut
 //! removes only cells the per-cell test rejects, so the findings are the same with and without
@@ -99,6 +102,13 @@ impl<'a> Reach<'a> {
             floor = floor.max(k.floor_over_square(c, half));
         }
         if top - floor <= self.tol {
+            return true;
+        }
+        // the region above the contact surface misses the square at `top − tol`, hence below
+        // it (where the rule applies, "above" is the top of each vertical line)
+        if self.contact.is_some_and(|k| {
+            k.applies() && k.excess_over_square(c, half, top - self.tol) <= -DISC_SLACK_MM
+        }) {
             return true;
         }
         let far_from_disc = self
