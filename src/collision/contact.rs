@@ -347,6 +347,16 @@ const CROSSING_SLACK_MM: f64 = 1e-9;
 mod tests {
     use super::*;
 
+    /// The contact rule's `s − (ρ + c)·T` for tip `p`, axis `n`, half width `c`, `T = tb`,
+    /// written here from the module documentation (the tests' oracle, not
+    /// [`ContactSurface::excess`]).
+    fn rule_excess(p: DVec3, n: DVec3, q: DVec3, c: f64, tb: f64) -> f64 {
+        let d = q - p;
+        let s = n.dot(d);
+        let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+        s - (rho + c) * tb
+    }
+
     #[test]
     fn a_vertical_nozzle_on_a_30_degree_layer_is_contact_and_a_plunge_is_not() {
         let c = ContactSurface::new(DVec3::ZERO, DVec3::Z, 0.45);
@@ -393,12 +403,7 @@ mod tests {
         // it puts under the surface has no point above it; and it skips squares beside a
         // tilted tool that the height bound (floor_over_square) keeps, or it cuts nothing
         let (tb, c) = (30f64.to_radians().tan(), 0.225);
-        let excess = |p: DVec3, n: DVec3, q: DVec3| {
-            let d = q - p;
-            let s = n.dot(d);
-            let rho = (d.length_squared() - s * s).max(0.0).sqrt();
-            s - (rho + c) * tb
-        };
+        let excess = |p: DVec3, n: DVec3, q: DVec3| rule_excess(p, n, q, c, tb);
         let (mut skipped, mut skipped_only_here) = (0, 0);
         for tilt in [0.0f64, 15.0, 30.0, 45.0] {
             for az in [0.0f64, 100.0, 225.0] {
@@ -483,12 +488,7 @@ mod tests {
         // the engine's): every point above the surface is inside the interval, and the interval
         // is no wider than the points above it (plus the grid and the slack)
         let (tb, c) = (30f64.to_radians().tan(), 0.225);
-        let above = |p: DVec3, n: DVec3, q: DVec3| {
-            let d = q - p;
-            let s = n.dot(d);
-            let rho = (d.length_squared() - s * s).max(0.0).sqrt();
-            s - (rho + c) * tb > 0.0
-        };
+        let above = |p: DVec3, n: DVec3, q: DVec3| rule_excess(p, n, q, c, tb) > 0.0;
         let mut bounded = 0;
         for tilt in [0.0f64, 10.0, 25.0, 29.0, 45.0, 55.0] {
             for az in [0.0f64, 70.0, 180.0, 250.0] {
