@@ -200,8 +200,8 @@ pub fn capsule_row(a: DVec2, d: DVec2, r: f64, y: f64) -> Option<(f64, f64)> {
 mod tests {
     use super::*;
 
-    /// Every point of a row within `r` of the segment (the distance to the segment written here:
-    /// the nearest of the clamped projection) lies in the row's interval, and the interval's
+    /// Every point of a row within `r` of the segment (the distance to the segment from the
+    /// clamped projection, `crate::emit::clearance::segment_distance`) lies in the row's interval, and the interval's
     /// ends are such points (within the grid step): random segments, radii and rows, a 0.001 mm
     /// grid along each row.
     #[test]
@@ -213,15 +213,9 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
         };
-        let dist = |a: DVec2, d: DVec2, q: DVec2| {
-            let l2 = d.length_squared();
-            let t = if l2 > 0.0 {
-                ((q - a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (q - (a + d * t)).length()
-        };
+        // the distance to the segment: the travel planner's (not the code checked here)
+        let dist =
+            |a: DVec2, d: DVec2, q: DVec2| crate::emit::clearance::segment_distance(q, a, a + d);
         let mut rows_met = 0;
         for k in 0..400 {
             let a = DVec2::new(rnd(-2.0, 2.0), rnd(-2.0, 2.0));

@@ -1066,6 +1066,35 @@ mod tests {
     use crate::machine::spec::preset;
 
     /// A small deterministic generator (the tests need no crate for it).
+    /// Assert that every cell `part` reaches at `pose` ([`reached_cells`]) is in `listed`;
+    /// the number of cells reached. `context` names the case in the failure message.
+    fn assert_listed(
+        listed: &std::collections::HashSet<(i64, i64)>,
+        ck: &Checker,
+        part: &Part,
+        pose: &Pose,
+        context: impl Fn() -> String,
+    ) -> usize {
+        let reached = reached_cells(ck, part, pose);
+        for ((i, j), d) in &reached {
+            assert!(
+                listed.contains(&(*i, *j)),
+                "{}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at tip {:?} but not listed",
+                context(),
+                part.name,
+                centre(*i),
+                centre(*j),
+                pose.p
+            );
+        }
+        reached.len()
+    }
+
+    /// The cells of a list, by index.
+    fn cell_set(cells: &[SweptCell]) -> std::collections::HashSet<(i64, i64)> {
+        cells.iter().map(|c| (cell_of(c.x), cell_of(c.y))).collect()
+    }
+
     struct Lcg(u64);
     impl Lcg {
         fn unit(&mut self) -> f64 {
@@ -1255,24 +1284,14 @@ mod tests {
                         && stretch
                             .iter()
                             .all(|p| ContactSurface::new(p.p, p.n, ck.max_width).applies());
-                    let listed: std::collections::HashSet<(i64, i64)> = ck
-                        .cells_near(part, &first, delta, contact, None)
-                        .iter()
-                        .map(|c| (cell_of(c.x), cell_of(c.y)))
-                        .collect();
+                    let listed = cell_set(&ck.cells_near(part, &first, delta, contact, None));
                     for pose in &stretch {
-                        for ((i, j), d) in reached_cells(&ck, part, pose) {
-                            reached += 1;
-                            assert!(
-                                listed.contains(&(i, j)),
-                                "{name}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
-                                part.name,
-                                centre(i),
-                                centre(j),
-                                pose.p,
+                        reached += assert_listed(&listed, &ck, part, pose, || {
+                            format!(
+                                "{name}: a pose of the stretch from {:?} (δ {delta:.3} mm)",
                                 first.p
-                            );
-                        }
+                            )
+                        });
                     }
                 }
             }
@@ -1337,22 +1356,11 @@ mod tests {
                     let Some(list) = ck.swept_cells(part, &poses[0], &poses[16]) else {
                         continue;
                     };
-                    let listed: std::collections::HashSet<(i64, i64)> =
-                        list.iter().map(|c| (cell_of(c.x), cell_of(c.y))).collect();
+                    let listed = cell_set(&list);
                     for pose in &poses {
-                        for ((i, j), d) in reached_cells(&ck, part, pose) {
-                            reached_total += 1;
-                            assert!(
-                                listed.contains(&(i, j)),
-                                "{name}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at tip {:?} of the move {:?} → {:?} but not listed",
-                                part.name,
-                                centre(i),
-                                centre(j),
-                                pose.p,
-                                p0,
-                                p1
-                            );
-                        }
+                        reached_total += assert_listed(&listed, &ck, part, pose, || {
+                            format!("{name}: the move {p0:?} → {p1:?}")
+                        });
                     }
                 }
             }
@@ -1425,26 +1433,24 @@ mod tests {
                 let mut lists = ck.lists(&poses, &checked, &reachable, false);
                 for (pi, part) in ck.parts.iter().enumerate() {
                     for (k, pose) in poses.iter().enumerate() {
-                        let listed: std::collections::HashSet<(i64, i64)> = lists.of[pi][k]
-                            .map(|id| lists.cells[id].as_slice())
-                            .unwrap_or(&[])
-                            .iter()
-                            .map(|c| (cell_of(c.x), cell_of(c.y)))
-                            .collect();
+                        let listed = cell_set(
+                            lists.of[pi][k]
+                                .map(|id| lists.cells[id].as_slice())
+                                .unwrap_or(&[]),
+                        );
                         let from_before = carried[pi] && lists.of[pi][k] == lists.of[pi][0];
                         carried_poses += usize::from(from_before);
-                        for ((i, j), d) in reached_cells(&ck, part, pose) {
-                            carried_reached += usize::from(from_before);
-                            assert!(
-                                listed.contains(&(i, j)),
-                                "{name}, move {step}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at pose {k} (tip {:?}) but not in its list{}",
-                                part.name,
-                                centre(i),
-                                centre(j),
-                                pose.p,
-                                if from_before { " (carried from an earlier move)" } else { "" }
-                            );
-                        }
+                        let n = assert_listed(&listed, &ck, part, pose, || {
+                            format!(
+                                "{name}, move {step}, pose {k}{}",
+                                if from_before {
+                                    " (carried from an earlier move)"
+                                } else {
+                                    ""
+                                }
+                            )
+                        });
+                        carried_reached += if from_before { n } else { 0 };
                     }
                 }
                 ck.carry(&mut lists);
