@@ -121,6 +121,33 @@ impl ContactSurface {
         self.p.z + rho * gain + self.half_width * t * self.n.z
     }
 
+    /// An upper bound of [`ContactSurface::excess`] over the horizontal square of centre `c`
+    /// and half side `half` (seen from above) at height `z`, mm: where it is ≤ 0 no point of
+    /// the square at that height, nor (where the rule applies: `v` grows with z, module
+    /// documentation "Monotone") below it, lies above the contact surface.
+    ///
+    /// `v(q) = n·d − T·|P d| − cT` (`d = q − p`, `P = I − n nᵀ`, c = w/2, T = tan β_max) is
+    /// **concave**: `n·d` is linear and `|P d|`, a norm of a linear map, is convex. A concave
+    /// function lies under each of its tangent planes: with `q₀ = (c, z)` and the supergradient
+    /// `g = n − T·P d₀/|P d₀|` (`g = n` on the axis, where `|P d|` has the subgradient 0),
+    /// `v(q) ≤ v(q₀) + g·(q − q₀)` for every q, and over the square (`q − q₀` horizontal,
+    /// `|Δx|, |Δy| ≤ half`) the right side is at most `v(q₀) + (|g_x| + |g_y|)·half`. Unlike
+    /// [`ContactSurface::floor_over_square`] (a bound of heights, flat for a tool tilted by
+    /// β_max) it follows the surface in the tool frame: the layer rising beside a tilted
+    /// nozzle lies at `s ≈ 0`, far under the surface, and its blocks are skipped whole.
+    pub fn excess_over_square(&self, c: glam::DVec2, half: f64, z: f64) -> f64 {
+        let d = DVec3::new(c.x, c.y, z) - self.p;
+        let s = self.n.dot(d);
+        let perp = d - self.n * s;
+        let rho = perp.length();
+        let g = if rho > 0.0 {
+            self.n - perp * (self.tan_beta / rho)
+        } else {
+            self.n
+        };
+        s - (rho + self.half_width) * self.tan_beta + (g.x.abs() + g.y.abs()) * half
+    }
+
     /// A horizontal radius about the tip outside which no point above the contact surface is
     /// below height `m` (`None`: none known): where [`ContactSurface::floor_at`] reaches `m`,
     /// `D = ρ (1 + T sin θ) + c T sin θ` with `ρ = (m − p_z − c T n_z)/(T n_z − sin θ)`.
@@ -320,6 +347,16 @@ const CROSSING_SLACK_MM: f64 = 1e-9;
 mod tests {
     use super::*;
 
+    /// The contact rule's `s − (ρ + c)·T` for tip `p`, axis `n`, half width `c`, `T = tb`,
+    /// written here from the module documentation (the tests' oracle, not
+    /// [`ContactSurface::excess`]).
+    fn rule_excess(p: DVec3, n: DVec3, q: DVec3, c: f64, tb: f64) -> f64 {
+        let d = q - p;
+        let s = n.dot(d);
+        let rho = (d.length_squared() - s * s).max(0.0).sqrt();
+        s - (rho + c) * tb
+    }
+
     #[test]
     fn a_vertical_nozzle_on_a_30_degree_layer_is_contact_and_a_plunge_is_not() {
         let c = ContactSurface::new(DVec3::ZERO, DVec3::Z, 0.45);
@@ -357,6 +394,57 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_square_bound_is_above_the_excess_at_every_point_of_the_square() {
+        // brute force on a 0.02 mm grid of each square (excess written from the rule here, not
+        // the engine's): the bound is at least the largest excess over the square, so a square
+        // it puts under the surface has no point above it; and it skips squares beside a
+        // tilted tool that the height bound (floor_over_square) keeps, or it cuts nothing
+        let (tb, c) = (30f64.to_radians().tan(), 0.225);
+        let excess = |p: DVec3, n: DVec3, q: DVec3| rule_excess(p, n, q, c, tb);
+        let (mut skipped, mut skipped_only_here) = (0, 0);
+        for tilt in [0.0f64, 15.0, 30.0, 45.0] {
+            for az in [0.0f64, 100.0, 225.0] {
+                let (t, a) = (tilt.to_radians(), az.to_radians());
+                let n = DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos());
+                let p = DVec3::new(1.0, 2.0, 3.0);
+                let surf = ContactSurface::new(p, n, 2.0 * c).grown(0.3);
+                let pg = p - n * (0.3 * (1.0 + tb * tb).sqrt());
+                for (cx, cy) in [(1.0, 2.0), (1.9, 2.3), (-0.5, 1.0), (3.5, 2.0), (1.0, 5.0)] {
+                    for half in [0.1, 0.8, 3.2] {
+                        for dz in [-1.0, -0.3, 0.0, 0.2, 1.0] {
+                            let z = p.z + dz;
+                            let ctr = glam::DVec2::new(cx, cy);
+                            let bound = surf.excess_over_square(ctr, half, z);
+                            let mut worst = f64::NEG_INFINITY;
+                            for i in 0..=40 {
+                                for j in 0..=40 {
+                                    let x = cx - half + 2.0 * half * i as f64 / 40.0;
+                                    let y = cy - half + 2.0 * half * j as f64 / 40.0;
+                                    worst = worst.max(excess(pg, n, DVec3::new(x, y, z)));
+                                }
+                            }
+                            assert!(
+                                bound >= worst - 1e-12,
+                                "tilt {tilt} az {az} square ({cx}, {cy}) ±{half} at z {z}: bound {bound} < {worst}"
+                            );
+                            if bound <= 0.0 {
+                                skipped += 1;
+                                if surf.floor_over_square(ctr, half) < z {
+                                    skipped_only_here += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            skipped > 100 && skipped_only_here > 30,
+            "{skipped} squares under the surface, {skipped_only_here} of them above the height bound"
+        );
     }
 
     #[test]
@@ -400,12 +488,7 @@ mod tests {
         // the engine's): every point above the surface is inside the interval, and the interval
         // is no wider than the points above it (plus the grid and the slack)
         let (tb, c) = (30f64.to_radians().tan(), 0.225);
-        let above = |p: DVec3, n: DVec3, q: DVec3| {
-            let d = q - p;
-            let s = n.dot(d);
-            let rho = (d.length_squared() - s * s).max(0.0).sqrt();
-            s - (rho + c) * tb > 0.0
-        };
+        let above = |p: DVec3, n: DVec3, q: DVec3| rule_excess(p, n, q, c, tb) > 0.0;
         let mut bounded = 0;
         for tilt in [0.0f64, 10.0, 25.0, 29.0, 45.0, 55.0] {
             for az in [0.0f64, 70.0, 180.0, 250.0] {

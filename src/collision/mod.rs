@@ -29,7 +29,9 @@
 //! its frustum parts can reach once ([`Checker`]'s swept cells, from the parts' floor bounds
 //! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
 //! the height field whose highest top is under the floor at the block's least distance from
-//! the tip's path; per pose only cells within the tip radius under which the part can reach the
+//! the tip's path, and on each row of a block the cells farther from the path than the radius
+//! where that floor comes below the row's highest top ([`cull::capsule_row`]); per pose only
+//! cells within the tip radius under which the part can reach the
 //! highest material are visited. Every other move (the head turns, or a box part translates)
 //! finds the cells a part may reach once per **stretch** of its checked poses whose points stay
 //! within [`sweep::STRETCH_MM`] of the stretch's first pose: that pose's solid grown by the

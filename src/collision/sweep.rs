@@ -27,7 +27,7 @@ use glam::{DMat3, DVec3};
 
 use super::bead;
 use super::contact::ContactSurface;
-use super::cull::Reach;
+use super::cull::{capsule_row, Reach};
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use super::stretch::Stretch;
@@ -811,7 +811,10 @@ impl Checker {
     /// part at that lowest tip, placed at the path's point nearest the cell, bounds every
     /// sampled pose's floor from below, so a cell under it cannot be reached; a whole block is
     /// skipped when its highest top is under that floor at the block's least distance from the
-    /// path (the floor grows with the distance).
+    /// path (the floor grows with the distance), and on each row only the cells within the
+    /// radius where the floor comes below the row's highest top (less the tolerance) of the
+    /// path are visited ([`capsule_row`]; law test
+    /// `a_translation_lists_every_cell_any_of_its_poses_reaches`).
     fn swept_cells(&self, part: &Part, a: &Pose, b: &Pose) -> Option<Vec<SweptCell>> {
         let tol = CONTACT_TOLERANCE_MM;
         let low_z = a.p.z.min(b.p.z);
@@ -872,7 +875,24 @@ impl Checker {
                 let dist = ((c - (pa + d * t)).length() - half_diag).max(0.0);
                 top - floor_at_distance(dist) <= tol
             },
-            |_, _| Some((f64::NEG_INFINITY, f64::INFINITY)),
+            |y, rtop| {
+                // a cell of the row reaches under the floor only within the radius where the
+                // floor comes below the row's highest top (`Posed::radius_below`,
+                // `ContactSurface::radius_below`: the floor at distance D is below m only for
+                // D under it), about the tip's path
+                let m = rtop - tol;
+                let r = match (
+                    low_solid.radius_below(m),
+                    low_contact.as_ref().and_then(|c| c.radius_below(m)),
+                ) {
+                    (Some(x), Some(y)) => Some(x.min(y)),
+                    (x, y) => x.or(y),
+                };
+                match r {
+                    Some(r) => capsule_row(pa, d, r, y),
+                    None => Some((f64::NEG_INFINITY, f64::INFINITY)),
+                }
+            },
             |i, j, h, bead| {
                 let c = glam::DVec2::new(centre(i), centre(j));
                 let t = if l2 > 0.0 {
@@ -1046,6 +1066,35 @@ mod tests {
     use crate::machine::spec::preset;
 
     /// A small deterministic generator (the tests need no crate for it).
+    /// Assert that every cell `part` reaches at `pose` ([`reached_cells`]) is in `listed`;
+    /// the number of cells reached. `context` names the case in the failure message.
+    fn assert_listed(
+        listed: &std::collections::HashSet<(i64, i64)>,
+        ck: &Checker,
+        part: &Part,
+        pose: &Pose,
+        context: impl Fn() -> String,
+    ) -> usize {
+        let reached = reached_cells(ck, part, pose);
+        for ((i, j), d) in &reached {
+            assert!(
+                listed.contains(&(*i, *j)),
+                "{}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at tip {:?} but not listed",
+                context(),
+                part.name,
+                centre(*i),
+                centre(*j),
+                pose.p
+            );
+        }
+        reached.len()
+    }
+
+    /// The cells of a list, by index.
+    fn cell_set(cells: &[SweptCell]) -> std::collections::HashSet<(i64, i64)> {
+        cells.iter().map(|c| (cell_of(c.x), cell_of(c.y))).collect()
+    }
+
     struct Lcg(u64);
     impl Lcg {
         fn unit(&mut self) -> f64 {
@@ -1235,24 +1284,14 @@ mod tests {
                         && stretch
                             .iter()
                             .all(|p| ContactSurface::new(p.p, p.n, ck.max_width).applies());
-                    let listed: std::collections::HashSet<(i64, i64)> = ck
-                        .cells_near(part, &first, delta, contact, None)
-                        .iter()
-                        .map(|c| (cell_of(c.x), cell_of(c.y)))
-                        .collect();
+                    let listed = cell_set(&ck.cells_near(part, &first, delta, contact, None));
                     for pose in &stretch {
-                        for ((i, j), d) in reached_cells(&ck, part, pose) {
-                            reached += 1;
-                            assert!(
-                                listed.contains(&(i, j)),
-                                "{name}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at a pose {:?} of the stretch from {:?} (δ {delta:.3} mm) but not listed",
-                                part.name,
-                                centre(i),
-                                centre(j),
-                                pose.p,
+                        reached += assert_listed(&listed, &ck, part, pose, || {
+                            format!(
+                                "{name}: a pose of the stretch from {:?} (δ {delta:.3} mm)",
                                 first.p
-                            );
-                        }
+                            )
+                        });
                     }
                 }
             }
@@ -1261,6 +1300,73 @@ mod tests {
         // the moves must reach material, or the law says nothing
         assert!(
             reached_total > 100,
+            "only {reached_total} cells reached in all"
+        );
+    }
+
+    /// Law of the swept cells of a translation ([`Checker::swept_cells`], with its block and
+    /// row bounds about the tip's path): every cell a pose of a translating move reaches (its
+    /// own solid and contact surface, per cell, without any bound) is in the move's list.
+    /// Random translations of a vertical (cartesian) and a tilted (PAX, up to 30°) nozzle over
+    /// a printed pad, the tip between its top and a layer into it.
+    #[test]
+    fn a_translation_lists_every_cell_any_of_its_poses_reaches() {
+        let mut rng = Lcg(41);
+        let mut reached_total = 0;
+        for name in ["cartesian", "pax-5axis"] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let c = DVec3::new(100.0, 100.0, 0.0);
+            let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
+            // the pad: 3 layers of lines 0.45 apart, 12 mm square, printed vertically
+            for layer in 1..=3 {
+                for row in 0..27 {
+                    let y = c.y - 6.0 + 0.45 * row as f64;
+                    let a = at(DVec3::new(c.x - 6.0, y, 0.2 * layer as f64), DVec3::Z, None);
+                    let b = at(
+                        DVec3::new(c.x + 6.0, y, 0.2 * layer as f64),
+                        DVec3::Z,
+                        Some(&a),
+                    );
+                    ck.layer = layer;
+                    ck.deposit(&a, &b, 0.45).unwrap();
+                }
+            }
+            ck.layer = 4;
+            for _ in 0..80 {
+                let n = if name == "cartesian" {
+                    DVec3::Z
+                } else {
+                    let (t, az) = (
+                        rng.range(0.0, 30f64.to_radians()),
+                        rng.range(0.0, std::f64::consts::TAU),
+                    );
+                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+                };
+                let p0 = c + DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
+                let p0 = DVec3::new(p0.x, p0.y, rng.range(0.2, 0.65));
+                let p1 = p0 + DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), 0.0);
+                let a0 = at(p0, n, None);
+                let a1 = at(p1, n, Some(&a0));
+                let poses: Vec<Pose> = (0..=16)
+                    .map(|k| ck.pose_between(&a0, &a1, k as f64 / 16.0).unwrap())
+                    .collect();
+                for part in &ck.parts {
+                    let Some(list) = ck.swept_cells(part, &poses[0], &poses[16]) else {
+                        continue;
+                    };
+                    let listed = cell_set(&list);
+                    for pose in &poses {
+                        reached_total += assert_listed(&listed, &ck, part, pose, || {
+                            format!("{name}: the move {p0:?} → {p1:?}")
+                        });
+                    }
+                }
+            }
+        }
+        assert!(
+            reached_total > 1000,
             "only {reached_total} cells reached in all"
         );
     }
@@ -1327,26 +1433,24 @@ mod tests {
                 let mut lists = ck.lists(&poses, &checked, &reachable, false);
                 for (pi, part) in ck.parts.iter().enumerate() {
                     for (k, pose) in poses.iter().enumerate() {
-                        let listed: std::collections::HashSet<(i64, i64)> = lists.of[pi][k]
-                            .map(|id| lists.cells[id].as_slice())
-                            .unwrap_or(&[])
-                            .iter()
-                            .map(|c| (cell_of(c.x), cell_of(c.y)))
-                            .collect();
+                        let listed = cell_set(
+                            lists.of[pi][k]
+                                .map(|id| lists.cells[id].as_slice())
+                                .unwrap_or(&[]),
+                        );
                         let from_before = carried[pi] && lists.of[pi][k] == lists.of[pi][0];
                         carried_poses += usize::from(from_before);
-                        for ((i, j), d) in reached_cells(&ck, part, pose) {
-                            carried_reached += usize::from(from_before);
-                            assert!(
-                                listed.contains(&(i, j)),
-                                "{name}, move {step}, {}: the cell ({:.1}, {:.1}) is reached {d:.3} mm deep at pose {k} (tip {:?}) but not in its list{}",
-                                part.name,
-                                centre(i),
-                                centre(j),
-                                pose.p,
-                                if from_before { " (carried from an earlier move)" } else { "" }
-                            );
-                        }
+                        let n = assert_listed(&listed, &ck, part, pose, || {
+                            format!(
+                                "{name}, move {step}, pose {k}{}",
+                                if from_before {
+                                    " (carried from an earlier move)"
+                                } else {
+                                    ""
+                                }
+                            )
+                        });
+                        carried_reached += if from_before { n } else { 0 };
                     }
                 }
                 ck.carry(&mut lists);
