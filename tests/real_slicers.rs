@@ -2,11 +2,11 @@
 //! (PrusaSlicer, Slic3r, CuraEngine; `scripts/setup.sh` installs them) and the built-in planar
 //! slicer (`builtin`, issue 14: its default settings, checked exactly like the others): for
 //! each slicer × {relative E, absolute E} × the five acceptance warps on the generated parts
-//! (each case with one slicer and E mode, in turn: [`Rotate::OneComboOf`]); and every
+//! (each case with one slicer and E mode, in turn: [`Rotate::Generated`]); and every
 //! corpus model marked `accept` × the five warps, each
 //! case with one slicer and E mode in turn (so every slicer and E mode meets every model; the
 //! combinations shift by one each CI run, [`rotation`]), and the typed field on every other
-//! corpus model, one case per corpus test ([`Rotate::OneOfWithField`]); the
+//! corpus model, one case per corpus test ([`Rotate::CorpusWithField`]); the
 //! full product, `WARPSLICE_FULL_MATRIX=1`, runs every generated case with every slicer and E
 //! mode and all 768 corpus cases (the field on every model), over the suite's budget: see the
 //! README for its time):
@@ -100,21 +100,21 @@ struct Matrix<'a> {
 enum Rotate {
     /// The corpus: (i + r) mod [`COMBOS`] = slot — every model meets five of the eight slicer ×
     /// E-mode slots per run (its five warps), and the models together all of them.
-    OneOf(usize),
+    Corpus(usize),
     /// The generated parts: (m + w + r) mod [`COMBOS`] = slot for part m and warp w — every part
     /// meets every slicer in both E modes in every run (its eight warps), every warp five slots
     /// (three or four slicers) per run and all eight over the rotation. (Until 2026-11-28 each
     /// case ran with one slicer in both E modes: 80 case runs, about half of the matrix's
     /// time; now 40, for the suite's 30-minute budget.)
-    OneComboOf(usize),
+    Generated(usize),
     /// The corpus with the typed field last among its warps (issue 15: "field warps through
     /// the real-slicer matrix like every other warp, one slicer per model, rotating"): the
-    /// other warps as [`Rotate::OneOf`] (i = m·(warps − 1) + w, so their cases keep their
+    /// other warps as [`Rotate::Corpus`] (i = m·(warps − 1) + w, so their cases keep their
     /// slots), and the field on every other model (m + r even: eight of the sixteen `accept`
     /// models, the other eight in the next run), model m in slot (m + r)/2 mod [`COMBOS`] — one
     /// case per corpus test, each model with one slicer, the slicers rotating over the models.
     /// `WARPSLICE_FULL_MATRIX=1` runs the field on every model with every slicer.
-    OneOfWithField(usize),
+    CorpusWithField(usize),
 }
 
 /// The run's rotation r: `WARPSLICE_ROTATION` (a number; `scripts/test.sh` sets it to the
@@ -131,12 +131,12 @@ impl Rotate {
     /// Whether case (part `m`, warp `w`) of a matrix with `nw` warps runs at rotation `r`.
     fn runs(self, m: usize, w: usize, nw: usize, r: usize) -> bool {
         match self {
-            Rotate::OneOf(slot) => (m * nw + w + r) % COMBOS == slot,
-            Rotate::OneComboOf(slot) => (m + w + r) % COMBOS == slot,
-            Rotate::OneOfWithField(slot) if w + 1 == nw => {
+            Rotate::Corpus(slot) => (m * nw + w + r) % COMBOS == slot,
+            Rotate::Generated(slot) => (m + w + r) % COMBOS == slot,
+            Rotate::CorpusWithField(slot) if w + 1 == nw => {
                 (m + r).is_multiple_of(2) && ((m + r) / 2) % COMBOS == slot
             }
-            Rotate::OneOfWithField(slot) => Rotate::OneOf(slot).runs(m, w, nw - 1, r),
+            Rotate::CorpusWithField(slot) => Rotate::Corpus(slot).runs(m, w, nw - 1, r),
         }
     }
 }
@@ -953,12 +953,12 @@ fn generated<'a>(slot: usize) -> Matrix<'a> {
         models: common::generated_models(),
         warps: generated_warps(),
         presets: Presets::ThreeRound,
-        rotate: Rotate::OneComboOf(slot),
+        rotate: Rotate::Generated(slot),
     }
 }
 
 /// The corpus for slicer × E-mode slot `slot` (0–7): the acceptance warps and, last, the
-/// typed field ([`Rotate::OneOfWithField`]).
+/// typed field ([`Rotate::CorpusWithField`]).
 fn corpus<'a>(slot: usize) -> Matrix<'a> {
     let mut warps = common::acceptance_warps();
     warps.push(common::acceptance::field_ripple());
@@ -966,7 +966,7 @@ fn corpus<'a>(slot: usize) -> Matrix<'a> {
         models: common::corpus_accept(),
         warps,
         presets: Presets::TwoByWarp,
-        rotate: Rotate::OneOfWithField(slot),
+        rotate: Rotate::CorpusWithField(slot),
     }
 }
 
