@@ -91,6 +91,7 @@ impl Scored {
 }
 
 /// The search over one model and machine.
+#[derive(Clone)]
 pub struct Search<'a> {
     pub(super) model: &'a Model,
     pub(super) limits: &'a MachineLimits,
@@ -406,38 +407,42 @@ impl<'a> Search<'a> {
     /// of each family × direction ([`STARTS_PER_GROUP`], [`CONIC_STARTS_PER_GROUP`]), then from its result with the base
     /// blend.
     pub fn run(&mut self, families: &[Family]) -> Vec<Scored> {
-        for &family in families {
-            if !self.limits.prints(family) || family == Family::Field {
-                continue;
-            }
-            let mut coarse: Vec<(Point, f64)> = self
-                .grid(family)
-                .into_iter()
-                .filter_map(|p| self.estimate(p))
-                .collect();
-            coarse.sort_by(|a, b| a.1.total_cmp(&b.1));
-            let mut starts = Vec::new();
-            for d in [Direction::Outward, Direction::Inward] {
-                starts.extend(
-                    coarse
-                        .iter()
-                        .filter(|c| c.0.direction == d)
-                        .take(if family == Family::Conic {
-                            CONIC_STARTS_PER_GROUP
-                        } else {
-                            STARTS_PER_GROUP
+        let searched: Vec<Family> = families
+            .iter()
+            .copied()
+            .filter(|&f| self.limits.prints(f) && f != Family::Field)
+            .collect();
+        // Natively each family is searched in its own thread, on a copy of the search: a
+        // family's candidates (flags that begin with its `--warp`) and their memo are its own,
+        // so the merged maps — ordered by flags — are the sequential search's, and the ranking
+        // below does not depend on which thread finished first. wasm has no threads here: one
+        // after another.
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let found: Vec<Search<'a>> = std::thread::scope(|scope| {
+                let threads: Vec<_> = searched
+                    .iter()
+                    .map(|&family| {
+                        let mut copy = self.clone();
+                        scope.spawn(move || {
+                            copy.search_family(family);
+                            copy
                         })
-                        .filter_map(|c| self.eval(c.0, f64::INFINITY)),
-                );
+                    })
+                    .collect();
+                threads
+                    .into_iter()
+                    .map(|t| t.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .collect()
+            });
+            for copy in found {
+                self.seen.extend(copy.seen);
+                self.cut.extend(copy.cut);
             }
-            for start in starts {
-                let flat = self.refine(start, 0);
-                let mut with_base = flat.point;
-                with_base.base = true;
-                if let Some(b) = self.eval(with_base, f64::INFINITY) {
-                    self.refine(b, BASE_FIRST_HALVING);
-                }
-            }
+        }
+        #[cfg(target_arch = "wasm32")]
+        for &family in &searched {
+            self.search_family(family);
         }
         if families.contains(&Family::Field) && self.limits.prints(Family::Field) {
             let mut ranked: Vec<Scored> = self.seen.values().flatten().cloned().collect();
@@ -454,6 +459,39 @@ impl<'a> Search<'a> {
         let mut all: Vec<Scored> = self.seen.values().flatten().cloned().collect();
         all.sort_by(|a, b| a.rank(b));
         all
+    }
+
+    /// One family's search: the coarse grid's estimates, then the pattern search from the best
+    /// grid points of each direction, each also with the base blend.
+    fn search_family(&mut self, family: Family) {
+        let mut coarse: Vec<(Point, f64)> = self
+            .grid(family)
+            .into_iter()
+            .filter_map(|p| self.estimate(p))
+            .collect();
+        coarse.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let mut starts = Vec::new();
+        for d in [Direction::Outward, Direction::Inward] {
+            starts.extend(
+                coarse
+                    .iter()
+                    .filter(|c| c.0.direction == d)
+                    .take(if family == Family::Conic {
+                        CONIC_STARTS_PER_GROUP
+                    } else {
+                        STARTS_PER_GROUP
+                    })
+                    .filter_map(|c| self.eval(c.0, f64::INFINITY)),
+            );
+        }
+        for start in starts {
+            let flat = self.refine(start, 0);
+            let mut with_base = flat.point;
+            with_base.base = true;
+            if let Some(b) = self.eval(with_base, f64::INFINITY) {
+                self.refine(b, BASE_FIRST_HALVING);
+            }
+        }
     }
 
     /// How many distinct candidates were measured.
