@@ -5,7 +5,8 @@
 //!    centre of the machine's [`Workspace`]) × tool axes (vertical, 1e-6°, 0.25°, 0.5°, 1°, 10°,
 //!    45°, 90°, 135°, 180° and exactly the workspace's largest tilt, at azimuths including
 //!    ±180° ± 1e-4° and ±90°), `forward(inverse(p, n, None)) = (p, realised_axis(p, n))` within
-//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`]; a tilt 3° beyond the workspace's largest
+//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`] — `= (p, n)` itself, whatever the branch, for a
+//!    machine that [`Machine::realises_requests`]; a tilt 3° beyond the workspace's largest
 //!    (when below 180°) must be refused.
 //! 2. **Paths** ([`check_paths`]): sweeps of the azimuth over two full turns (crossing ±180°)
 //!    and a meridian through the vertical, each point solved with the previous axes: the round
@@ -171,8 +172,10 @@ fn check_one(
         .forward(&a)
         .map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
     let dp = (q - p).length();
-    let want = m.realised_axis(p, n);
-    let freedom = if previous.is_some() {
+    // a machine that realises every request exactly is held to the request itself
+    let exact = m.realises_requests();
+    let want = if exact { n } else { m.realised_axis(p, n) };
+    let freedom = if previous.is_some() && !exact {
         m.branch_freedom(p, n)
     } else {
         0.0

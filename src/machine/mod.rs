@@ -181,6 +181,16 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
         n
     }
+    /// Whether the machine realises every request it solves exactly: `forward(inverse(p, n,
+    /// previous)) = (p, n)` (within the round-trip tolerance of law 1) whatever `previous` —
+    /// no dropped component, no clip, no branch hold. The interpolation check then takes
+    /// `(p(s), n(s))` as the exact pose of a sample instead of solving it, where the machine's
+    /// [`Machine::interpolation_bound`] promises that `inverse` succeeds along the piece
+    /// ([`tessellate`]). Law 1 holds a machine that says so to `(p, n)` itself, not to
+    /// [`Machine::realised_axis`]. Default: `false`.
+    fn realises_requests(&self) -> bool {
+        false
+    }
     /// The largest angle (radians) by which the realised axis may differ from
     /// `realised_axis(p, n)` when `previous` picks a branch (e.g. holding B near the pole).
     fn branch_freedom(&self, _p: DVec3, _n: DVec3) -> f64 {

@@ -52,7 +52,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::angles::{rot_z, tilt, Turn};
+use super::angles::{tilt, Turn};
 use super::{require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace};
 use crate::num;
 
@@ -92,9 +92,9 @@ impl Default for ThreeZParams {
     }
 }
 
-/// Solve `α cos θ + β sin θ + γ = 0` for the θ of smallest |θ| (seed 001 Eq. 11).
-/// `None` when there is no real solution (`α² + β² < γ²`).
-pub fn solve_trig(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
+/// The tangent of half the θ of [`solve_trig`] (`θ = 2 atan τ`), or ±∞ for θ = π; the same
+/// root, without the arc tangent.
+fn half_tangent(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
     let s = alpha + gamma;
     if s == 0.0 {
         return Some(0.0);
@@ -111,9 +111,37 @@ pub fn solve_trig(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
     let sign = if beta >= 0.0 { 1.0 } else { -1.0 };
     let den = -beta - sign * d.sqrt();
     if den == 0.0 {
-        return Some(core::f64::consts::PI);
+        return Some(f64::INFINITY);
     }
-    Some(2.0 * num::atan(s / den))
+    Some(s / den)
+}
+
+/// Solve `α cos θ + β sin θ + γ = 0` for the θ of smallest |θ| (seed 001 Eq. 11).
+/// `None` when there is no real solution (`α² + β² < γ²`).
+pub fn solve_trig(alpha: f64, beta: f64, gamma: f64) -> Option<f64> {
+    let tau = half_tangent(alpha, beta, gamma)?;
+    Some(if tau.is_infinite() {
+        core::f64::consts::PI
+    } else {
+        2.0 * num::atan(tau)
+    })
+}
+
+/// [`solve_trig`]'s θ as the turn about the unit `axis`, its cosine and sine from the half-angle
+/// tangent τ (`cos θ = (1 − τ²)/(1 + τ²)`, `sin θ = 2τ/(1 + τ²)`, in 1/τ for |τ| > 1 so nothing
+/// overflows): no trigonometry. Within a few ulps of `Turn::new(axis, solve_trig(..))`; the
+/// forward kinematics use it (they feed the interpolation check, not the written axes).
+fn solve_turn(axis: DVec3, alpha: f64, beta: f64, gamma: f64) -> Option<Turn> {
+    let tau = half_tangent(alpha, beta, gamma)?;
+    let (cos, sin) = if tau.abs() <= 1.0 {
+        let q = tau * tau;
+        ((1.0 - q) / (1.0 + q), 2.0 * tau / (1.0 + q))
+    } else {
+        let u = 1.0 / tau;
+        let q = u * u;
+        ((q - 1.0) / (q + 1.0), 2.0 * u / (q + 1.0))
+    };
+    Some(Turn::from_cos_sin(axis, cos, sin))
 }
 
 fn perp(v: DVec2) -> DVec2 {
@@ -219,38 +247,29 @@ impl ThreeZ {
                 format!("the Z axes (z0, z1, z2) = ({z0}, {z1}, {z2}) admit no bed pose: {what}"),
             )
         };
-        // Eqs. 16–19: rotation of v about a so that its z becomes zt.
-        let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<f64> {
+        // Eqs. 16–19: the rotation of v about a so that its z becomes zt, its cosine and sine
+        // from Eq. 11's half-angle tangent (no trigonometry: `solve_turn`)
+        let solve_rot = |v: DVec3, a: DVec3, zt: f64| -> Option<Turn> {
             let va = v.dot(a);
-            solve_trig(v.z - a.z * va, a.cross(v).z, a.z * va - zt)
+            solve_turn(a, v.z - a.z * va, a.cross(v).z, a.z * va - zt)
         };
         let (l1, l2) = (self.l[1], self.l[2]);
         let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
-        let th1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
-        // each angle's sine and cosine once (the same bits as `rotate` each time)
-        let t1 = Turn::new(a1, th1);
+        let t1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
         let r1l1 = t1.apply(l1);
         let a2 = r1l1.normalize();
         let r1l2 = t1.apply(l2);
-        let th2 = solve_rot(r1l2, a2, z0 - z2).ok_or_else(|| fail("R2"))?;
-        let t2 = Turn::new(a2, th2);
+        let t2 = solve_rot(r1l2, a2, z0 - z2).ok_or_else(|| fail("R2"))?;
         // Eqs. 20–22.
-        let (tp, thp) = ThreeZ::solve_triangle(
-            t2.apply(r1l1).truncate(),
-            t2.apply(r1l2).truncate(),
-            self.d[0],
-            self.nrm[1],
-            self.nrm[2],
-            self.k[1],
-            self.k[2],
-        )
-        .ok_or_else(|| fail("the balls cannot reach their rails"))?;
+        let (tp, spin) = self
+            .solve_triangle(t2.apply(r1l1).truncate(), t2.apply(r1l2).truncate(), true)
+            .ok_or_else(|| fail("the balls cannot reach their rails"))?;
         Ok(BedPose {
             t1,
             t2,
-            t1_back: Turn::new(a1, -th1),
-            t2_back: Turn::new(a2, -th2),
-            thp,
+            t1_back: t1.reversed(),
+            t2_back: t2.reversed(),
+            spin,
             tp,
         })
     }
@@ -284,29 +303,29 @@ impl ThreeZ {
         &self.params
     }
 
-    /// Solve the 2-D rigid-triangle problem (Eqs. 8–11 / 21–22): ball offsets `l1, l2` (xy),
-    /// ball-0 line direction `d0`, rail normals `n1, n2`, offsets `k1, k2` → (t, θ).
-    fn solve_triangle(
-        l1: DVec2,
-        l2: DVec2,
-        d0: DVec2,
-        n1: DVec2,
-        n2: DVec2,
-        k1: f64,
-        k2: f64,
-    ) -> Option<(f64, f64)> {
+    /// Solve the 2-D rigid-triangle problem (Eqs. 8–11 / 21–22): ball offsets `l1, l2` (xy) on
+    /// the machine's rails (ball 0's line direction d₀, rail normals n₁, n₂, offsets k₁, k₂) →
+    /// (t, the turn by θ about +Z, its sine and cosine computed once). `trig_free`: the turn
+    /// from [`solve_turn`] (the forward map), else from θ (the inverse, whose axes are written:
+    /// kept bit for bit).
+    fn solve_triangle(&self, l1: DVec2, l2: DVec2, trig_free: bool) -> Option<(f64, Turn)> {
+        let (d0, n1, n2, k1, k2) = (self.d[0], self.nrm[1], self.nrm[2], self.k[1], self.k[2]);
         let (dn1, dn2) = (d0.dot(n1), d0.dot(n2));
         let (c1, s1) = (l1.dot(n1), perp(l1).dot(n1));
         let (c2, s2) = (l2.dot(n2), perp(l2).dot(n2));
         let alpha = dn1 * c2 - dn2 * c1;
         let beta = dn1 * s2 - dn2 * s1;
         let gamma = d0.dot(n1 * k2 - n2 * k1);
-        let theta = solve_trig(alpha, beta, gamma)?;
+        let turn = if trig_free {
+            solve_turn(DVec3::Z, alpha, beta, gamma)?
+        } else {
+            Turn::new(DVec3::Z, solve_trig(alpha, beta, gamma)?)
+        };
         if dn1.abs() < f64::MIN_POSITIVE {
             return None;
         }
-        let t = -(c1 * num::cos(theta) + s1 * num::sin(theta) + k1) / dn1;
-        Some((t, theta))
+        let t = -(c1 * turn.cos() + s1 * turn.sin() + k1) / dn1;
+        Some((t, turn))
     }
 }
 
@@ -318,8 +337,8 @@ pub(super) struct BedPose {
     t2: Turn,
     t1_back: Turn,
     t2_back: Turn,
-    /// θ' (radians).
-    thp: f64,
+    /// R_θ': the turn by θ' about +Z.
+    spin: Turn,
     /// t' (mm).
     pub(super) tp: f64,
 }
@@ -327,7 +346,7 @@ pub(super) struct BedPose {
 impl BedPose {
     /// `R v`: a bed-space vector in the world.
     pub(super) fn rotate(&self, v: DVec3) -> DVec3 {
-        rot_z(self.t2.apply(self.t1.apply(v)), self.thp)
+        self.spin.about_z(self.t2.apply(self.t1.apply(v)))
     }
 }
 
@@ -395,25 +414,18 @@ impl Machine for ThreeZ {
         let a = |i: usize| tilt_turn.apply(self.l[i]);
         // Eqs. 7–11 in the world: ball 0 at t d₀ on its rail, ball i at t d₀ + R_z(ψ) (T l̂ᵢ)_{xy}
         // in its rail plane nᵢ·b + kᵢ = 0 (i = 1, 2): α cos ψ + β sin ψ + γ = 0, least |ψ|.
-        let (tt, psi) = ThreeZ::solve_triangle(
-            a(1).truncate(),
-            a(2).truncate(),
-            self.d[0],
-            self.nrm[1],
-            self.nrm[2],
-            self.k[1],
-            self.k[2],
-        )
-        .ok_or_else(|| {
-            self.axis_set.unreachable(
-                p,
-                n_hat,
-                "no bed pose puts the three balls on their rails (Eq. 11 has no real root)".into(),
-            )
-        })?;
+        let (tt, spin) = self
+            .solve_triangle(a(1).truncate(), a(2).truncate(), false)
+            .ok_or_else(|| {
+                self.axis_set.unreachable(
+                    p,
+                    n_hat,
+                    "no bed pose puts the three balls on their rails (Eq. 11 has no real root)"
+                        .into(),
+                )
+            })?;
         // Eq. 14 with R = R_z(ψ)·T: q = R (p̂ − b̂₀) + b̂₀ + (t d₀, 0).
         let b0w = (self.d[0] * tt).extend(0.0);
-        let spin = Turn::new(DVec3::Z, psi);
         let rot = |v: DVec3| spin.about_z(tilt_turn.apply(v));
         let pp = rot(p - self.b_hat[0]) + self.b_hat[0] + b0w;
         let z0 = pp.z;
@@ -445,10 +457,15 @@ impl Machine for ThreeZ {
         // Eq. 23.
         let b0 = self.d[0] * pose.tp;
         let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
-        let p = r21t(rot_z(v, -pose.thp)) + self.b_hat[0];
+        let p = r21t(pose.spin.reversed().about_z(v)) + self.b_hat[0];
         // The nozzle is vertical in the world: in bed space it points along Rᵀ e₃ = R₁ᵀ R₂ᵀ e₃
         // (R_θ' turns about e₃).
         Ok((p, r21t(DVec3::Z)))
+    }
+    /// The bed turns the tool axis exactly onto the nozzle (`Rᵀe₃ = n̂`, the module doc) and
+    /// puts the tip exactly under it: nothing is dropped, clipped or held.
+    fn realises_requests(&self) -> bool {
+        true
     }
     /// The bed's pose for the Z motor heights, [`ThreeZ::bed_pose`]: its 3Z closed-form bound
     /// ([`super::threez_bound`]).
@@ -471,5 +488,43 @@ impl Machine for ThreeZ {
             max: DVec3::new(v[0], v[1], v[2]),
             max_tilt_deg: self.params.max_tilt_deg,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `solve_turn` (the forward map's cosine and sine from the half-angle tangent) against
+    /// `solve_trig`'s θ through libm, over roots on every side of ±π/2 (|τ| above and below 1)
+    /// and the half turn (τ = ∞): within 4 ulps of 1.
+    #[test]
+    fn the_half_angle_turn_is_the_solved_angles_turn() {
+        let mut checked = 0;
+        for i in 0..2000 {
+            let theta = -3.1 + 6.2 * i as f64 / 1999.0;
+            for (a, b) in [(1.0, 0.0), (0.3, -2.0), (-1.5, 0.7), (2.0, 2.0)] {
+                // γ so that θ is a root of α cos θ + β sin θ + γ = 0
+                let g = -(a * num::cos(theta) + b * num::sin(theta));
+                let (Some(t), Some(turn)) = (solve_trig(a, b, g), solve_turn(DVec3::Z, a, b, g))
+                else {
+                    panic!("no root for θ = {theta} (α {a}, β {b})");
+                };
+                let (c, s) = (num::cos(t), num::sin(t));
+                assert!(
+                    (turn.cos() - c).abs() <= 4.0 * f64::EPSILON
+                        && (turn.sin() - s).abs() <= 4.0 * f64::EPSILON,
+                    "θ = {t}: half-angle ({}, {}) vs libm ({c}, {s})",
+                    turn.cos(),
+                    turn.sin()
+                );
+                checked += 1;
+            }
+        }
+        // the half turn: den = 0 (α = −1, β = 0, γ = −1 has θ = π)
+        let turn = solve_turn(DVec3::Z, -1.0, 0.0, -1.0).unwrap();
+        assert_eq!((turn.cos(), turn.sin()), (-1.0, 0.0));
+        assert_eq!(solve_trig(-1.0, 0.0, -1.0), Some(core::f64::consts::PI));
+        assert_eq!(checked, 8000);
     }
 }
