@@ -6,12 +6,22 @@ import init, * as ws from './pkg/warpslice.js';
 
 const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
 let wasmMemory = null;
-ready.then((exports) => (wasmMemory = exports.memory));
+/** The wasm linear memory right after instantiation, bytes: the module's idle size. */
+let idleBytes = 0;
+ready.then((exports) => {
+  wasmMemory = exports.memory;
+  idleBytes = wasmBytes();
+});
 /** Bytes the worker holds outside its JS heap: the wasm linear memory (never shrinks). */
 const wasmBytes = () => (wasmMemory ? wasmMemory.buffer.byteLength : 0);
 
-/** Bytes per chunk read from the G-code File. */
-const CHUNK = 4 << 20;
+/**
+ * Bytes per chunk read from the G-code File. The wasm memory's high-water mark grows with it
+ * (a chunk's output, its toolpath points and their f64 copy are held at once, and wasm memory
+ * never shrinks): the 105 MB test G-code's 3-axis unwarp left the worker 87 MiB above the
+ * module's idle size with 4 MiB chunks, 33 MiB with 1 MiB (Node, the same calls, no time lost).
+ */
+const CHUNK = 1 << 20;
 /** Most toolpath points kept for the preview (the download always has every line). */
 const PREVIEW_POINTS = 250_000;
 /** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
@@ -80,6 +90,19 @@ self.onmessage = async (ev) => {
 
 async function readSlice(file, start, end) {
   return new Uint8Array(await file.slice(start, end).arrayBuffer());
+}
+
+/**
+ * The File's CHUNK slices in order as `[offset, bytes]`, the next one already being read
+ * (off this thread) while the caller's wasm works on this one.
+ */
+async function* slices(file) {
+  let next = readSlice(file, 0, CHUNK);
+  for (let off = 0; off < file.size; off += CHUNK) {
+    const bytes = await next;
+    if (off + CHUNK < file.size) next = readSlice(file, off + CHUNK, off + 2 * CHUNK);
+    yield [off, bytes];
+  }
 }
 
 /**
@@ -195,8 +218,8 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
     for (const [line, parts] of p.collisions) for (const part of parts) addHit(hits, line, part);
   };
   try {
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.push(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.push(bytes);
       drain();
       onProgress(Math.min(total, off + CHUNK), total);
     }
@@ -264,8 +287,8 @@ async function unwarpFile(msg) {
     // Register to the bead: the printed walls against the warped STL's cross-sections (the
     // CLI's `unwarp --stl`); the page always has the STL the job was written with.
     if (msg.warpedStl) stream.setWarpedStl(new Uint8Array(msg.warpedStl));
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.scan(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.scan(bytes);
       post('scan', Math.min(total, off + CHUNK));
     }
     const registration = stream.endScan();
@@ -281,8 +304,8 @@ async function unwarpFile(msg) {
       }
       preview.add(stream.takeToolpath());
     };
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.push(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.push(bytes);
       drain();
       // Fold the pieces into a Blob now and then: Blob storage lives outside the JS heap.
       if (parts.length > 16) parts.splice(0, parts.length, new Blob(parts));
@@ -294,6 +317,7 @@ async function unwarpFile(msg) {
     const report = stream.finish();
     drain();
     const blob = new Blob(parts, { type: 'text/x-gcode' });
+    const unwarpMs = performance.now() - t0;
     // The machine file through `warpslice check` for reach and axis speeds (the collisions are
     // the unwarp's, handed over, not walked twice): the findings with the output's line numbers,
     // for the page. Its path (file lines, collisions flagged) is a second preview the page
@@ -301,6 +325,7 @@ async function unwarpFile(msg) {
     let check = null;
     let checkError = null;
     let checkPreview = null;
+    const tc = performance.now();
     if (options.machine) {
       try {
         const found = report.machine?.collisions_checked ? report.machine.collisions : null;
@@ -309,6 +334,7 @@ async function unwarpFile(msg) {
         checkError = errReply(e);
       }
     }
+    const checkMs = performance.now() - tc;
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];
     if (options.machine) {
@@ -343,7 +369,10 @@ async function unwarpFile(msg) {
       const c = checkPreview;
       transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer, c.maxes.buffer);
     }
-    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
+    // the worker's memory: the wasm module's idle size and, at the end (wasm memory never
+    // shrinks), its size now plus the preview buffers; the unwarp's and the check's times
+    const memory = { idleBytes, workerBytes: wasmBytes() + preview.cap * 37 + (checkPreview ? checkPreview.bytes : 0) };
+    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, unwarpMs, checkMs, ...memory, preview: pv }, transfer);
   } finally {
     stream.free();
   }
