@@ -33,6 +33,8 @@ const SLICE = resolve(ROOT, '..', 'shared', 'tools', 'slice.sh');
 const TARGET = process.env.CARGO_TARGET_DIR ? resolve(process.env.CARGO_TARGET_DIR) : join(ROOT, 'target');
 const CLI = process.env.WARPSLICE_CLI ? resolve(process.env.WARPSLICE_CLI) : join(TARGET, 'release', 'warpslice');
 const BIG = process.env.WARPSLICE_WEB_BIG !== '0';
+/** Issue 13: the worker's memory (wasm linear memory + preview buffers) at most this above the wasm module's idle size for the 100 MB G-code's 3-axis unwarp, bytes. */
+const WORKER_ABOVE_IDLE_MAX = 64 * 2 ** 20;
 const TMP = mkdtempSync(join(tmpdir(), 'warpslice-web-'));
 mkdirSync(ART, { recursive: true });
 for (const f of readdirSync(ART)) if (f.endsWith('.png')) rmSync(join(ART, f)); // this run's screenshots only
@@ -793,6 +795,12 @@ try {
       await screenshot('big-cancelled');
       const figures = { input_bytes: size };
       figures['3-axis'] = await bigRun('3-axis', gcode, big);
+      // Issue 13's memory bound, asserted for the 3-axis unwarp only: unlike a time it is
+      // deterministic (the same slices, the same allocations, the same preview buffers every
+      // run). pax-5axis's is printed: its collision check keeps the printed material (the
+      // native CLI's peak RSS is of the same size).
+      const above = figures['3-axis'].worker_above_idle_bytes;
+      assert(above <= WORKER_ABOVE_IDLE_MAX, `the worker's memory ${(above / 2 ** 20).toFixed(1)} MiB above the wasm module's idle size is at most ${WORKER_ABOVE_IDLE_MAX / 2 ** 20} MiB`);
       await screenshot('big-toolpath');
       // One 5-axis preset: pax-5axis's default head meets the printed cone here (the CLI refuses
       // it with machine.collision), so it runs with the page's "Allow collisions" option, the
