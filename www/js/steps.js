@@ -4,7 +4,7 @@ import { refreshOverhangs } from './overhang.js';
 import { clearHead } from './head.js';
 import { state } from './state.js';
 import { showFindings, showUnwarpWarnings } from './check.js';
-import { $, baseName, box3, el, info, setDownload } from './dom.js';
+import { $, baseName, box3, el, info, setDownload, setLazyDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
 import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
@@ -307,7 +307,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
       setDownload('config-download', new Blob([out.config.text], { type: 'text/plain' }), `${name}.${m.name}.${out.config.flavour}.${out.config.file}.txt`);
     }
     const summary = makeSummary(out, file);
-    setDownload('summary-download', new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
+    setLazyDownload('summary-download', () => new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
     info($('summary'), Object.entries(summary.display));
     showUnwarpWarnings(out.report);
     tp.data = out.preview;
