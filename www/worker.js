@@ -24,6 +24,15 @@ const wasmBytes = () => (wasmMemory ? wasmMemory.buffer.byteLength : 0);
 const CHUNK = 1 << 20;
 /** Most toolpath points kept for the preview (the download always has every line). */
 const PREVIEW_POINTS = 250_000;
+/**
+ * The preview's next capacity, points: doubled up to PREVIEW_POINTS, then a quarter more at a
+ * time (the stride is picked for about PREVIEW_POINTS; a G-code denser than BYTES_PER_POINT
+ * goes a little over, and doubling there would hold up to twice the buffers it needs: the 105 MB
+ * test G-code keeps about 274 000 points, in 2^19 slots of 37 bytes by doubling, 327 680 now).
+ */
+function nextCap(cap) {
+  return cap < PREVIEW_POINTS ? cap * 2 : Math.ceil(cap * 1.25);
+}
 /** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
 const BYTES_PER_POINT = 28;
 
@@ -158,7 +167,7 @@ class Preview {
       const layer = tp[i + 7];
       const newLayer = this.count > 0 && this.layer[this.count - 1] !== layer;
       if (!keep && !newLayer) continue;
-      if (this.count === this.cap) this.alloc(this.cap * 2);
+      if (this.count === this.cap) this.alloc(nextCap(this.cap));
       const c = this.count++;
       this.pos[c * 3] = tp[i]; this.pos[c * 3 + 1] = tp[i + 1]; this.pos[c * 3 + 2] = tp[i + 2];
       this.axis[c * 3] = tp[i + 3]; this.axis[c * 3 + 1] = tp[i + 4]; this.axis[c * 3 + 2] = tp[i + 5];
