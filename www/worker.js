@@ -6,14 +6,33 @@ import init, * as ws from './pkg/warpslice.js';
 
 const ready = init({ module_or_path: new URL('./pkg/warpslice_bg.wasm', import.meta.url) });
 let wasmMemory = null;
-ready.then((exports) => (wasmMemory = exports.memory));
+/** The wasm linear memory right after instantiation, bytes: the module's idle size. */
+let idleBytes = 0;
+ready.then((exports) => {
+  wasmMemory = exports.memory;
+  idleBytes = wasmBytes();
+});
 /** Bytes the worker holds outside its JS heap: the wasm linear memory (never shrinks). */
 const wasmBytes = () => (wasmMemory ? wasmMemory.buffer.byteLength : 0);
 
-/** Bytes per chunk read from the G-code File. */
-const CHUNK = 4 << 20;
+/**
+ * Bytes per chunk read from the G-code File. The wasm memory's high-water mark grows with it
+ * (a chunk's output, its toolpath points and their f64 copy are held at once, and wasm memory
+ * never shrinks): the 105 MB test G-code's 3-axis unwarp left the worker 87 MiB above the
+ * module's idle size with 4 MiB chunks, 33 MiB with 1 MiB (Node, the same calls, no time lost).
+ */
+const CHUNK = 1 << 20;
 /** Most toolpath points kept for the preview (the download always has every line). */
 const PREVIEW_POINTS = 250_000;
+/**
+ * The preview's next capacity, points: doubled up to PREVIEW_POINTS, then a quarter more at a
+ * time (the stride is picked for about PREVIEW_POINTS; a G-code denser than BYTES_PER_POINT
+ * goes a little over, and doubling there would hold up to twice the buffers it needs: the 105 MB
+ * test G-code keeps about 274 000 points, in 2^19 slots of 37 bytes by doubling, 327 680 now).
+ */
+function nextCap(cap) {
+  return cap < PREVIEW_POINTS ? cap * 2 : Math.ceil(cap * 1.25);
+}
 /** Approximate bytes of G-code per toolpath point, to pick the decimation stride up front. */
 const BYTES_PER_POINT = 28;
 
@@ -83,6 +102,19 @@ async function readSlice(file, start, end) {
 }
 
 /**
+ * The File's CHUNK slices in order as `[offset, bytes]`, the next one already being read
+ * (off this thread) while the caller's wasm works on this one.
+ */
+async function* slices(file) {
+  let next = readSlice(file, 0, CHUNK);
+  for (let off = 0; off < file.size; off += CHUNK) {
+    const bytes = await next;
+    if (off + CHUNK < file.size) next = readSlice(file, off + CHUNK, off + 2 * CHUNK);
+    yield [off, bytes];
+  }
+}
+
+/**
  * The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature |
  * travel<<7); for a checked G-code also the file line of each point (u32, `line`), whether a
  * collision was found on it (u8, `hit`) and the parts in collision per file line (`hitParts`,
@@ -135,7 +167,7 @@ class Preview {
       const layer = tp[i + 7];
       const newLayer = this.count > 0 && this.layer[this.count - 1] !== layer;
       if (!keep && !newLayer) continue;
-      if (this.count === this.cap) this.alloc(this.cap * 2);
+      if (this.count === this.cap) this.alloc(nextCap(this.cap));
       const c = this.count++;
       this.pos[c * 3] = tp[i]; this.pos[c * 3 + 1] = tp[i + 1]; this.pos[c * 3 + 2] = tp[i + 2];
       this.axis[c * 3] = tp[i + 3]; this.axis[c * 3 + 1] = tp[i + 4]; this.axis[c * 3 + 2] = tp[i + 5];
@@ -195,8 +227,8 @@ async function checkFile(file, machine, withPath, onProgress = () => {}, skipCol
     for (const [line, parts] of p.collisions) for (const part of parts) addHit(hits, line, part);
   };
   try {
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.push(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.push(bytes);
       drain();
       onProgress(Math.min(total, off + CHUNK), total);
     }
@@ -264,8 +296,8 @@ async function unwarpFile(msg) {
     // Register to the bead: the printed walls against the warped STL's cross-sections (the
     // CLI's `unwarp --stl`); the page always has the STL the job was written with.
     if (msg.warpedStl) stream.setWarpedStl(new Uint8Array(msg.warpedStl));
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.scan(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.scan(bytes);
       post('scan', Math.min(total, off + CHUNK));
     }
     const registration = stream.endScan();
@@ -281,8 +313,8 @@ async function unwarpFile(msg) {
       }
       preview.add(stream.takeToolpath());
     };
-    for (let off = 0; off < total; off += CHUNK) {
-      stream.push(await readSlice(file, off, off + CHUNK));
+    for await (const [off, bytes] of slices(file)) {
+      stream.push(bytes);
       drain();
       // Fold the pieces into a Blob now and then: Blob storage lives outside the JS heap.
       if (parts.length > 16) parts.splice(0, parts.length, new Blob(parts));
@@ -294,6 +326,7 @@ async function unwarpFile(msg) {
     const report = stream.finish();
     drain();
     const blob = new Blob(parts, { type: 'text/x-gcode' });
+    const unwarpMs = performance.now() - t0;
     // The machine file through `warpslice check` for reach and axis speeds (the collisions are
     // the unwarp's, handed over, not walked twice): the findings with the output's line numbers,
     // for the page. Its path (file lines, collisions flagged) is a second preview the page
@@ -301,6 +334,7 @@ async function unwarpFile(msg) {
     let check = null;
     let checkError = null;
     let checkPreview = null;
+    const tc = performance.now();
     if (options.machine) {
       try {
         const found = report.machine?.collisions_checked ? report.machine.collisions : null;
@@ -309,6 +343,7 @@ async function unwarpFile(msg) {
         checkError = errReply(e);
       }
     }
+    const checkMs = performance.now() - tc;
     const pv = preview.result();
     const transfer = [pv.pos.buffer, pv.tilt.buffer, pv.axis.buffer, pv.layer.buffer, pv.flags.buffer, pv.line.buffer];
     if (options.machine) {
@@ -343,7 +378,10 @@ async function unwarpFile(msg) {
       const c = checkPreview;
       transfer.push(c.pos.buffer, c.tilt.buffer, c.axis.buffer, c.layer.buffer, c.flags.buffer, c.line.buffer, c.hit.buffer, c.maxes.buffer);
     }
-    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, preview: pv }, transfer);
+    // the worker's memory: the wasm module's idle size and, at the end (wasm memory never
+    // shrinks), its size now plus the preview buffers; the unwarp's and the check's times
+    const memory = { idleBytes, workerBytes: wasmBytes() + preview.cap * 37 + (checkPreview ? checkPreview.bytes : 0) };
+    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, unwarpMs, checkMs, ...memory, preview: pv }, transfer);
   } finally {
     stream.free();
   }

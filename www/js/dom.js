@@ -26,6 +26,7 @@ export function info(dl, rows) {
 /** Points the download link `id` at `blob` (null: disables it). */
 export function setDownload(id, blob, name) {
   const a = $(id);
+  a.onclick = null; // a pending `setLazyDownload` is replaced
   if (a.href?.startsWith('blob:')) URL.revokeObjectURL(a.href);
   if (!blob) {
     a.removeAttribute('href');
@@ -37,6 +38,16 @@ export function setDownload(id, blob, name) {
   a.download = name;
   a.classList.remove('disabled');
   a.removeAttribute('aria-disabled');
+}
+
+/**
+ * `setDownload` of a file written when it is first clicked (`make()` → Blob): a large JSON (a
+ * report listing 88 000 collisions) is not written on the main thread unless it is asked for.
+ */
+export function setLazyDownload(id, make, name) {
+  setDownload(id, new Blob([]), name);
+  // the click's default action follows the href set here (the file, not the placeholder)
+  $(id).onclick = () => setDownload(id, make(), name);
 }
 
 /** A file name without its extension, safe for a download name. */

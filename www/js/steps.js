@@ -4,7 +4,7 @@ import { refreshOverhangs } from './overhang.js';
 import { clearHead } from './head.js';
 import { state } from './state.js';
 import { showFindings, showUnwarpWarnings } from './check.js';
-import { $, baseName, box3, el, info, setDownload } from './dom.js';
+import { $, baseName, box3, el, info, setDownload, setLazyDownload } from './dom.js';
 import { call } from './worker-client.js';
 import { clearError, showError } from './errors.js';
 import { cliArgs, commandLine, readSettings, saveHash, unwarpOptions, warpOptions } from './settings.js';
@@ -257,6 +257,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
   prog.removeAttribute('data-cancelled');
   prog.removeAttribute('data-step');
   prog.removeAttribute('data-worker-bytes');
+  for (const k of ['idle-bytes', 'unwarp-ms', 'check-ms']) prog.removeAttribute(`data-${k}`);
   text.textContent = 'reading…';
   const t0 = performance.now();
   try {
@@ -289,6 +290,10 @@ export async function runToResult({ file = null, what, request, again, onEvent =
     text.textContent = `done in ${secs.toFixed(1)} s`;
     prog.dataset.done = '1';
     prog.dataset.ms = String(Math.round(performance.now() - t0));
+    // the worker's figures (the page's web tier prints them): its memory at the end and idle,
+    // the unwarp's and its check's times
+    if (out.workerBytes) prog.dataset.workerBytes = String(Math.max(Number(prog.dataset.workerBytes || 0), out.workerBytes));
+    for (const k of ['idleBytes', 'unwarpMs', 'checkMs']) if (out[k] !== undefined) prog.dataset[k] = String(Math.round(out[k]));
     state.result = out;
     // the job of this run (a change of the form meanwhile re-warps: state.warped is the new one)
     out.job = args.job;
@@ -302,7 +307,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
       setDownload('config-download', new Blob([out.config.text], { type: 'text/plain' }), `${name}.${m.name}.${out.config.flavour}.${out.config.file}.txt`);
     }
     const summary = makeSummary(out, file);
-    setDownload('summary-download', new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
+    setLazyDownload('summary-download', () => new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
     info($('summary'), Object.entries(summary.display));
     showUnwarpWarnings(out.report);
     tp.data = out.preview;

@@ -15,6 +15,11 @@ const OVER_LIMIT_COLOR = 0xff00ff;
 
 const view = state.view;
 
+/** The `performance.measure` name of one WebGL frame (`renderer.render`), start to end. */
+export const FRAME_MEASURE = 'warpslice-frame';
+/** Frames rendered so far (their measures are cleared every 1000). */
+let frames = 0;
+
 export function initView() {
   const wrap = $('canvas-wrap');
   const renderer = new THREE.WebGLRenderer({ antialias: false, powerPreference: 'high-performance' });
@@ -49,7 +54,13 @@ export function initView() {
       view.dirty = false;
       const t = performance.now();
       renderer.render(scene, camera);
-      wrap.dataset.renderMs = String(Math.max(Number(wrap.dataset.renderMs || 0), Math.round(performance.now() - t)));
+      const t1 = performance.now();
+      wrap.dataset.renderMs = String(Math.max(Number(wrap.dataset.renderMs || 0), Math.round(t1 - t)));
+      // the frame's interval, for the web tier's long-task figure (main-thread tasks outside
+      // WebGL frames); the measure is consumed by a PerformanceObserver there, not buffered
+      // here past a few (a page left open does not grow the timeline)
+      performance.measure(FRAME_MEASURE, { start: t, end: t1 });
+      if (++frames % 1000 === 0) performance.clearMeasures(FRAME_MEASURE);
     }
     requestAnimationFrame(loop);
   };
