@@ -22,6 +22,11 @@
 //! that piece is marked `rotate_around` and not interpolated (the emitter lifts and turns
 //! around, Slicer4RTN style), the rest of the move is printed.
 //!
+//! A piece is split as soon as one sample shows it over: the sample at s = ½ (where a smooth
+//! error peaks) is taken first, and a piece over there is not sampled further; a piece the caps
+//! split anyway is not sampled at all (a split piece's error is neither reported nor compared;
+//! its halves are measured). Which pieces are split, and the worst reported, do not change.
+//!
 //! A piece with one tool axis whose ends have the same rotary axes, on a machine that is
 //! [`Machine::linear_at_fixed_pose`], is exact (error 0, no samples): the firmware moves only
 //! linear axes there and the tip follows them affinely (a law test checks the promise).
@@ -381,14 +386,24 @@ impl<'m> Ctx<'m> {
 
     /// Worst (position, angle°) of the firmware's path over a piece, sampled. `requested`: the
     /// exact pose of a sample is the request `(p(s), n(s))` itself, unsolved (the module's
-    /// "Requests realised exactly").
-    fn error(&self, pc: &Piece, a1: &[f64], requested: bool) -> Result<Measured, MachineError> {
+    /// "Requests realised exactly"). The sample at s = ½ (where a smooth error peaks) comes
+    /// first; with `stop_when_over`, a piece it already shows over the bounds is not sampled
+    /// further (it is split, and a split piece's error is neither reported nor compared again:
+    /// the module's "Splitting").
+    fn error(
+        &self,
+        pc: &Piece,
+        a1: &[f64],
+        requested: bool,
+        stop_when_over: bool,
+    ) -> Result<Measured, MachineError> {
         self.sampled.set(self.sampled.get() + 1);
         let k = self.bounds.samples.max(2);
         let (mut dp, mut da) = (0.0f64, 0.0f64);
         let mut mid = None;
         let sl = Slerp::new(pc.n0, pc.n1);
-        for i in 1..k {
+        let half = k / 2;
+        for i in core::iter::once(half).chain((1..k).filter(|&i| i != half)) {
             let s = i as f64 / k as f64;
             let p = pc.p0.lerp(pc.p1, s);
             let n = sl.at(s);
@@ -405,8 +420,17 @@ impl<'m> Ctx<'m> {
             let fw = self.forward(lerp_axes(pc.a0, a1, s).as_slice())?;
             dp = dp.max((fw.0 - exact.0).length());
             da = da.max(angle_deg(fw.1, exact.1));
+            if stop_when_over && self.over(dp, da) {
+                break;
+            }
         }
         Ok(((dp, da), mid))
+    }
+
+    /// Whether a sampled error calls for a split (beyond [`SAMPLING_MARGIN`] of a bound).
+    fn over(&self, dp: f64, da: f64) -> bool {
+        dp > SAMPLING_MARGIN * self.bounds.max_position_mm
+            || da > SAMPLING_MARGIN * self.bounds.max_angle_deg
     }
 
     /// Whether the machine's closed-form bound lets the piece through without samples and
@@ -585,7 +609,10 @@ impl<'m> Ctx<'m> {
         let turn = num::deg(num::angle_between(pc.n0, pc.n1));
         let capped = self.bounds.max_step_mm.is_some_and(|c| len > c)
             || self.bounds.max_step_deg.is_some_and(|c| turn > c);
-        let closed = if wrap || self.exact_at_fixed_pose(&pc, &a1) {
+        // a piece that is split whatever its error (capped, below the depth limit) is not
+        // measured: its halves are
+        let splits = depth < self.bounds.max_depth;
+        let closed = if wrap || (capped && splits) || self.exact_at_fixed_pose(&pc, &a1) {
             ClosedForm::Accepted
         } else {
             self.closed_form(&pc, &a1, rep)
@@ -593,11 +620,10 @@ impl<'m> Ctx<'m> {
         let ((dp, da), mid) = match closed {
             ClosedForm::Accepted => ((0.0, 0.0), None),
             // the bound promises that `inverse` succeeds along the piece
-            ClosedForm::Given => self.error(&pc, &a1, self.requests_realised)?,
-            ClosedForm::None => self.error(&pc, &a1, false)?,
+            ClosedForm::Given => self.error(&pc, &a1, self.requests_realised, splits)?,
+            ClosedForm::None => self.error(&pc, &a1, false, splits)?,
         };
-        let over = dp > SAMPLING_MARGIN * self.bounds.max_position_mm
-            || da > SAMPLING_MARGIN * self.bounds.max_angle_deg;
+        let over = self.over(dp, da);
         // a piece crossing a single-revolution axis's seam is halved until the crossing is
         // shorter than SEAM_PIECE_MM: the rest of the move is printed, only that piece is
         // turned around in the air
