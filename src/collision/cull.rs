@@ -196,6 +196,68 @@ pub fn capsule_row(a: DVec2, d: DVec2, r: f64, y: f64) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo - DISC_SLACK_MM, hi + DISC_SLACK_MM))
 }
 
+/// The tips of a translation's checked poses (the pose fixed, the tip moving along the segment
+/// from `a` by `d`, seen from above), to find at which of them a cell lies within a radius of
+/// the tip without measuring its distance to every one ([`super::Checker`]'s per-pose lists of
+/// a translation).
+///
+/// ## The bound
+/// Each tip `q_k` has the parameter `t_k = (q_k − a)·d / |d|²` of its foot `f_k = a + t_k d`
+/// on the path's line, and lies `δ_k = |q_k − f_k|` off it (0 to rounding for a translation;
+/// `δ = max δ_k` is measured, not assumed). For a cell `c` with foot parameter `t_c` and
+/// distance `e` from the line, Pythagoras on the line gives `|c − f_k|² = e² + (t_k − t_c)²|d|²`,
+/// and the triangle inequality `|c − q_k| ≥ |c − f_k| − δ`. So `|c − q_k| ≤ r` implies
+/// `e² + (t_k − t_c)²|d|² ≤ (r + δ)²`: `|t_k − t_c| ≤ √((r + δ)² − e²) / |d|`, an interval of
+/// `t`, and with the `t_k` in order (checked) a range of the tips.
+#[derive(Clone, Debug)]
+pub struct TipLine {
+    a: DVec2,
+    d: DVec2,
+    l2: f64,
+    /// The tips' parameters, non-decreasing.
+    t: Vec<f64>,
+    /// `δ`: the farthest tip from the line, mm.
+    off: f64,
+}
+
+impl TipLine {
+    /// The tips `tips` of a path from `a` by `d` (`None` when the path has no horizontal
+    /// length or the tips' parameters are not in order: the caller then checks every tip).
+    pub fn new(a: DVec2, d: DVec2, tips: &[DVec2]) -> Option<TipLine> {
+        let l2 = d.length_squared();
+        if l2 <= 0.0 || !l2.is_finite() {
+            return None;
+        }
+        let mut off = 0.0f64;
+        let mut t = Vec::with_capacity(tips.len());
+        for q in tips {
+            let tk = (*q - a).dot(d) / l2;
+            off = off.max((*q - (a + d * tk)).length());
+            t.push(tk);
+        }
+        if t.windows(2).any(|w| w[1] < w[0]) || !off.is_finite() {
+            return None;
+        }
+        Some(TipLine { a, d, l2, t, off })
+    }
+
+    /// The range of the tips (indices into `tips` of [`TipLine::new`]) that may lie within `r`
+    /// of `c` horizontally: every tip within `r` is in it (see the type's documentation; the
+    /// radius gets [`DISC_SLACK_MM`] for rounding).
+    pub fn within(&self, c: DVec2, r: f64) -> std::ops::Range<usize> {
+        let tc = (c - self.a).dot(self.d) / self.l2;
+        let e = (c - (self.a + self.d * tc)).length();
+        let big = r + self.off + DISC_SLACK_MM;
+        if e > big {
+            return 0..0;
+        }
+        let hw = ((big * big - e * e).max(0.0) / self.l2).sqrt();
+        let lo = self.t.partition_point(|&t| t < tc - hw);
+        let hi = self.t.partition_point(|&t| t <= tc + hw);
+        lo..hi.max(lo)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,5 +310,54 @@ mod tests {
             }
         }
         assert!(rows_met > 100, "only {rows_met} rows met a capsule");
+    }
+
+    /// Every tip within `r` of a cell (measured directly, `DVec2::distance`) is in
+    /// [`TipLine::within`]'s range: random paths with tips off the line by up to 0.05 mm, in
+    /// order along it, random cells and radii; and the range is not the whole set of tips for
+    /// most of the cells far from the path.
+    #[test]
+    fn a_tip_lines_range_holds_every_tip_within_the_radius() {
+        let mut seed = 7u64;
+        let mut rnd = |lo: f64, hi: f64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut met, mut narrowed) = (0, 0);
+        for case in 0..300 {
+            let a = DVec2::new(rnd(-5.0, 5.0), rnd(-5.0, 5.0));
+            let d = DVec2::new(rnd(-20.0, 20.0), rnd(-20.0, 20.0));
+            let normal = d.perp().normalize();
+            let n = 2 + (rnd(0.0, 60.0) as usize);
+            let jitter = if case % 2 == 0 { 0.0 } else { 0.05 };
+            let tips: Vec<DVec2> = (0..n)
+                .map(|k| a + d * (k as f64 / (n - 1) as f64) + normal * rnd(-jitter, jitter))
+                .collect();
+            let Some(line) = TipLine::new(a, d, &tips) else {
+                panic!("case {case}: tips in order refused");
+            };
+            for _ in 0..50 {
+                let c = a + d * rnd(-0.3, 1.3) + normal * rnd(-4.0, 4.0);
+                let r = rnd(0.0, 5.0);
+                let range = line.within(c, r);
+                for (k, q) in tips.iter().enumerate() {
+                    if q.distance(c) <= r {
+                        met += 1;
+                        assert!(
+                            range.contains(&k),
+                            "case {case}: tip {k} at {q} is {} from {c} (r {r}) but outside {range:?}",
+                            q.distance(c)
+                        );
+                    }
+                }
+                narrowed += usize::from(range.len() < n / 2);
+            }
+        }
+        assert!(
+            met > 1000 && narrowed > 3000,
+            "met {met}, narrowed {narrowed}"
+        );
     }
 }
