@@ -20,7 +20,9 @@
 //! under its tangent plane at the square's centre, [`ContactSurface::excess_over_square`]; the
 //! surface's rule applying, every point of a line under `m` is then under it too), when its
 //! square meets no such disc, or when the solid's distance from
-//! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. Every cut
+//! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. The search for
+//! one pose's deepest overlap raises `tol` to the deepest depth found so far
+//! ([`Reach::raise`]): a later cell replaces the deepest only when it is deeper. Every cut
 //! removes only cells the per-cell test rejects, so the findings are the same with and without
 //! it (law tests: `tests/collision_check.rs` against [`super::Checker::exhaustive`], and
 //! `sweep.rs`'s `a_stretch_lists_every_cell_any_of_its_poses_reaches`).
@@ -40,8 +42,10 @@ pub struct Reach<'a> {
     solid: &'a Posed,
     /// The nozzle's contact surface, where its rule applies.
     contact: Option<&'a ContactSurface>,
-    /// The depth not reported, mm ([`super::sweep::CONTACT_TOLERANCE_MM`]).
-    tol: f64,
+    /// The depth a cell must exceed to matter, mm: the tolerance
+    /// ([`super::sweep::CONTACT_TOLERANCE_MM`]), raised by [`Reach::raise`] to the deepest
+    /// overlap found so far when only a deeper one can change the result.
+    bar: std::cell::Cell<f64>,
     /// The solid's lowest point's height, mm (the block's bounding sphere spans from it).
     zlow: f64,
     /// Whether the solid's floor over a block can be above its lowest point (a frustum, a box
@@ -62,11 +66,23 @@ impl<'a> Reach<'a> {
         Reach {
             solid,
             contact,
-            tol,
+            bar: std::cell::Cell::new(tol),
             zlow,
             floor_varies: !solid.floor_is_flat(),
         }
     }
+    /// Count only depths above `depth` from now on (when it exceeds the bar): the search for
+    /// the deepest overlap of one pose ([`super::Checker`]'s `penetrations`) keeps the first
+    /// cell of the greatest depth, and a cell no deeper than the deepest found before it cannot
+    /// replace it. Every test here bounds a cell's depth from above by `top − m` for a height
+    /// `m` the part (or the region above the contact surface) does not come below; with
+    /// `m = top − bar` a skipped cell's depth is at most the bar.
+    pub fn raise(&self, depth: f64) {
+        if depth > self.bar.get() {
+            self.bar.set(depth);
+        }
+    }
+
     fn discs(&self, m: f64) -> [Option<(DVec2, f64)>; 2] {
         [
             self.solid.disc_below(m),
@@ -101,18 +117,19 @@ impl<'a> Reach<'a> {
         if let Some(k) = self.contact {
             floor = floor.max(k.floor_over_square(c, half));
         }
-        if top - floor <= self.tol {
+        // (every line enters the solid at or above its lowest point)
+        if top - floor.max(self.zlow) <= self.bar.get() {
             return true;
         }
         // the region above the contact surface misses the square at `top − tol`, hence below
         // it (where the rule applies, "above" is the top of each vertical line)
         if self.contact.is_some_and(|k| {
-            k.applies() && k.excess_over_square(c, half, top - self.tol) <= -DISC_SLACK_MM
+            k.applies() && k.excess_over_square(c, half, top - self.bar.get()) <= -DISC_SLACK_MM
         }) {
             return true;
         }
         let far_from_disc = self
-            .discs(top - self.tol)
+            .discs(top - self.bar.get())
             .iter()
             .flatten()
             .any(|(o, r)| square_distance(*o, c, half) > r + DISC_SLACK_MM);
@@ -127,7 +144,10 @@ impl<'a> Reach<'a> {
     /// The x-interval of the row `y` of a block of highest top `top` whose cells may give a
     /// finding (`None`: none).
     pub fn row(&self, y: f64, top: f64) -> Option<(f64, f64)> {
-        let m = top - self.tol;
+        let m = top - self.bar.get();
+        if m <= self.zlow {
+            return None;
+        }
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for (o, r) in self.discs(m).iter().flatten() {
             let dy = y - o.y;

@@ -732,13 +732,15 @@ impl Checker {
                         bead: u32,
                         contact: Option<&ContactSurface>,
                         best: &mut Option<(f64, [f64; 3], u32)>| {
-            // the depth is at most h − z_in (the contact surface only takes from it)
+            // the depth is at most h − z_in (the contact surface only takes from it; z_in is
+            // at least the solid's lowest point), and only a depth above the tolerance and
+            // above the deepest found so far changes the result
             let floor = match contact {
                 _ if self.exhaustive => f64::NEG_INFINITY,
-                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
-                None => solid.floor_at(x, y),
+                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)).max(lo.z),
+                None => solid.floor_at(x, y).max(lo.z),
             };
-            if h - floor <= tol {
+            if h - floor <= best.map_or(tol, |(b, _, _)| b.max(tol)) {
                 return;
             }
             if let Some((zi, zo)) = solid.column(x, y) {
@@ -791,7 +793,14 @@ impl Checker {
                         reach.row(y, top)
                     }
                 },
-                |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
+                |i, j, h, bead| {
+                    consider(h, centre(i), centre(j), bead, contact, &mut best);
+                    // a block, row or cell no deeper than the deepest so far cannot replace it
+                    // (`Reach::raise`)
+                    if let Some((d, _, _)) = best {
+                        reach.raise(d);
+                    }
+                },
             );
         }
         if let Some((d, at, bead)) = best {
@@ -1249,6 +1258,106 @@ mod tests {
             }
         }
         out
+    }
+
+    /// The deepest overlap of one pose with the material ([`Checker::penetrations`]'s search,
+    /// its culls raised to the deepest depth found so far, `Reach::raise`) is the greatest depth
+    /// of the brute-force per-cell depths (`reached_cells`: every cell under the part's box,
+    /// no bound) at one of the cells of that depth, and the very cell the exhaustive check
+    /// ([`Checker::exhaustive`], no cull: the first cell of the greatest depth in the same
+    /// order) gives. Random poses of the cartesian and PAX heads (tilted ≤ 30°) over a pad
+    /// with a ramp beside it rising to 9 mm, into which the heater block and the nozzle's
+    /// flank dig at many depths.
+    #[test]
+    fn a_poses_deepest_overlap_is_the_brute_force_deepest_with_the_bar_raised() {
+        let mut rng = Lcg(5);
+        let (mut compared, mut box_deep) = (0, 0);
+        for name in ["cartesian", "pax-5axis"] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let c = DVec3::new(100.0, 100.0, 0.0);
+            let at = |p: DVec3| m.inverse(p, DVec3::Z, None).unwrap();
+            // the pad (3 layers) and the ramp (rows rising 0.15 mm each along +y)
+            for layer in 1..=3 {
+                ck.layer = layer;
+                for row in 0..45 {
+                    let y = c.y - 10.0 + 0.45 * row as f64;
+                    let z = 0.2 * layer as f64
+                        + if row > 22 {
+                            0.3 * (row - 22) as f64
+                        } else {
+                            0.0
+                        };
+                    let (a, b) = (
+                        at(DVec3::new(c.x - 10.0, y, z)),
+                        at(DVec3::new(c.x + 10.0, y, z)),
+                    );
+                    ck.deposit(&a, &b, 0.45).unwrap();
+                }
+            }
+            ck.layer = 10;
+            for _ in 0..150 {
+                let n = if name == "cartesian" {
+                    DVec3::Z
+                } else {
+                    let (t, az) = (
+                        rng.range(0.0, 30f64.to_radians()),
+                        rng.range(0.0, std::f64::consts::TAU),
+                    );
+                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+                };
+                let p = c + DVec3::new(rng.range(-8.0, 8.0), rng.range(-8.0, 2.0), 0.0);
+                let p = DVec3::new(p.x, p.y, rng.range(0.3, 3.0));
+                let axes = m.inverse(p, n, None).unwrap();
+                let pose = ck.pose(&axes).unwrap();
+                for part in &ck.parts {
+                    let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+                    let contact = part
+                        .tip
+                        .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
+                    let found = ck.penetrations(&solid, contact.as_ref(), true, None, false);
+                    let reached = reached_cells(&ck, part, &pose);
+                    let deepest = reached
+                        .iter()
+                        .map(|(_, d)| *d)
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    match found.first() {
+                        None => assert!(
+                            reached.is_empty(),
+                            "{name}, {}: none found at {:?}, brute force {deepest:.4} mm",
+                            part.name,
+                            pose.p
+                        ),
+                        Some((_, d, at, _)) => {
+                            assert!(
+                                *d == deepest
+                                    && reached
+                                        .iter()
+                                        .any(|((i, j), e)| *e == deepest && centre(*i) == at[0] && centre(*j) == at[1]),
+                                "{name}, {}: {d:.4} mm at {at:?}, brute force {deepest:.4} mm at tip {:?}",
+                                part.name,
+                                pose.p
+                            );
+                            box_deep += usize::from(!part.tip && *d > 0.5);
+                        }
+                    }
+                    ck.exhaustive = true;
+                    let reference = ck.penetrations(&solid, contact.as_ref(), true, None, false);
+                    ck.exhaustive = false;
+                    assert_eq!(
+                        found, reference,
+                        "{name}, {}: at tip {:?}",
+                        part.name, pose.p
+                    );
+                    compared += 1;
+                }
+            }
+        }
+        assert!(
+            compared > 500 && box_deep > 50,
+            "{compared} compared, {box_deep} deep in a box part"
+        );
     }
 
     /// Law of the stretch bound ([`Checker::cells_near`]): every cell that any pose of a stretch
