@@ -391,12 +391,8 @@ impl Checker {
     }
 
     fn pose(&self, axes: &[f64]) -> Result<Pose, MachineError> {
-        let (p, n) = self.machine.forward(axes)?;
-        Ok(Pose {
-            p,
-            n,
-            frame: self.machine.head_frame(axes),
-        })
+        let (p, n, frame) = self.machine.pose(axes)?;
+        Ok(Pose { p, n, frame })
     }
 
     /// The pose at `t` of the way from axes `from` to `to` (each axis linear, as the firmware
