@@ -1170,6 +1170,18 @@ mod tests {
         fn range(&mut self, a: f64, b: f64) -> f64 {
             a + (b - a) * self.unit()
         }
+        /// A tool axis: vertical for a 3-axis head (`tilts` false), else tilted up to 30° at
+        /// any azimuth.
+        fn axis(&mut self, tilts: bool) -> DVec3 {
+            if !tilts {
+                return DVec3::Z;
+            }
+            let (t, az) = (
+                self.range(0.0, 30f64.to_radians()),
+                self.range(0.0, std::f64::consts::TAU),
+            );
+            DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+        }
     }
 
     /// The largest displacement of the part's points between poses `a` and `b`, by brute force
@@ -1294,15 +1306,7 @@ mod tests {
             }
             ck.layer = 10;
             for _ in 0..150 {
-                let n = if name == "cartesian" {
-                    DVec3::Z
-                } else {
-                    let (t, az) = (
-                        rng.range(0.0, 30f64.to_radians()),
-                        rng.range(0.0, std::f64::consts::TAU),
-                    );
-                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
-                };
+                let n = rng.axis(name != "cartesian");
                 let p = c + DVec3::new(rng.range(-8.0, 8.0), rng.range(-8.0, 2.0), 0.0);
                 let p = DVec3::new(p.x, p.y, rng.range(0.3, 3.0));
                 let axes = m.inverse(p, n, None).unwrap();
@@ -1499,15 +1503,7 @@ mod tests {
             }
             ck.layer = 4;
             for _ in 0..80 {
-                let n = if name == "cartesian" {
-                    DVec3::Z
-                } else {
-                    let (t, az) = (
-                        rng.range(0.0, 30f64.to_radians()),
-                        rng.range(0.0, std::f64::consts::TAU),
-                    );
-                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
-                };
+                let n = rng.axis(name != "cartesian");
                 let p0 = c + DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
                 let p0 = DVec3::new(p0.x, p0.y, rng.range(0.2, 0.65));
                 let p1 = p0 + DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), 0.0);
