@@ -18,7 +18,10 @@
 //!    whether the default head passed or was refused (at its first finding).
 //!
 //! The inputs are left in `target/bench-inputs/` for the same work in Node wasm:
-//! `bash scripts/bench-wasm.sh` (run this bench first).
+//! `bash scripts/bench-wasm.sh` (run this bench first); with the warped ball
+//! (`ball.warped.stl`) for the collision check's whole listing of the ball,
+//! `cargo run --release --example check_cost -- ball target/bench-inputs/ball.gcode
+//! target/bench-inputs/ball.job.json target/bench-inputs/ball.warped.stl`.
 
 #[cfg(not(target_arch = "wasm32"))]
 #[path = "../tests/common/synthetic.rs"]
@@ -153,6 +156,10 @@ mod native {
             let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
             let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
             let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
+            // the warped ball, for `check_cost`'s full check (`--allow-collisions`) of the ball:
+            // `cargo run --release --example check_cost -- ball target/bench-inputs/ball.gcode
+            // target/bench-inputs/ball.job.json target/bench-inputs/ball.warped.stl`
+            let _ = std::fs::write(keep.join("ball.warped.stl"), &w.stl);
         }
         let path =
             std::env::temp_dir().join(format!("warpslice-bench-{}.gcode", std::process::id()));

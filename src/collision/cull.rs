@@ -20,7 +20,9 @@
 //! under its tangent plane at the square's centre, [`ContactSurface::excess_over_square`]; the
 //! surface's rule applying, every point of a line under `m` is then under it too), when its
 //! square meets no such disc, or when the solid's distance from
-//! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. Every cut
+//! the block's bounding sphere ([`Posed::distance`]) says it cannot reach it. The search for
+//! one pose's deepest overlap raises `tol` to the deepest depth found so far
+//! ([`Reach::raise`]): a later cell replaces the deepest only when it is deeper. Every cut
 //! removes only cells the per-cell test rejects, so the findings are the same with and without
 //! it (law tests: `tests/collision_check.rs` against [`super::Checker::exhaustive`], and
 //! `sweep.rs`'s `a_stretch_lists_every_cell_any_of_its_poses_reaches`).
@@ -40,8 +42,10 @@ pub struct Reach<'a> {
     solid: &'a Posed,
     /// The nozzle's contact surface, where its rule applies.
     contact: Option<&'a ContactSurface>,
-    /// The depth not reported, mm ([`super::sweep::CONTACT_TOLERANCE_MM`]).
-    tol: f64,
+    /// The depth a cell must exceed to matter, mm: the tolerance
+    /// ([`super::sweep::CONTACT_TOLERANCE_MM`]), raised by [`Reach::raise`] to the deepest
+    /// overlap found so far when only a deeper one can change the result.
+    bar: std::cell::Cell<f64>,
     /// The solid's lowest point's height, mm (the block's bounding sphere spans from it).
     zlow: f64,
     /// Whether the solid's floor over a block can be above its lowest point (a frustum, a box
@@ -62,11 +66,23 @@ impl<'a> Reach<'a> {
         Reach {
             solid,
             contact,
-            tol,
+            bar: std::cell::Cell::new(tol),
             zlow,
             floor_varies: !solid.floor_is_flat(),
         }
     }
+    /// Count only depths above `depth` from now on (when it exceeds the bar): the search for
+    /// the deepest overlap of one pose ([`super::Checker`]'s `penetrations`) keeps the first
+    /// cell of the greatest depth, and a cell no deeper than the deepest found before it cannot
+    /// replace it. Every test here bounds a cell's depth from above by `top − m` for a height
+    /// `m` the part (or the region above the contact surface) does not come below; with
+    /// `m = top − bar` a skipped cell's depth is at most the bar.
+    pub fn raise(&self, depth: f64) {
+        if depth > self.bar.get() {
+            self.bar.set(depth);
+        }
+    }
+
     fn discs(&self, m: f64) -> [Option<(DVec2, f64)>; 2] {
         [
             self.solid.disc_below(m),
@@ -101,18 +117,19 @@ impl<'a> Reach<'a> {
         if let Some(k) = self.contact {
             floor = floor.max(k.floor_over_square(c, half));
         }
-        if top - floor <= self.tol {
+        // (every line enters the solid at or above its lowest point)
+        if top - floor.max(self.zlow) <= self.bar.get() {
             return true;
         }
         // the region above the contact surface misses the square at `top − tol`, hence below
         // it (where the rule applies, "above" is the top of each vertical line)
         if self.contact.is_some_and(|k| {
-            k.applies() && k.excess_over_square(c, half, top - self.tol) <= -DISC_SLACK_MM
+            k.applies() && k.excess_over_square(c, half, top - self.bar.get()) <= -DISC_SLACK_MM
         }) {
             return true;
         }
         let far_from_disc = self
-            .discs(top - self.tol)
+            .discs(top - self.bar.get())
             .iter()
             .flatten()
             .any(|(o, r)| square_distance(*o, c, half) > r + DISC_SLACK_MM);
@@ -127,7 +144,10 @@ impl<'a> Reach<'a> {
     /// The x-interval of the row `y` of a block of highest top `top` whose cells may give a
     /// finding (`None`: none).
     pub fn row(&self, y: f64, top: f64) -> Option<(f64, f64)> {
-        let m = top - self.tol;
+        let m = top - self.bar.get();
+        if m <= self.zlow {
+            return None;
+        }
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for (o, r) in self.discs(m).iter().flatten() {
             let dy = y - o.y;
@@ -196,6 +216,68 @@ pub fn capsule_row(a: DVec2, d: DVec2, r: f64, y: f64) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo - DISC_SLACK_MM, hi + DISC_SLACK_MM))
 }
 
+/// The tips of a translation's checked poses (the pose fixed, the tip moving along the segment
+/// from `a` by `d`, seen from above), to find at which of them a cell lies within a radius of
+/// the tip without measuring its distance to every one ([`super::Checker`]'s per-pose lists of
+/// a translation).
+///
+/// ## The bound
+/// Each tip `q_k` has the parameter `t_k = (q_k − a)·d / |d|²` of its foot `f_k = a + t_k d`
+/// on the path's line, and lies `δ_k = |q_k − f_k|` off it (0 to rounding for a translation;
+/// `δ = max δ_k` is measured, not assumed). For a cell `c` with foot parameter `t_c` and
+/// distance `e` from the line, Pythagoras on the line gives `|c − f_k|² = e² + (t_k − t_c)²|d|²`,
+/// and the triangle inequality `|c − q_k| ≥ |c − f_k| − δ`. So `|c − q_k| ≤ r` implies
+/// `e² + (t_k − t_c)²|d|² ≤ (r + δ)²`: `|t_k − t_c| ≤ √((r + δ)² − e²) / |d|`, an interval of
+/// `t`, and with the `t_k` in order (checked) a range of the tips.
+#[derive(Clone, Debug)]
+pub struct TipLine {
+    a: DVec2,
+    d: DVec2,
+    l2: f64,
+    /// The tips' parameters, non-decreasing.
+    t: Vec<f64>,
+    /// `δ`: the farthest tip from the line, mm.
+    off: f64,
+}
+
+impl TipLine {
+    /// The tips `tips` of a path from `a` by `d` (`None` when the path has no horizontal
+    /// length or the tips' parameters are not in order: the caller then checks every tip).
+    pub fn new(a: DVec2, d: DVec2, tips: &[DVec2]) -> Option<TipLine> {
+        let l2 = d.length_squared();
+        if l2 <= 0.0 || !l2.is_finite() {
+            return None;
+        }
+        let mut off = 0.0f64;
+        let mut t = Vec::with_capacity(tips.len());
+        for q in tips {
+            let tk = (*q - a).dot(d) / l2;
+            off = off.max((*q - (a + d * tk)).length());
+            t.push(tk);
+        }
+        if t.windows(2).any(|w| w[1] < w[0]) || !off.is_finite() {
+            return None;
+        }
+        Some(TipLine { a, d, l2, t, off })
+    }
+
+    /// The range of the tips (indices into `tips` of [`TipLine::new`]) that may lie within `r`
+    /// of `c` horizontally: every tip within `r` is in it (see the type's documentation; the
+    /// radius gets [`DISC_SLACK_MM`] for rounding).
+    pub fn within(&self, c: DVec2, r: f64) -> std::ops::Range<usize> {
+        let tc = (c - self.a).dot(self.d) / self.l2;
+        let e = (c - (self.a + self.d * tc)).length();
+        let big = r + self.off + DISC_SLACK_MM;
+        if e > big {
+            return 0..0;
+        }
+        let hw = ((big * big - e * e).max(0.0) / self.l2).sqrt();
+        let lo = self.t.partition_point(|&t| t < tc - hw);
+        let hi = self.t.partition_point(|&t| t <= tc + hw);
+        lo..hi.max(lo)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -248,5 +330,54 @@ mod tests {
             }
         }
         assert!(rows_met > 100, "only {rows_met} rows met a capsule");
+    }
+
+    /// Every tip within `r` of a cell (measured directly, `DVec2::distance`) is in
+    /// [`TipLine::within`]'s range: random paths with tips off the line by up to 0.05 mm, in
+    /// order along it, random cells and radii; and the range is not the whole set of tips for
+    /// most of the cells far from the path.
+    #[test]
+    fn a_tip_lines_range_holds_every_tip_within_the_radius() {
+        let mut seed = 7u64;
+        let mut rnd = |lo: f64, hi: f64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        };
+        let (mut met, mut narrowed) = (0, 0);
+        for case in 0..300 {
+            let a = DVec2::new(rnd(-5.0, 5.0), rnd(-5.0, 5.0));
+            let d = DVec2::new(rnd(-20.0, 20.0), rnd(-20.0, 20.0));
+            let normal = d.perp().normalize();
+            let n = 2 + (rnd(0.0, 60.0) as usize);
+            let jitter = if case % 2 == 0 { 0.0 } else { 0.05 };
+            let tips: Vec<DVec2> = (0..n)
+                .map(|k| a + d * (k as f64 / (n - 1) as f64) + normal * rnd(-jitter, jitter))
+                .collect();
+            let Some(line) = TipLine::new(a, d, &tips) else {
+                panic!("case {case}: tips in order refused");
+            };
+            for _ in 0..50 {
+                let c = a + d * rnd(-0.3, 1.3) + normal * rnd(-4.0, 4.0);
+                let r = rnd(0.0, 5.0);
+                let range = line.within(c, r);
+                for (k, q) in tips.iter().enumerate() {
+                    if q.distance(c) <= r {
+                        met += 1;
+                        assert!(
+                            range.contains(&k),
+                            "case {case}: tip {k} at {q} is {} from {c} (r {r}) but outside {range:?}",
+                            q.distance(c)
+                        );
+                    }
+                }
+                narrowed += usize::from(range.len() < n / 2);
+            }
+        }
+        assert!(
+            met > 1000 && narrowed > 3000,
+            "met {met}, narrowed {narrowed}"
+        );
     }
 }

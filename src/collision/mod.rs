@@ -30,9 +30,12 @@
 //! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
 //! the height field whose highest top is under the floor at the block's least distance from
 //! the tip's path, and on each row of a block the cells farther from the path than the radius
-//! where that floor comes below the row's highest top ([`cull::capsule_row`]); per pose only
+//! where that floor comes below the row's highest top ([`cull::capsule_row`]), and each of its
+//! checked poses gets only the cells within that radius of its own tip (`Checker::by_pose`,
+//! [`cull::TipLine`]); per pose only
 //! cells within the tip radius under which the part can reach the
-//! highest material are visited. Every other move (the head turns, or a box part translates)
+//! highest material are visited, and a pose's search for its deepest overlap skips what
+//! cannot be deeper than the deepest found so far ([`cull::Reach::raise`]). Every other move (the head turns, or a box part translates)
 //! finds the cells a part may reach once per **stretch** of its checked poses whose points stay
 //! within [`sweep::STRETCH_MM`] of the stretch's first pose: that pose's solid grown by the
 //! stretch's largest displacement ([`solid::Posed::dilated`]), and for the nozzle above its

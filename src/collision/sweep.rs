@@ -27,7 +27,7 @@ use glam::{DMat3, DVec3};
 
 use super::bead;
 use super::contact::ContactSurface;
-use super::cull::{capsule_row, Reach};
+use super::cull::{capsule_row, Reach, TipLine};
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use super::stretch::Stretch;
@@ -232,6 +232,21 @@ pub(crate) fn displacement(a: &Pose, b: &Pose, reach: f64) -> f64 {
     (b.p - a.p).length() + reach * theta
 }
 
+/// A horizontal radius about the tip outside which neither `solid` nor the region above
+/// `contact` comes below height `m` (`None`: none known): the lesser of
+/// [`Posed::radius_below`] and [`ContactSurface::radius_below`] (the depth counted at a cell
+/// is at most its top less the higher of the two floors, so either one above `m` rules the
+/// cell out).
+fn radius_below(solid: &Posed, contact: Option<&ContactSurface>, m: f64) -> Option<f64> {
+    match (
+        solid.radius_below(m),
+        contact.and_then(|c| c.radius_below(m)),
+    ) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => x.or(y),
+    }
+}
+
 /// Which of a move's sampled poses a part is checked at: the first and the last, and between
 /// them as few as keep every two consecutive checked poses within [`SAMPLE_STEP_MM`] for the
 /// part's own points ([`displacement`] with the part's reach). The samples are dense enough
@@ -376,12 +391,8 @@ impl Checker {
     }
 
     fn pose(&self, axes: &[f64]) -> Result<Pose, MachineError> {
-        let (p, n) = self.machine.forward(axes)?;
-        Ok(Pose {
-            p,
-            n,
-            frame: self.machine.head_frame(axes),
-        })
+        let (p, n, frame) = self.machine.pose(axes)?;
+        Ok(Pose { p, n, frame })
     }
 
     /// The pose at `t` of the way from axes `from` to `to` (each axis linear, as the firmware
@@ -604,10 +615,24 @@ impl Checker {
                 // a box that translates: each pose's own scan (its candidates would be every
                 // cell near the box's lower faces over the whole stretch)
                 if let Some(cells) = self.swept_cells(part, &p0, &p1) {
-                    for &k in &idx {
-                        list_of[pi][k] = Some(all.len());
+                    // each pose gets the cells near its own tip (`by_pose`)
+                    match (idx.len() > 1)
+                        .then(|| self.by_pose(part, poses, &idx, &cells))
+                        .flatten()
+                    {
+                        Some(lists) => {
+                            for (&k, cells) in idx.iter().zip(lists) {
+                                list_of[pi][k] = Some(all.len());
+                                all.push(cells);
+                            }
+                        }
+                        _ => {
+                            for &k in &idx {
+                                list_of[pi][k] = Some(all.len());
+                            }
+                            all.push(cells);
+                        }
                     }
-                    all.push(cells);
                 }
                 continue;
             }
@@ -703,13 +728,15 @@ impl Checker {
                         bead: u32,
                         contact: Option<&ContactSurface>,
                         best: &mut Option<(f64, [f64; 3], u32)>| {
-            // the depth is at most h − z_in (the contact surface only takes from it)
+            // the depth is at most h − z_in (the contact surface only takes from it; z_in is
+            // at least the solid's lowest point), and only a depth above the tolerance and
+            // above the deepest found so far changes the result
             let floor = match contact {
                 _ if self.exhaustive => f64::NEG_INFINITY,
-                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)),
-                None => solid.floor_at(x, y),
+                Some(c) => solid.floor_at(x, y).max(c.floor_at(x, y)).max(lo.z),
+                None => solid.floor_at(x, y).max(lo.z),
             };
-            if h - floor <= tol {
+            if h - floor <= best.map_or(tol, |(b, _, _)| b.max(tol)) {
                 return;
             }
             if let Some((zi, zo)) = solid.column(x, y) {
@@ -762,7 +789,14 @@ impl Checker {
                         reach.row(y, top)
                     }
                 },
-                |i, j, h, bead| consider(h, centre(i), centre(j), bead, contact, &mut best),
+                |i, j, h, bead| {
+                    consider(h, centre(i), centre(j), bead, contact, &mut best);
+                    // a block, row or cell no deeper than the deepest so far cannot replace it
+                    // (`Reach::raise`)
+                    if let Some((d, _, _)) = best {
+                        reach.raise(d);
+                    }
+                },
             );
         }
         if let Some((d, at, bead)) = best {
@@ -802,6 +836,58 @@ impl Checker {
         out
     }
 
+    /// The part (and, for the nozzle, its contact surface) of a translation from pose `a` to
+    /// `b` with its tip at the horizontal origin and the lower end's height: the floor at
+    /// horizontal distance D from it ([`Posed::floor_at_distance`],
+    /// [`ContactSurface::floor_at_distance`]: each `tip_z +` a function of D, growing with D)
+    /// bounds from below the floor at that distance from the tip of every pose of the move,
+    /// whose tips are no lower (the tip moves along the segment).
+    fn lowest(&self, part: &Part, a: &Pose, b: &Pose) -> (Posed, Option<ContactSurface>) {
+        let tip = DVec3::new(0.0, 0.0, a.p.z.min(b.p.z));
+        (
+            part.pose(tip, a.n, a.frame.as_ref()),
+            part.tip
+                .then(|| ContactSurface::new(tip, a.n, self.max_width)),
+        )
+    }
+
+    /// Per checked pose of a translation from `a` to `b` (`poses[k]` for `k` in `idx`), the
+    /// cells of its swept list `cells` ([`Checker::swept_cells`]) that may give a finding
+    /// there, each list in `cells`' order (so the deepest cell, and among equal depths the
+    /// first, is the same as over the whole list); `None` when the tips cannot be ordered
+    /// along the path ([`TipLine::new`]).
+    ///
+    /// A cell of top `h` gives a finding at a pose only if the part's floor at the cell, from
+    /// that pose (and the contact surface's for the nozzle), is below `h − tol`. That floor is
+    /// at least the lowest pose's at the cell's horizontal distance D from the pose's tip
+    /// ([`Checker::lowest`]), which is above `h − tol` for every D beyond the radius
+    /// [`radius_below`] of `h − tol`: the cell is listed only at the tips within that radius
+    /// ([`TipLine::within`]). Law test `a_translation_lists_every_cell_any_of_its_poses_reaches`.
+    fn by_pose(
+        &self,
+        part: &Part,
+        poses: &[Pose],
+        idx: &[usize],
+        cells: &[SweptCell],
+    ) -> Option<Vec<Vec<SweptCell>>> {
+        let (a, b) = (&poses[0], &poses[poses.len() - 1]);
+        let tips: Vec<glam::DVec2> = idx.iter().map(|&k| poses[k].p.truncate()).collect();
+        let line = TipLine::new(a.p.truncate(), (b.p - a.p).truncate(), &tips)?;
+        let (low_solid, low_contact) = self.lowest(part, a, b);
+        let mut out = vec![Vec::new(); idx.len()];
+        for c in cells {
+            let range =
+                match radius_below(&low_solid, low_contact.as_ref(), c.h - CONTACT_TOLERANCE_MM) {
+                    Some(r) => line.within(glam::DVec2::new(c.x, c.y), r),
+                    None => 0..idx.len(),
+                };
+            for list in &mut out[range] {
+                list.push(*c);
+            }
+        }
+        Some(out)
+    }
+
     /// The material cells a frustum part can reach while it translates from pose `a` to `b`
     /// (same tool axis and frame): `None` for other parts. The part's floor
     /// ([`Posed::floor_at`], and the contact surface's for the tip part,
@@ -817,8 +903,6 @@ impl Checker {
     /// `a_translation_lists_every_cell_any_of_its_poses_reaches`).
     fn swept_cells(&self, part: &Part, a: &Pose, b: &Pose) -> Option<Vec<SweptCell>> {
         let tol = CONTACT_TOLERANCE_MM;
-        let low_z = a.p.z.min(b.p.z);
-        let at = |xy: glam::DVec2| DVec3::new(xy.x, xy.y, low_z);
         let sa = part.pose(a.p, a.n, a.frame.as_ref());
         if !matches!(sa, Posed::Frustum { .. }) {
             return None;
@@ -827,19 +911,12 @@ impl Checker {
         let (la, ha) = sa.aabb();
         let (lb, hb) = sb.aabb();
         let (lo, hi) = (la.min(lb), ha.max(hb));
-        let base = part.pose(at(a.p.truncate()), a.n, a.frame.as_ref());
         let m = self.material.max_over((lo.x, lo.y, hi.x, hi.y)) - tol;
-        let contact = |tip: DVec3| {
-            part.tip
-                .then(|| ContactSurface::new(tip, a.n, self.max_width))
-        };
-        let r = match (
-            base.radius_below(m),
-            contact(at(a.p.truncate())).and_then(|c| c.radius_below(m)),
-        ) {
-            (Some(x), Some(y)) => Some(x.min(y)),
-            (x, y) => x.or(y),
-        };
+        // the floor at horizontal distance D from the lowest tip (it depends on D only and
+        // grows with it): at a cell's distance from the path it bounds the part's floor there
+        // at every pose, at a block's least distance the floor of every cell of the block
+        let (low_solid, low_contact) = self.lowest(part, a, b);
+        let r = radius_below(&low_solid, low_contact.as_ref(), m);
         let (mut x0, mut y0, mut x1, mut y1) = (lo.x, lo.y, hi.x, hi.y);
         if let Some(r) = r {
             x0 = x0.max(a.p.x.min(b.p.x) - r);
@@ -849,12 +926,6 @@ impl Checker {
         }
         let (pa, d) = (a.p.truncate(), (b.p - a.p).truncate());
         let l2 = d.length_squared();
-        // the floor at horizontal distance D from the lowest tip (it depends on D only and
-        // grows with it): at a cell's distance from the path it bounds the part's floor there
-        // at every pose, at a block's least distance the floor of every cell of the block
-        let low_tip = DVec3::new(0.0, 0.0, low_z);
-        let low_solid = part.pose(low_tip, a.n, a.frame.as_ref());
-        let low_contact = contact(low_tip);
         let floor_at_distance = |dist: f64| {
             let floor = low_solid.floor_at_distance(dist);
             match &low_contact {
@@ -880,15 +951,7 @@ impl Checker {
                 // floor comes below the row's highest top (`Posed::radius_below`,
                 // `ContactSurface::radius_below`: the floor at distance D is below m only for
                 // D under it), about the tip's path
-                let m = rtop - tol;
-                let r = match (
-                    low_solid.radius_below(m),
-                    low_contact.as_ref().and_then(|c| c.radius_below(m)),
-                ) {
-                    (Some(x), Some(y)) => Some(x.min(y)),
-                    (x, y) => x.or(y),
-                };
-                match r {
+                match radius_below(&low_solid, low_contact.as_ref(), rtop - tol) {
                     Some(r) => capsule_row(pa, d, r, y),
                     None => Some((f64::NEG_INFINITY, f64::INFINITY)),
                 }
@@ -1107,6 +1170,18 @@ mod tests {
         fn range(&mut self, a: f64, b: f64) -> f64 {
             a + (b - a) * self.unit()
         }
+        /// A tool axis: vertical for a 3-axis head (`tilts` false), else tilted up to 30° at
+        /// any azimuth.
+        fn axis(&mut self, tilts: bool) -> DVec3 {
+            if !tilts {
+                return DVec3::Z;
+            }
+            let (t, az) = (
+                self.range(0.0, 30f64.to_radians()),
+                self.range(0.0, std::f64::consts::TAU),
+            );
+            DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
+        }
     }
 
     /// The largest displacement of the part's points between poses `a` and `b`, by brute force
@@ -1191,6 +1266,98 @@ mod tests {
             }
         }
         out
+    }
+
+    /// The deepest overlap of one pose with the material ([`Checker::penetrations`]'s search,
+    /// its culls raised to the deepest depth found so far, `Reach::raise`) is the greatest depth
+    /// of the brute-force per-cell depths (`reached_cells`: every cell under the part's box,
+    /// no bound) at one of the cells of that depth, and the very cell the exhaustive check
+    /// ([`Checker::exhaustive`], no cull: the first cell of the greatest depth in the same
+    /// order) gives. Random poses of the cartesian and PAX heads (tilted ≤ 30°) over a pad
+    /// with a ramp beside it rising to 9 mm, into which the heater block and the nozzle's
+    /// flank dig at many depths.
+    #[test]
+    fn a_poses_deepest_overlap_is_the_brute_force_deepest_with_the_bar_raised() {
+        let mut rng = Lcg(5);
+        let (mut compared, mut box_deep) = (0, 0);
+        for name in ["cartesian", "pax-5axis"] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let c = DVec3::new(100.0, 100.0, 0.0);
+            let at = |p: DVec3| m.inverse(p, DVec3::Z, None).unwrap();
+            // the pad (3 layers) and the ramp (rows rising 0.15 mm each along +y)
+            for layer in 1..=3 {
+                ck.layer = layer;
+                for row in 0..45 {
+                    let y = c.y - 10.0 + 0.45 * row as f64;
+                    let z = 0.2 * layer as f64
+                        + if row > 22 {
+                            0.3 * (row - 22) as f64
+                        } else {
+                            0.0
+                        };
+                    let (a, b) = (
+                        at(DVec3::new(c.x - 10.0, y, z)),
+                        at(DVec3::new(c.x + 10.0, y, z)),
+                    );
+                    ck.deposit(&a, &b, 0.45).unwrap();
+                }
+            }
+            ck.layer = 10;
+            for _ in 0..150 {
+                let n = rng.axis(name != "cartesian");
+                let p = c + DVec3::new(rng.range(-8.0, 8.0), rng.range(-8.0, 2.0), 0.0);
+                let p = DVec3::new(p.x, p.y, rng.range(0.3, 3.0));
+                let axes = m.inverse(p, n, None).unwrap();
+                let pose = ck.pose(&axes).unwrap();
+                for part in &ck.parts {
+                    let solid = part.pose(pose.p, pose.n, pose.frame.as_ref());
+                    let contact = part
+                        .tip
+                        .then(|| ContactSurface::new(pose.p, pose.n, ck.max_width));
+                    let found = ck.penetrations(&solid, contact.as_ref(), true, None, false);
+                    let reached = reached_cells(&ck, part, &pose);
+                    let deepest = reached
+                        .iter()
+                        .map(|(_, d)| *d)
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    match found.first() {
+                        None => assert!(
+                            reached.is_empty(),
+                            "{name}, {}: none found at {:?}, brute force {deepest:.4} mm",
+                            part.name,
+                            pose.p
+                        ),
+                        Some((_, d, at, _)) => {
+                            assert!(
+                                *d == deepest
+                                    && reached
+                                        .iter()
+                                        .any(|((i, j), e)| *e == deepest && centre(*i) == at[0] && centre(*j) == at[1]),
+                                "{name}, {}: {d:.4} mm at {at:?}, brute force {deepest:.4} mm at tip {:?}",
+                                part.name,
+                                pose.p
+                            );
+                            box_deep += usize::from(!part.tip && *d > 0.5);
+                        }
+                    }
+                    ck.exhaustive = true;
+                    let reference = ck.penetrations(&solid, contact.as_ref(), true, None, false);
+                    ck.exhaustive = false;
+                    assert_eq!(
+                        found, reference,
+                        "{name}, {}: at tip {:?}",
+                        part.name, pose.p
+                    );
+                    compared += 1;
+                }
+            }
+        }
+        assert!(
+            compared > 500 && box_deep > 50,
+            "{compared} compared, {box_deep} deep in a box part"
+        );
     }
 
     /// Law of the stretch bound ([`Checker::cells_near`]): every cell that any pose of a stretch
@@ -1306,13 +1473,14 @@ mod tests {
 
     /// Law of the swept cells of a translation ([`Checker::swept_cells`], with its block and
     /// row bounds about the tip's path): every cell a pose of a translating move reaches (its
-    /// own solid and contact surface, per cell, without any bound) is in the move's list.
+    /// own solid and contact surface, per cell, without any bound) is in the move's list, and
+    /// in that pose's own list ([`Checker::by_pose`], kept in the move's list's order).
     /// Random translations of a vertical (cartesian) and a tilted (PAX, up to 30°) nozzle over
     /// a printed pad, the tip between its top and a layer into it.
     #[test]
     fn a_translation_lists_every_cell_any_of_its_poses_reaches() {
         let mut rng = Lcg(41);
-        let mut reached_total = 0;
+        let (mut reached_total, mut per_pose, mut shorter) = (0, 0, 0);
         for name in ["cartesian", "pax-5axis"] {
             let spec = preset(name).unwrap();
             let mut ck = Checker::new(&spec).unwrap();
@@ -1335,15 +1503,7 @@ mod tests {
             }
             ck.layer = 4;
             for _ in 0..80 {
-                let n = if name == "cartesian" {
-                    DVec3::Z
-                } else {
-                    let (t, az) = (
-                        rng.range(0.0, 30f64.to_radians()),
-                        rng.range(0.0, std::f64::consts::TAU),
-                    );
-                    DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
-                };
+                let n = rng.axis(name != "cartesian");
                 let p0 = c + DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
                 let p0 = DVec3::new(p0.x, p0.y, rng.range(0.2, 0.65));
                 let p1 = p0 + DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), 0.0);
@@ -1362,12 +1522,33 @@ mod tests {
                             format!("{name}: the move {p0:?} → {p1:?}")
                         });
                     }
+                    // each pose's own list (`by_pose`): every cell it reaches, in the
+                    // whole list's order
+                    let idx: Vec<usize> = (0..poses.len()).collect();
+                    let lists = ck
+                        .by_pose(part, &poses, &idx, &list)
+                        .expect("a translation's tips are in order");
+                    for (k, (pose, own)) in poses.iter().zip(&lists).enumerate() {
+                        per_pose += assert_listed(&cell_set(own), &ck, part, pose, || {
+                            format!("{name}: pose {k} of the move {p0:?} → {p1:?}, its own list")
+                        });
+                        let order = |c: &SweptCell| {
+                            list.iter()
+                                .position(|l| l.x == c.x && l.y == c.y)
+                                .expect("a pose's cell is in the whole list")
+                        };
+                        assert!(
+                            own.windows(2).all(|w| order(&w[0]) < order(&w[1])),
+                            "{name}: pose {k}'s list is not in the whole list's order"
+                        );
+                        shorter += usize::from(own.len() < list.len());
+                    }
                 }
             }
         }
         assert!(
-            reached_total > 1000,
-            "only {reached_total} cells reached in all"
+            reached_total > 1000 && per_pose > 1000 && shorter > 500,
+            "{reached_total} cells reached in all, {per_pose} checked per pose, {shorter} pose lists shorter than the move's"
         );
     }
 

@@ -363,6 +363,27 @@ pub const FIXED_FRAME_DEGENERATE: f64 = 1e-6;
 /// forward kinematics fails.
 pub fn fixed_head_frame(machine: &dyn super::Machine, axes: &[f64]) -> Option<glam::DMat3> {
     let (p, n) = machine.forward(axes).ok()?;
+    fixed_head_frame_at(machine, axes, p, n)
+}
+
+/// [`super::Machine::pose`] of a machine whose head frame is [`fixed_head_frame`]: the forward
+/// kinematics once for the tip, the tool axis and the frame (the frame's own needs the tip
+/// and axis at `axes` and the tip at `axes + e_X`: two forward calls, not three).
+pub fn fixed_head_pose(
+    machine: &dyn super::Machine,
+    axes: &[f64],
+) -> Result<(glam::DVec3, glam::DVec3, Option<glam::DMat3>), super::MachineError> {
+    let (p, n) = machine.forward(axes)?;
+    Ok((p, n, fixed_head_frame_at(machine, axes, p, n)))
+}
+
+/// [`fixed_head_frame`] at axes whose forward kinematics `(p, n)` the caller has.
+fn fixed_head_frame_at(
+    machine: &dyn super::Machine,
+    axes: &[f64],
+    p: glam::DVec3,
+    n: glam::DVec3,
+) -> Option<glam::DMat3> {
     let mut moved = axes.to_vec();
     *moved.first_mut()? += 1.0;
     let (q, _) = machine.forward(&moved).ok()?;

@@ -400,10 +400,19 @@ pub fn check_head_frame(m: &dyn Machine) -> Result<LawReport, String> {
     let ws = m.workspace();
     let mut rep = LawReport::default();
     let check = |a: &[f64], rep: &mut LawReport| -> Result<Option<glam::DMat3>, String> {
-        let Some(f) = m.head_frame(a) else {
+        // `pose` is `forward` and `head_frame` at once, to the bit
+        let (p, n) = m.forward(a).map_err(|e| e.to_string())?;
+        let frame = m.head_frame(a);
+        let pose = m.pose(a).map_err(|e| e.to_string())?;
+        if pose != (p, n, frame) {
+            return Err(format!(
+                "{}: pose {pose:?} at axes {a:?} differs from forward and head_frame ({p}, {n}, {frame:?})",
+                m.name()
+            ));
+        }
+        let Some(f) = frame else {
             return Ok(None);
         };
-        let (_, n) = m.forward(a).map_err(|e| e.to_string())?;
         let gram = f.transpose() * f;
         let off = (0..3)
             .flat_map(|i| (0..3).map(move |j| (i, j)))

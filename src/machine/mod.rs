@@ -249,6 +249,14 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn head_frame(&self, _axes: &[f64]) -> Option<DMat3> {
         None
     }
+    /// [`Machine::forward`] and [`Machine::head_frame`] at once, `(tip, tool axis, frame)`:
+    /// what the collision check asks at every sampled pose. A machine whose frame comes from
+    /// its forward kinematics ([`head::fixed_head_pose`]) computes the tip once; the result is
+    /// the same as the two calls' (law 5, [`laws::check_head_frame`]).
+    fn pose(&self, axes: &[f64]) -> Result<(DVec3, DVec3, Option<DMat3>), MachineError> {
+        let (p, n) = self.forward(axes)?;
+        Ok((p, n, self.head_frame(axes)))
+    }
     /// Whether the axes are the output frame's X Y Z themselves (the 3-axis machine with the
     /// letters X Y Z): a slicer's start and end G-code then mean the same on this machine and
     /// pass through verbatim when the output is not moved ([`emit`], "Outside the region").

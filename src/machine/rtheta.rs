@@ -196,6 +196,10 @@ impl Machine for RTheta {
     fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
         super::head::fixed_head_frame(self, axes)
     }
+    /// The tip computed once for the frame too ([`super::head::fixed_head_pose`]).
+    fn pose(&self, axes: &[f64]) -> Result<(DVec3, DVec3, Option<glam::DMat3>), MachineError> {
+        super::head::fixed_head_pose(self, axes)
+    }
     /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
     fn linear_at_fixed_pose(&self) -> bool {
         true

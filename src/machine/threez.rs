@@ -481,6 +481,10 @@ impl Machine for ThreeZ {
     fn head_frame(&self, axes: &[f64]) -> Option<glam::DMat3> {
         super::head::fixed_head_frame(self, axes)
     }
+    /// The tip computed once for the frame too ([`super::head::fixed_head_pose`]).
+    fn pose(&self, axes: &[f64]) -> Result<(DVec3, DVec3, Option<glam::DMat3>), MachineError> {
+        super::head::fixed_head_pose(self, axes)
+    }
     fn workspace(&self) -> Workspace {
         let v = self.params.build_volume_mm;
         Workspace {
