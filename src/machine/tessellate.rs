@@ -344,7 +344,8 @@ impl Drop for Ctx<'_> {
 
 /// What a machine's closed-form bound said of a piece ([`Ctx::closed_form`]).
 enum ClosedForm {
-    /// Within the bounds and the worst reported so far: no samples.
+    /// No samples: within the bounds and the worst reported so far (or, as `split` uses it,
+    /// exact at a fixed pose, wrapping, or split by the caps whatever its error).
     Accepted,
     /// A bound was given (so `inverse` succeeds along the piece), too large to skip the samples.
     Given,

@@ -163,6 +163,8 @@ pub struct ThreeZ {
     nrm: [DVec2; 3],
     /// kᵢ = −nᵢ·b̄ᵢ.
     k: [f64; 3],
+    /// R₁'s axis `a₁ = e₃ × b̄₁/|·|` (Eq. 16), a constant of the machine.
+    a1: DVec3,
 }
 
 impl ThreeZ {
@@ -231,6 +233,7 @@ impl ThreeZ {
             d,
             nrm,
             k,
+            a1: DVec3::new(-l[1].y, l[1].x, 0.0).normalize(),
         })
     }
 
@@ -254,8 +257,7 @@ impl ThreeZ {
             solve_turn(a, v.z - a.z * va, a.cross(v).z, a.z * va - zt)
         };
         let (l1, l2) = (self.l[1], self.l[2]);
-        let a1 = DVec3::new(-l1.y, l1.x, 0.0).normalize();
-        let t1 = solve_rot(l1, a1, z0 - z1).ok_or_else(|| fail("R1"))?;
+        let t1 = solve_rot(l1, self.a1, z0 - z1).ok_or_else(|| fail("R1"))?;
         let r1l1 = t1.apply(l1);
         let a2 = r1l1.normalize();
         let r1l2 = t1.apply(l2);
@@ -264,14 +266,7 @@ impl ThreeZ {
         let (tp, spin) = self
             .solve_triangle(t2.apply(r1l1).truncate(), t2.apply(r1l2).truncate(), true)
             .ok_or_else(|| fail("the balls cannot reach their rails"))?;
-        Ok(BedPose {
-            t1,
-            t2,
-            t1_back: t1.reversed(),
-            t2_back: t2.reversed(),
-            spin,
-            tp,
-        })
+        Ok(BedPose { t1, t2, spin, tp })
     }
 
     /// How far ball `i`, at `now` (xy, relative to b̂₀'s planar position), has slid along its
@@ -335,8 +330,6 @@ impl ThreeZ {
 pub(super) struct BedPose {
     t1: Turn,
     t2: Turn,
-    t1_back: Turn,
-    t2_back: Turn,
     /// R_θ': the turn by θ' about +Z.
     spin: Turn,
     /// t' (mm).
@@ -453,7 +446,8 @@ impl Machine for ThreeZ {
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
         let pose = self.bed_pose(axes)?;
         let (x, y, z0) = (axes[0], axes[1], axes[2]);
-        let r21t = |v: DVec3| pose.t1_back.apply(pose.t2_back.apply(v));
+        let (t1_back, t2_back) = (pose.t1.reversed(), pose.t2.reversed());
+        let r21t = |v: DVec3| t1_back.apply(t2_back.apply(v));
         // Eq. 23.
         let b0 = self.d[0] * pose.tp;
         let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];

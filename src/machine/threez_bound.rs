@@ -208,10 +208,9 @@ fn second_derivatives(
     let omega = (w0 + delta * du) / lambda;
     // the acceleration x' = (Λω̇, ẗ) = J̃⁻¹ c, c = −(e₃·q₁, e₃·q₂, N₁·q₁, N₂·q₂): at the start
     // exactly, and along the piece within ‖J̃⁻¹ − J̃₀⁻¹‖|c| + K₀|c − c₀| of it, where
-    // |c| ≤ Ω²Λ and |c − c₀| ≤ ((Ω + |ω₀|) δ|Δu|/Λ + |ω₀|² Ω) Λ (|ω − ω₀| ≤ δ|Δu|/Λ,
-    // |Δrᵢ| ≤ φ|l̂ᵢ| ≤ Ω|l̂ᵢ|)
-    // |ω − ω₀| along the piece: within δ|Δu|/Λ (the Neumann bound of J̃⁻¹) and within
-    // sup |ω̇| ≤ (|Ã₀|_F + δ) Ω² (s ≤ 1)
+    // |c| ≤ Ω²Λ and |c − c₀| ≤ ((Ω + |ω₀|) Δω + |ω₀|² Ω) Λ (|Δrᵢ| ≤ φ|l̂ᵢ| ≤ Ω|l̂ᵢ|), where
+    // Δω bounds |ω − ω₀| along the piece: δ|Δu|/Λ (the Neumann bound of J̃⁻¹), or
+    // sup |ω̇| ≤ (|Ã₀|_F + δ) Ω² (s ≤ 1), whichever is smaller
     let d_omega = (delta * du / lambda).min((a_norm + delta) * omega * omega);
     let omega0 = x0.truncate() / lambda;
     let c0 = |r: DVec3| omega0.cross(omega0.cross(r));
