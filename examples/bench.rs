@@ -82,8 +82,24 @@ mod native {
     }
 
     pub fn main() {
+        // `--machine-only`: step 3 alone (for profiling the machine output with `perf`)
+        let machine_only = std::env::args().any(|a| a == "--machine-only");
+        if machine_only {
+            println!("--machine-only: steps 1 and 2 (warp, 3-axis streaming unwarp) skipped");
+        } else {
+            warp_and_subdivide();
+        }
+        unwarp_figures(machine_only);
+    }
+
+    /// Step 1's mesh: a 225 000-triangle sphere, radius 120 mm.
+    fn big_sphere() -> mesh::Mesh {
+        mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375)
+    }
+
+    fn warp_and_subdivide() {
         // 1. warp + subdivide
-        let sphere = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 120.0), 120.0, 301, 375);
+        let sphere = big_sphere();
         let tris = sphere.triangles.len();
         let mut params = conic();
         let warp = params.build(&sphere.bbox()).expect("warp");
@@ -111,7 +127,9 @@ mod native {
             w.stl.len() as f64 / 1e6,
             peak_mib()
         );
+    }
 
+    fn unwarp_figures(machine_only: bool) {
         // 2. unwarp
         let ball = mesh::shapes::uv_sphere(DVec3::new(0.0, 0.0, 32.0), 32.0, 48, 96);
         let w = warp_model(
@@ -153,7 +171,8 @@ mod native {
         };
         let _ = std::fs::remove_dir_all(&dir);
         if !reuse && std::fs::create_dir_all(&keep).is_ok() {
-            let _ = std::fs::write(keep.join("sphere225k.stl"), &stl);
+            let sphere = mesh::write_stl(&big_sphere(), "bench sphere");
+            let _ = std::fs::write(keep.join("sphere225k.stl"), &sphere);
             let _ = std::fs::write(keep.join("ball.job.json"), w.job.to_json_pretty());
             let _ = std::fs::write(keep.join("ball.gcode"), &gcode);
             // the warped ball, for `check_cost`'s full check (`--allow-collisions`) of the ball:
@@ -161,6 +180,13 @@ mod native {
             // target/bench-inputs/ball.job.json target/bench-inputs/ball.warped.stl`
             let _ = std::fs::write(keep.join("ball.warped.stl"), &w.stl);
         }
+        if !machine_only {
+            streaming_unwarp(&w, &gcode);
+        }
+        machine_figures(&w, &gcode);
+    }
+
+    fn streaming_unwarp(w: &warpslice::pipeline::WarpOutput, gcode: &[u8]) {
         let path =
             std::env::temp_dir().join(format!("warpslice-bench-{}.gcode", std::process::id()));
         let mut lines_out = 0;
@@ -216,7 +242,9 @@ mod native {
             lines_out as f64 / t_unwarp / 1e6,
             peak_mib()
         );
+    }
 
+    fn machine_figures(w: &warpslice::pipeline::WarpOutput, gcode: &[u8]) {
         // 3. `unwarp --machine` against the 3-axis unwarp of the same G-code, measured in this
         // run (issue 13: within 2×), in both interpolation modes, with the tessellation's
         // counters; then the collision check's cost (`--no-collisions` skips it)
