@@ -86,7 +86,7 @@ impl ProfilePiece {
         s * ct - self.at(s).1 * st
     }
 
-    /// `(g, h)` at both ends at one tilt: what [`ProfilePiece::floor`] needs whatever `d`.
+    /// `(g, h)` at both ends at one tilt: what [`ProfilePiece::floor_from`] needs whatever `d`.
     fn ends(&self, st: f64, ct: f64) -> PieceEnds {
         let (a, b) = (self.from_mm, self.to_mm);
         PieceEnds {
@@ -97,15 +97,10 @@ impl ProfilePiece {
         }
     }
 
-    /// The least `h(s)` over the `s` of this piece with `g(s) ≥ d` (+∞: none reaches `d`).
-    /// `g` is linear in `s` where `s` keeps its sign, so the set is an interval found from
-    /// the ends (a piece across `s = 0` is taken whole where either end reaches `d`).
-    #[cfg(test)]
-    fn floor(&self, st: f64, ct: f64, d: f64) -> f64 {
-        self.floor_from(self.ends(st, ct), st, ct, d)
-    }
-
-    /// [`ProfilePiece::floor`] from the piece's [`PieceEnds`] at the tilt `(st, ct)`.
+    /// The least `h(s)` over the `s` of this piece with `g(s) ≥ d` (+∞: none reaches `d`), from
+    /// the piece's [`PieceEnds`] at the tilt `(st, ct)`. `g` is linear in `s` where `s` keeps
+    /// its sign, so the set is an interval found from the ends (a piece across `s = 0` is taken
+    /// whole where either end reaches `d`).
     fn floor_from(&self, e: PieceEnds, st: f64, ct: f64, d: f64) -> f64 {
         let (a, b) = (self.from_mm, self.to_mm);
         let PieceEnds { ga, gb, ha, hb } = e;
