@@ -2,7 +2,7 @@
 //!
 //! For every toolpath point (output frame tip `p`, tool axis `n`) the emitter runs the
 //! machine's inverse kinematics seeded with the previous axes (continuity, branch), splits the
-//! move in machine space ([`tessellate_move`]: the firmware's linear axis interpolation stays
+//! move in machine space ([`super::tessellate::tessellate_planned`]: the firmware's linear axis interpolation stays
 //! within 0.02 mm / 0.1° of the intended path), computes F per [`FeedMode`] and writes
 //! `G1 <axis letters> E F` lines (linear axes in mm, rotary axes in degrees, 3 decimals; E via
 //! [`EWriter`], the move's filament shared among its pieces by tip length without drift).
