@@ -41,7 +41,8 @@ awk '
     if (!(k in seen)) { seen[k] = 1; order[++nk] = k }
     if (w) { if (!(k in mw) || v < mw[k]) mw[k] = v } else { if (!(k in mn) || v < mn[k]) mn[k] = v }
   }
-  /^3-axis unwarp \(the reference/ { for (i = 1; i <= NF; i++) if ($(i + 1) == "s,") { v = $i + 0 }; if (!n3 || v < n3) n3 = v }
+  # the wall time: the first number followed by "s" (the CPU time follows it in parentheses)
+  /^3-axis unwarp \(the reference/ { for (i = 1; i <= NF; i++) if ($i ~ /^[0-9.]+$/ && ($(i + 1) == "s," || $(i + 1) == "s")) { v = $i + 0; break }; if (!n3 || v < n3) n3 = v }
   /^wasm builtin slice: [0-9]/ { v = $4 + 0; if (!wb || v < wb) wb = v }
   /^builtin: [0-9]/ { v = $2 + 0; if (!nb || v < nb) nb = v }
   END {
