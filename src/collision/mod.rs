@@ -60,6 +60,7 @@ pub mod posed_head;
 pub mod solid;
 mod stretch;
 pub mod sweep;
+mod turn;
 pub mod walk;
 
 pub use sweep::{CheckStats, Checker, CONTACT_TOLERANCE_MM, SAMPLE_STEP_MM};
