@@ -1253,6 +1253,12 @@ mod tests {
         fn range(&mut self, a: f64, b: f64) -> f64 {
             a + (b - a) * self.unit()
         }
+        /// A point of the box `[lo, hi]`, its coordinates drawn in x, y, z order.
+        fn within(&mut self, lo: DVec3, hi: DVec3) -> DVec3 {
+            let x = self.range(lo.x, hi.x);
+            let y = self.range(lo.y, hi.y);
+            DVec3::new(x, y, self.range(lo.z, hi.z))
+        }
         /// A tool axis: vertical for a 3-axis head (`tilts` false), else tilted up to 30° at
         /// any azimuth.
         fn axis(&mut self, tilts: bool) -> DVec3 {
@@ -1496,18 +1502,9 @@ mod tests {
                     );
                     DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
                 };
-                let p0 = centre_xy
-                    + DVec3::new(
-                        rng.range(-6.0, 6.0),
-                        rng.range(-6.0, 6.0),
-                        rng.range(2.2, 2.8),
-                    );
-                let p1 = p0
-                    + DVec3::new(
-                        rng.range(-1.0, 1.0),
-                        rng.range(-1.0, 1.0),
-                        rng.range(-0.4, 0.1),
-                    );
+                let p0 =
+                    centre_xy + rng.within(DVec3::new(-6.0, -6.0, 2.2), DVec3::new(6.0, 6.0, 2.8));
+                let p1 = p0 + rng.within(DVec3::new(-1.0, -1.0, -0.4), DVec3::new(1.0, 1.0, 0.1));
                 let n0 = tilt(&mut rng);
                 let n1 = (n0 + DVec3::new(rng.range(-0.05, 0.05), rng.range(-0.05, 0.05), 0.0))
                     .normalize();
@@ -1827,17 +1824,8 @@ mod tests {
             let m = spec.build().unwrap();
             let mut moves = 0;
             for case in 0..30 {
-                let p0 = DVec3::new(
-                    rng.range(-20.0, 20.0),
-                    rng.range(-20.0, 20.0),
-                    rng.range(1.0, 20.0),
-                );
-                let p1 = p0
-                    + DVec3::new(
-                        rng.range(-3.0, 3.0),
-                        rng.range(-3.0, 3.0),
-                        rng.range(-1.0, 1.0),
-                    );
+                let p0 = rng.within(DVec3::new(-20.0, -20.0, 1.0), DVec3::new(20.0, 20.0, 20.0));
+                let p1 = p0 + rng.within(DVec3::new(-3.0, -3.0, -1.0), DVec3::new(3.0, 3.0, 1.0));
                 // large turns, small ones (as between samples) and none
                 let n0 = rng.axis(true);
                 let n1 = match case % 3 {
@@ -1946,17 +1934,8 @@ mod tests {
                     );
                     DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
                 };
-                let p0 = DVec3::new(
-                    rng.range(80.0, 120.0),
-                    rng.range(80.0, 120.0),
-                    rng.range(1.0, 20.0),
-                );
-                let p1 = p0
-                    + DVec3::new(
-                        rng.range(-3.0, 3.0),
-                        rng.range(-3.0, 3.0),
-                        rng.range(-1.0, 1.0),
-                    );
+                let p0 = rng.within(DVec3::new(80.0, 80.0, 1.0), DVec3::new(120.0, 120.0, 20.0));
+                let p1 = p0 + rng.within(DVec3::new(-3.0, -3.0, -1.0), DVec3::new(3.0, 3.0, 1.0));
                 let a0 = m.inverse(p0, tilt(&mut rng), None).unwrap();
                 let a1 = m.inverse(p1, tilt(&mut rng), Some(&a0)).unwrap();
                 // check_move's sampling: every head point within the step between neighbours
