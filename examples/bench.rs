@@ -355,7 +355,7 @@ mod native {
             }
             if collisions {
                 let t = Instant::now();
-                let on = warpslice::pipeline::unwarp(&gcode, &w.job, &settings(None, true));
+                let on = warpslice::pipeline::unwarp(gcode, &w.job, &settings(None, true));
                 let t_on = t.elapsed().as_secs_f64();
                 let verdict = match on {
                     Ok(_) => "passed: no collision".to_string(),

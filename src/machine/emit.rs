@@ -2,7 +2,7 @@
 //!
 //! For every toolpath point (output frame tip `p`, tool axis `n`) the emitter runs the
 //! machine's inverse kinematics seeded with the previous axes (continuity, branch), splits the
-//! move in machine space ([`tessellate_move`]: the firmware's linear axis interpolation stays
+//! move in machine space ([`super::tessellate::tessellate_planned`]: the firmware's linear axis interpolation stays
 //! within 0.02 mm / 0.1° of the intended path), computes F per [`FeedMode`] and writes
 //! `G1 <axis letters> E F` lines (linear axes in mm, rotary axes in degrees, 3 decimals; E via
 //! [`EWriter`], the move's filament shared among its pieces by tip length without drift).
@@ -162,6 +162,12 @@ struct Pose {
     n: DVec3,
 }
 
+/// The axis values of the last `G1` written: as given, and as the firmware reads them.
+struct Written {
+    raw: AxisBuf,
+    read: AxisBuf,
+}
+
 /// The emitter (see the module documentation).
 pub struct MachineEmitter {
     machine: Box<dyn Machine>,
@@ -185,7 +191,7 @@ pub struct MachineEmitter {
     /// The axis values the last `G1` of this region wrote, as the firmware reads them (rounded
     /// to [`MM_DECIMALS`]); `None` at a region's start. A move that would write them again,
     /// with no change of E either, is one the firmware reads as no move: not written.
-    written_axes: Option<AxisBuf>,
+    written_axes: Option<Written>,
     /// Moves not written because the firmware would read them as no move.
     dropped: u64,
     prev: Option<Pose>,
@@ -440,7 +446,9 @@ impl MachineEmitter {
         let to_read = read(axes);
         let e_before = self.ew.current();
         let e_word = e.map(|(de, relative)| self.ew.advance(de, relative));
-        if self.written_axes.as_ref() == Some(&to_read) && self.ew.current() == e_before {
+        if self.written_axes.as_ref().map(|w| &w.read) == Some(&to_read)
+            && self.ew.current() == e_before
+        {
             // every axis word as the last line wrote it and E unchanged: the firmware reads no
             // move (the tip moved less than the written step; a filament change below the E
             // step stays in the E writer's exact total)
@@ -448,7 +456,19 @@ impl MachineEmitter {
             return Ok(());
         }
         let de = e.map_or(0.0, |(de, _)| de);
-        let from_read = read(from);
+        // most moves start where the last line ended: its values as read are known
+        let from_read = match &self.written_axes {
+            Some(w)
+                if w.raw.len() == from.len()
+                    && w.raw
+                        .iter()
+                        .zip(from)
+                        .all(|(a, b)| a.to_bits() == b.to_bits()) =>
+            {
+                w.read.clone()
+            }
+            _ => read(from),
+        };
         let firmware_length =
             self.flavour
                 .length_rule()
@@ -488,7 +508,10 @@ impl MachineEmitter {
         // timed as the firmware reads it: the written values
         self.speeds
             .add_move(self.feed_now(), &from_read, &to_read, f_fw, firmware_length);
-        self.written_axes = Some(to_read);
+        self.written_axes = Some(Written {
+            raw: AxisBuf::from_slice(axes),
+            read: to_read,
+        });
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -514,7 +537,8 @@ impl MachineEmitter {
                 );
                 prev.axes[i] = w;
                 if let Some(wa) = self.written_axes.as_mut() {
-                    wa[i] = written_value(w, MM_DECIMALS);
+                    wa.raw[i] = w;
+                    wa.read[i] = written_value(w, MM_DECIMALS);
                 }
                 self.report.rotary_resets += 1;
             }

@@ -353,6 +353,10 @@ pub struct Plan {
     probe_limit: AngleLimit,
     /// The caps' turn per piece, when capped by angle.
     cap_limit: Option<AngleLimit>,
+    /// [`crate::tolerance::DROPPED_TILT_WARN_DEG`] as a limit, and the report's worst dropped
+    /// angle as one (rebuilt when the worst changes): [`Plan::note_dropped`].
+    warn_limit: AngleLimit,
+    worst_limit: Cell<AngleLimit>,
 }
 
 impl Plan {
@@ -367,6 +371,27 @@ impl Plan {
             requests_realised: machine.realises_requests(),
             probe_limit: AngleLimit::new(SAMPLING_MARGIN * bounds.max_angle_deg),
             cap_limit: bounds.max_step_deg.map(AngleLimit::new),
+            warn_limit: AngleLimit::new(crate::tolerance::DROPPED_TILT_WARN_DEG),
+            worst_limit: Cell::new(AngleLimit::new(0.0)),
+        }
+    }
+
+    /// `rep.dropped(deg(angle_between(n, realised)))` — the same report — with the angle
+    /// computed only where it can raise the worst: the count above the warning threshold and
+    /// the comparison with the worst so far are [`AngleLimit`] decisions, exact without `atan2`
+    /// away from their limits.
+    fn note_dropped(&self, rep: &mut TessellationReport, n: DVec3, realised: DVec3) {
+        if n == realised {
+            rep.dropped(0.0);
+            return;
+        }
+        if self.worst_limit.get().deg != rep.worst_dropped_deg {
+            self.worst_limit.set(AngleLimit::new(rep.worst_dropped_deg));
+        }
+        if self.worst_limit.get().exceeded(n, realised) {
+            rep.dropped(num::deg(num::angle_between(n, realised)));
+        } else if self.warn_limit.exceeded(n, realised) {
+            rep.dropped_moves += 1;
         }
     }
 
@@ -839,8 +864,7 @@ pub fn tessellate_planned(
         a0_in
     };
     let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
-    let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
-    rep.dropped(dropped);
+    plan.note_dropped(rep, to.n, machine.realised_axis(to.p, to.n));
     rep.moves_in += 1;
     let pc = Piece {
         p0,
