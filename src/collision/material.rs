@@ -325,16 +325,22 @@ impl Material {
                 }
                 // per group: may its cells give a finding (asked on its first block)
                 let mut group_open: [Option<bool>; GROUPS * GROUPS] = [None; GROUPS * GROUPS];
-                for bj in 0..BLOCKS as i64 {
+                // the tile's blocks that meet the rectangle: block k spans cells
+                // [k b, k b + b − 1] from the tile's first, so those from ⌊(i0 − ti t)/b⌋ to
+                // ⌊(i1 − ti t)/b⌋ (clamped to the tile), in the same order
+                let last = BLOCKS as i64 - 1;
+                let (bj0, bj1) = (
+                    (j0 - tj * t).div_euclid(b).max(0),
+                    (j1 - tj * t).div_euclid(b).min(last),
+                );
+                let (bi0, bi1) = (
+                    (i0 - ti * t).div_euclid(b).max(0),
+                    (i1 - ti * t).div_euclid(b).min(last),
+                );
+                for bj in bj0..=bj1 {
                     let cj0 = tj * t + bj * b;
-                    if cj0 + b - 1 < j0 || cj0 > j1 {
-                        continue;
-                    }
-                    for bi in 0..BLOCKS as i64 {
+                    for bi in bi0..=bi1 {
                         let ci0 = ti * t + bi * b;
-                        if ci0 + b - 1 < i0 || ci0 > i1 {
-                            continue;
-                        }
                         let top = tile.block_max[(bj * BLOCKS as i64 + bi) as usize] as f64;
                         if top <= above {
                             continue;

@@ -24,8 +24,10 @@
 //! [`crate::machine::MachineError::Collision`] at the first one).
 //!
 //! ## Speed
-//! Per move and part, the union of the part's boxes over the move against the material's block
-//! maxima skips parts that cannot reach anything; a translation (the pose fixed) finds the cells
+//! Per move and part, before its poses are chosen: its box at the move's first pose grown by
+//! the bound of its points' travel (`sweep::grown_box`, the turn's angle bounded without an arc
+//! cosine by `turn.rs`) against the material's block maxima and the bed skips a part that cannot
+//! reach anything; then the union of the part's boxes at its checked poses does the same; a translation (the pose fixed) finds the cells
 //! its frustum parts can reach once ([`Checker`]'s swept cells, from the parts' floor bounds
 //! [`solid::Posed::floor_at`] and [`contact::ContactSurface::floor_at`]), skipping a block of
 //! the height field whose highest top is under the floor at the block's least distance from
@@ -60,6 +62,7 @@ pub mod posed_head;
 pub mod solid;
 mod stretch;
 pub mod sweep;
+mod turn;
 pub mod walk;
 
 pub use sweep::{CheckStats, Checker, CONTACT_TOLERANCE_MM, SAMPLE_STEP_MM};

@@ -31,6 +31,7 @@ use super::cull::{capsule_row, Reach, TipLine};
 use super::material::{cell_of, centre, Material, CELL_MM};
 use super::solid::Posed;
 use super::stretch::Stretch;
+use super::turn::{acos_bracket, exceeds_bracketed, BRACKET_MARGIN};
 use crate::emit::CollisionFinding;
 use crate::machine::head::{BedSpec, HeadPart};
 use crate::machine::{Machine, MachineError, MachineSpec};
@@ -221,15 +222,47 @@ pub(crate) struct Pose {
 /// the angle between the tool axes when the frame is unknown (the solids are then of
 /// revolution about the axis: [`Part::pose`]).
 pub(crate) fn displacement(a: &Pose, b: &Pose, reach: f64) -> f64 {
-    let theta = match (&a.frame, &b.frame) {
-        (Some(ra), Some(rb)) => {
-            let r = *rb * ra.transpose();
-            let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) * 0.5).clamp(-1.0, 1.0);
-            num::acos(c)
-        }
-        _ => a.n.angle_between(b.n),
+    let theta = match cos_turn(a, b) {
+        Some(c) => num::acos(c),
+        None => a.n.angle_between(b.n),
     };
     (b.p - a.p).length() + reach * theta
+}
+
+/// The cosine of the rotation angle between the frames of poses `a` and `b`, from the trace of
+/// `R_b R_aᵀ` (`tr = 1 + 2 cos θ`), clamped to [−1, 1]; `None` when a frame is unknown.
+fn cos_turn(a: &Pose, b: &Pose) -> Option<f64> {
+    match (&a.frame, &b.frame) {
+        (Some(ra), Some(rb)) => {
+            let r = *rb * ra.transpose();
+            Some(((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) * 0.5).clamp(-1.0, 1.0))
+        }
+        _ => None,
+    }
+}
+
+/// Whether [`displacement`]`(a, b, reach) > limit`: the same answer, the frames' turn decided
+/// from [`acos_bracket`] where it can ([`exceeds_bracketed`]; the arc cosine only for sums
+/// within the bracket's gap of the limit).
+fn displacement_exceeds(a: &Pose, b: &Pose, reach: f64, limit: f64) -> bool {
+    match cos_turn(a, b) {
+        Some(c) => exceeds_bracketed((b.p - a.p).length(), reach, c, limit, num::acos),
+        None => displacement(a, b, reach) > limit,
+    }
+}
+
+/// Added to the upper bound of a turn's angle in [`turn_bound`], rad: the cosine from the
+/// frames' trace carries a few ulps of rounding, which near `c = 1` moves the angle by up to
+/// `√(2·δc)` ≈ 5·10⁻⁸ rad for `δc` ≈ 10⁻¹⁵; 10⁻⁶ rad is 0.06 µm at a 60 mm reach.
+const TURN_SLACK_RAD: f64 = 1e-6;
+
+/// An upper bound, rad, of the true angle of the turn from pose `a` to pose `b` (the frames'
+/// rotation, or the tool axes' angle without frames), without an arc cosine: the upper end
+/// of [`acos_bracket`] of the computed cosine plus [`TURN_SLACK_RAD`] for its rounding.
+fn turn_bound(a: &Pose, b: &Pose) -> f64 {
+    let c = cos_turn(a, b)
+        .unwrap_or_else(|| a.n.dot(b.n) / (a.n.length_squared() * b.n.length_squared()).sqrt());
+    acos_bracket(c).1 + TURN_SLACK_RAD
 }
 
 /// A horizontal radius about the tip outside which neither `solid` nor the region above
@@ -260,13 +293,30 @@ fn checked_poses(poses: &[Pose], reach: f64) -> Vec<bool> {
     let mut keep = vec![false; n];
     let mut last = 0;
     for k in 0..n {
-        if k == 0 || k + 1 == n || displacement(&poses[last], &poses[k + 1], reach) > SAMPLE_STEP_MM
+        if k == 0
+            || k + 1 == n
+            || displacement_exceeds(&poses[last], &poses[k + 1], reach, SAMPLE_STEP_MM)
         {
             keep[k] = true;
             last = k;
         }
     }
     keep
+}
+
+/// A box holding `part` at every pose `q` of a move whose tip distance and turn from its first
+/// pose `p0` are bounded by `away` (`(|q.p − p0.p|, turn_bound(p0, q))` per pose): the part's
+/// box at `p0` grown by `max (|Δtip| + reach·θ)` (a point at distance ρ ≤ reach from the tip
+/// moves by `|Δtip| + 2ρ sin(θ/2) ≤ |Δtip| + reach·θ`), widened by [`BRACKET_MARGIN`] for
+/// rounding. Law test `a_parts_grown_box_holds_it_at_every_pose_of_the_move`.
+fn grown_box(part: &Part, p0: &Pose, away: &[(f64, f64)]) -> (DVec3, DVec3) {
+    let grow = away
+        .iter()
+        .map(|&(d, theta)| d + part.reach * theta)
+        .fold(0.0, f64::max)
+        * (1.0 + BRACKET_MARGIN);
+    let (l, h) = part.pose(p0.p, p0.n, p0.frame.as_ref()).aabb();
+    (l - grow, h + grow)
 }
 
 /// The collision checker of one machine: head, bed, material printed so far.
@@ -466,7 +516,7 @@ impl Checker {
         loop {
             let ok = poses
                 .windows(2)
-                .all(|w| self.displacement(&w[0], &w[1]) <= SAMPLE_STEP_MM);
+                .all(|w| !displacement_exceeds(&w[0], &w[1], self.reach, SAMPLE_STEP_MM));
             if ok || n >= MAX_SAMPLES {
                 if !ok {
                     self.stats.under_sampled += 1;
@@ -493,12 +543,42 @@ impl Checker {
             poses = next;
             n = n2;
         }
+        // per part, whether it may reach the material or the bed at all over the move: its
+        // box at the first pose grown by the largest displacement of its points from there
+        // (each point within `reach` of the tip moves at most |Δtip| + reach·θ, θ at most
+        // `turn_bound`) holds the part at every sampled pose, so a part whose grown box is
+        // above the material's block maxima and the bed is skipped whole (the union of its
+        // boxes at its checked poses below is inside the grown box: `any_above` and the bed's
+        // test could only say no there too)
+        let tol = CONTACT_TOLERANCE_MM;
+        let away: Vec<(f64, f64)> = poses
+            .iter()
+            .map(|q| ((q.p - p0.p).length(), turn_bound(&p0, q)))
+            .collect();
+        let skip: Vec<bool> = self
+            .parts
+            .iter()
+            .map(|part| {
+                if self.exhaustive {
+                    return false;
+                }
+                let (lo, hi) = grown_box(part, &p0, &away);
+                !self
+                    .material
+                    .any_above((lo.x, lo.y, hi.x, hi.y), lo.z + tol)
+                    && lo.z >= self.bed.top() - tol
+            })
+            .collect();
         // per part, the poses it is checked at (its own reach sets the step)
         let start = usize::from(!include_start);
         let checked: Vec<Vec<bool>> = self
             .parts
             .iter()
-            .map(|part| {
+            .zip(&skip)
+            .map(|(part, &skip)| {
+                if skip {
+                    return vec![false; poses.len()];
+                }
                 let mut keep = checked_poses(&poses, part.reach);
                 keep[..start].fill(false);
                 keep
@@ -506,12 +586,15 @@ impl Checker {
             .collect();
         // per part, over the whole move: can it reach the material or the bed at all? (the
         // union of its boxes against the material's block maxima and the bed's top)
-        let tol = CONTACT_TOLERANCE_MM;
         let reachable: Vec<(bool, bool)> = self
             .parts
             .iter()
             .zip(&checked)
-            .map(|(part, keep)| {
+            .zip(&skip)
+            .map(|((part, keep), &skip)| {
+                if skip {
+                    return (false, false);
+                }
                 let (mut lo, mut hi) =
                     (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
                 for (pose, _) in poses.iter().zip(keep).filter(|(_, &k)| k) {
@@ -1170,6 +1253,12 @@ mod tests {
         fn range(&mut self, a: f64, b: f64) -> f64 {
             a + (b - a) * self.unit()
         }
+        /// A point of the box `[lo, hi]`, its coordinates drawn in x, y, z order.
+        fn within(&mut self, lo: DVec3, hi: DVec3) -> DVec3 {
+            let x = self.range(lo.x, hi.x);
+            let y = self.range(lo.y, hi.y);
+            DVec3::new(x, y, self.range(lo.z, hi.z))
+        }
         /// A tool axis: vertical for a 3-axis head (`tilts` false), else tilted up to 30° at
         /// any azimuth.
         fn axis(&mut self, tilts: bool) -> DVec3 {
@@ -1413,18 +1502,9 @@ mod tests {
                     );
                     DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
                 };
-                let p0 = centre_xy
-                    + DVec3::new(
-                        rng.range(-6.0, 6.0),
-                        rng.range(-6.0, 6.0),
-                        rng.range(2.2, 2.8),
-                    );
-                let p1 = p0
-                    + DVec3::new(
-                        rng.range(-1.0, 1.0),
-                        rng.range(-1.0, 1.0),
-                        rng.range(-0.4, 0.1),
-                    );
+                let p0 =
+                    centre_xy + rng.within(DVec3::new(-6.0, -6.0, 2.2), DVec3::new(6.0, 6.0, 2.8));
+                let p1 = p0 + rng.within(DVec3::new(-1.0, -1.0, -0.4), DVec3::new(1.0, 1.0, 0.1));
                 let n0 = tilt(&mut rng);
                 let n1 = (n0 + DVec3::new(rng.range(-0.05, 0.05), rng.range(-0.05, 0.05), 0.0))
                     .normalize();
@@ -1724,6 +1804,115 @@ mod tests {
         assert!(raised_total > 2000, "only {raised_total} cells raised");
     }
 
+    /// Law of the move's skip test ([`grown_box`]): on random moves of five presets (large
+    /// turns, small ones, none), 65 poses each, every part's points move from the first pose at
+    /// most the bound `|Δtip| + reach·turn_bound` (against the brute force's extreme points,
+    /// which over-count by their chord allowance, ≤ 10⁻⁵ of a rim's radius), and its box at
+    /// every pose lies inside the grown box.
+    #[test]
+    fn a_parts_grown_box_holds_it_at_every_pose_of_the_move() {
+        let mut rng = Lcg(23);
+        for name in [
+            "pax-5axis",
+            "fullcontrol-prusa-b",
+            "rtn-slicer4rtn",
+            "open5x-ab",
+            "ratrig-vcore3-3z",
+        ] {
+            let spec = preset(name).unwrap();
+            let ck = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let mut moves = 0;
+            for case in 0..30 {
+                let p0 = rng.within(DVec3::new(-20.0, -20.0, 1.0), DVec3::new(20.0, 20.0, 20.0));
+                let p1 = p0 + rng.within(DVec3::new(-3.0, -3.0, -1.0), DVec3::new(3.0, 3.0, 1.0));
+                // large turns, small ones (as between samples) and none
+                let n0 = rng.axis(true);
+                let n1 = match case % 3 {
+                    0 => rng.axis(true),
+                    1 => (n0 + rng.axis(true) * 0.01).normalize(),
+                    _ => n0,
+                };
+                let (Ok(a0), Ok(a1)) = (
+                    m.inverse(p0, n0, None),
+                    m.inverse(p0, n0, None)
+                        .and_then(|a0| m.inverse(p1, n1, Some(&a0))),
+                ) else {
+                    continue;
+                };
+                moves += 1;
+                let poses: Vec<Pose> = (0..=64)
+                    .map(|k| ck.pose_between(&a0, &a1, k as f64 / 64.0).unwrap())
+                    .collect();
+                let q0 = poses[0];
+                let away: Vec<(f64, f64)> = poses
+                    .iter()
+                    .map(|q| ((q.p - q0.p).length(), turn_bound(&q0, q)))
+                    .collect();
+                for part in &ck.parts {
+                    let (lo, hi) = grown_box(part, &q0, &away);
+                    for (k, q) in poses.iter().enumerate() {
+                        // the bound of the part's points' travel against the brute force's
+                        let (d, theta) = away[k];
+                        let brute = tests::brute_displacement(part, &q0, q);
+                        assert!(
+                            brute <= (d + part.reach * theta) * (1.0 + 1e-9) + 1e-5 * part.reach,
+                            "{name}, {}, case {case}, pose {k}: the points move {brute:.6} mm, bound {:.6}",
+                            part.name,
+                            d + part.reach * theta
+                        );
+                        let (l, h) = part.pose(q.p, q.n, q.frame.as_ref()).aabb();
+                        assert!(
+                            l.cmpge(lo).all() && h.cmple(hi).all(),
+                            "{name}, {}, case {case}, pose {k}: box {l:?}..{h:?} outside the grown {lo:?}..{hi:?}",
+                            part.name
+                        );
+                    }
+                }
+            }
+            assert!(moves >= 20, "{name}: only {moves} of 30 moves reachable");
+        }
+    }
+
+    /// `turn_bound` is at least the frames' rotation angle measured another way (the angle of
+    /// the quaternion of `R_b R_aᵀ`), for turns from 10⁻⁹ rad to π.
+    #[test]
+    fn the_turn_bound_is_at_least_the_rotation_angle() {
+        let mut rng = Lcg(5);
+        for k in 0..4000 {
+            let axis = rng.axis(true);
+            let ra = DMat3::from_axis_angle(rng.axis(true), rng.range(0.0, 3.0));
+            let angle = match k % 4 {
+                0 => 1e-9 * 10f64.powf(rng.range(0.0, 6.0)),
+                1 => rng.range(0.0, 0.01),
+                _ => rng.range(0.0, std::f64::consts::PI),
+            };
+            let rb = DMat3::from_axis_angle(axis, angle) * ra;
+            let pose = |r: DMat3| Pose {
+                p: DVec3::ZERO,
+                n: r.z_axis,
+                frame: Some(r),
+            };
+            let (a, b) = (pose(ra), pose(rb));
+            let q = glam::DQuat::from_mat3(&(rb * ra.transpose()));
+            let measured = 2.0 * q.xyz().length().atan2(q.w.abs());
+            let bound = turn_bound(&a, &b);
+            assert!(
+                bound >= measured,
+                "turn {angle:e}: bound {bound:e} under the measured {measured:e}"
+            );
+            assert!(
+                measured > 0.1 || bound <= measured * (1.0 + 1e-3) + 2e-6,
+                "turn {angle:e}: bound {bound:e} far over the measured {measured:e}"
+            );
+            // without frames: the tool axes' angle
+            let (mut a2, mut b2) = (a, b);
+            (a2.frame, b2.frame) = (None, None);
+            let axes = a.n.cross(b.n).length().atan2(a.n.dot(b.n));
+            assert!(turn_bound(&a2, &b2) >= axes, "turn {angle:e}: axes' bound");
+        }
+    }
+
     /// Law of the per-part sampling ([`checked_poses`]): between two consecutive poses a part
     /// is checked at, none of its points moves more than [`SAMPLE_STEP_MM`] (measured by brute
     /// force at its extreme points), the move's first and last poses are checked, and a short
@@ -1745,17 +1934,8 @@ mod tests {
                     );
                     DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos())
                 };
-                let p0 = DVec3::new(
-                    rng.range(80.0, 120.0),
-                    rng.range(80.0, 120.0),
-                    rng.range(1.0, 20.0),
-                );
-                let p1 = p0
-                    + DVec3::new(
-                        rng.range(-3.0, 3.0),
-                        rng.range(-3.0, 3.0),
-                        rng.range(-1.0, 1.0),
-                    );
+                let p0 = rng.within(DVec3::new(80.0, 80.0, 1.0), DVec3::new(120.0, 120.0, 20.0));
+                let p1 = p0 + rng.within(DVec3::new(-3.0, -3.0, -1.0), DVec3::new(3.0, 3.0, 1.0));
                 let a0 = m.inverse(p0, tilt(&mut rng), None).unwrap();
                 let a1 = m.inverse(p1, tilt(&mut rng), Some(&a0)).unwrap();
                 // check_move's sampling: every head point within the step between neighbours
