@@ -114,6 +114,7 @@ fn variants_obey_the_laws() {
         r#"{"name":"rotbot-misaligned","kind":"rtn","revolution":"unlimited","axis_names":["X","Y","Z","U"],"e_parallel_mm":0.3,"e_perpendicular_mm":-0.2}"#,
         r#"{"name":"rtn-single-misaligned","kind":"rtn","e_parallel_mm":0.1,"e_perpendicular_mm":0.25,"tilt_deg":30}"#,
         r#"{"name":"pax-offset","kind":"pax","pivot_to_tip_mm":35,"rot_offset_deg":-90,"max_tilt_deg":100}"#,
+        r#"{"name":"pax-offset-90","kind":"pax","pivot_to_tip_mm":35,"max_tilt_deg":90}"#,
         r#"{"name":"open5x-calibrated","kind":"ab-table","a_pos":[3,-1.2,-40.5],"a_dir":[0.9998,0.012,-0.008],"b_pos":[0.4,0.7,0],"b_dir":[0.004,-0.006,1],"part_offset":[0,0,12],"z_wobble_mm":0.13}"#,
         r#"{"name":"open5x-wobble","kind":"ab-table","z_wobble_mm":-0.13,"b_pos":[0,0,5],"a_pos":[0,0,-30]}"#,
         r#"{"name":"r-theta-0","kind":"r-theta","pivot_to_tip_mm":0}"#,

@@ -181,13 +181,14 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
         n
     }
-    /// Whether the machine realises every request it solves exactly: `forward(inverse(p, n,
-    /// previous)) = (p, n)` (within the round-trip tolerance of law 1) whatever `previous` —
-    /// no dropped component, no clip, no branch hold. The interpolation check then takes
-    /// `(p(s), n(s))` as the exact pose of a sample instead of solving it, where the machine's
-    /// [`Machine::interpolation_bound`] promises that `inverse` succeeds along the piece
-    /// ([`tessellate`]). Law 1 holds a machine that says so to `(p, n)` itself, not to
-    /// [`Machine::realised_axis`]. Default: `false`.
+    /// Whether the machine realises every request exactly along each piece its
+    /// [`Machine::interpolation_bound`] is given for: `forward(inverse(p(s), n(s), a₀)) =
+    /// (p(s), n(s))` within the round-trip tolerance of law 1 — no dropped component, no clip,
+    /// no branch hold there (the triple-Z bed everywhere; the A/B table and the 5-axis head
+    /// wherever they give a bound). The interpolation check then takes `(p(s), n(s))` as the
+    /// exact pose of a sample of such a piece instead of solving it ([`tessellate`]). Law 6
+    /// ([`laws::check_interpolation_bound`]) checks the promise at every sample of every
+    /// bounded piece. Default: `false`.
     fn realises_requests(&self) -> bool {
         false
     }

@@ -41,8 +41,9 @@
 //! change by a byte. Elsewhere the 16 samples remain.
 //!
 //! ## Requests realised exactly
-//! A machine that [`Machine::realises_requests`] (the triple-Z bed) puts the tip at p and the
-//! tool along n for every request it solves, so `exact(s) = (p(s), n(s))` up to law 1's
+//! A machine that [`Machine::realises_requests`] (the triple-Z bed, the A/B table, the 5-axis
+//! head) puts the tip at p and the tool along n for every request along a piece its bound is
+//! given for, so `exact(s) = (p(s), n(s))` up to law 1's
 //! round-trip tolerance (10⁻⁹ mm, 10⁻⁹ rad). Where its closed-form bound is given but too
 //! large to skip the samples, the bound also promises that `inverse` succeeds along the piece,
 //! and the samples take the request itself as the exact pose: one forward kinematics per
