@@ -86,13 +86,29 @@ impl ProfilePiece {
         s * ct - self.at(s).1 * st
     }
 
+    /// `(g, h)` at both ends at one tilt: what [`ProfilePiece::floor`] needs whatever `d`.
+    fn ends(&self, st: f64, ct: f64) -> PieceEnds {
+        let (a, b) = (self.from_mm, self.to_mm);
+        PieceEnds {
+            ga: self.reach_at(a, st),
+            gb: self.reach_at(b, st),
+            ha: self.low_at(a, st, ct),
+            hb: self.low_at(b, st, ct),
+        }
+    }
+
     /// The least `h(s)` over the `s` of this piece with `g(s) ≥ d` (+∞: none reaches `d`).
     /// `g` is linear in `s` where `s` keeps its sign, so the set is an interval found from
     /// the ends (a piece across `s = 0` is taken whole where either end reaches `d`).
+    #[cfg(test)]
     fn floor(&self, st: f64, ct: f64, d: f64) -> f64 {
+        self.floor_from(self.ends(st, ct), st, ct, d)
+    }
+
+    /// [`ProfilePiece::floor`] from the piece's [`PieceEnds`] at the tilt `(st, ct)`.
+    fn floor_from(&self, e: PieceEnds, st: f64, ct: f64, d: f64) -> f64 {
         let (a, b) = (self.from_mm, self.to_mm);
-        let (ga, gb) = (self.reach_at(a, st), self.reach_at(b, st));
-        let (ha, hb) = (self.low_at(a, st, ct), self.low_at(b, st, ct));
+        let PieceEnds { ga, gb, ha, hb } = e;
         if ga < d && gb < d {
             return f64::INFINITY;
         }
@@ -152,11 +168,49 @@ impl HeadProfile {
     /// No head point at a horizontal distance of `d` mm or more from the tip is lower than
     /// this above the tip, at tilt θ (radians from +Z); +∞ when none reaches `d`.
     pub fn floor(&self, tilt: f64, d: f64) -> f64 {
+        self.at_tilt(tilt).floor(d)
+    }
+
+    /// The profile at one tilt θ (radians from +Z): [`TiltedProfile::floor`] for many `d`
+    /// (a lift's height over many cells) without the tilt's sine, cosine and the pieces' ends
+    /// computed again for each.
+    pub fn at_tilt(&self, tilt: f64) -> TiltedProfile<'_> {
         let tilt = self.realised_tilt(tilt);
         let (st, ct) = (crate::num::sin(tilt).abs(), crate::num::cos(tilt));
+        TiltedProfile {
+            pieces: &self.pieces,
+            ends: self.pieces.iter().map(|p| p.ends(st, ct)).collect(),
+            st,
+            ct,
+        }
+    }
+}
+
+/// `g` (reach) and `h` (height) at a piece's two ends, at one tilt.
+#[derive(Clone, Copy, Debug)]
+struct PieceEnds {
+    ga: f64,
+    gb: f64,
+    ha: f64,
+    hb: f64,
+}
+
+/// A [`HeadProfile`] at one tilt ([`HeadProfile::at_tilt`]).
+#[derive(Clone, Debug)]
+pub struct TiltedProfile<'a> {
+    pieces: &'a [ProfilePiece],
+    ends: Vec<PieceEnds>,
+    st: f64,
+    ct: f64,
+}
+
+impl TiltedProfile<'_> {
+    /// [`HeadProfile::floor`] at this tilt: the same value.
+    pub fn floor(&self, d: f64) -> f64 {
         self.pieces
             .iter()
-            .map(|p| p.floor(st, ct, d))
+            .zip(&self.ends)
+            .map(|(p, e)| p.floor_from(*e, self.st, self.ct, d))
             .fold(f64::INFINITY, f64::min)
     }
 }

@@ -70,12 +70,15 @@
 use glam::DVec3;
 
 use super::angles::wrap180;
+use super::axis_buf::AxisBuf;
 use super::config::{build as build_config, input_for, ConfigInput};
 use super::feed::{fastest, output_feed, FeedMode, FeedMove};
 use super::flavour::Flavour;
 use super::reach::Reach;
 use super::speed::AxisSpeeds;
-use super::tessellate::{tessellate_move, Bounds, MachineMove, TessellationReport, DEFAULT_BOUNDS};
+use super::tessellate::{
+    tessellate_planned, Bounds, MachineMove, Plan, TessellationReport, DEFAULT_BOUNDS,
+};
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
 use crate::emit::clearance::{segment_distance, HeadProfile, Printed, HEAD_CLEARANCE_MM};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, SwingPlace, DEFAULT_TRAVEL_FEED};
@@ -154,9 +157,15 @@ struct Flipped {
 /// The previous pose: raw axes, tip, tool axis.
 #[derive(Clone, Debug)]
 struct Pose {
-    axes: Vec<f64>,
+    axes: AxisBuf,
     p: DVec3,
     n: DVec3,
+}
+
+/// The axis values of the last `G1` written: as given, and as the firmware reads them.
+struct Written {
+    raw: AxisBuf,
+    read: AxisBuf,
 }
 
 /// The emitter (see the module documentation).
@@ -173,7 +182,8 @@ pub struct MachineEmitter {
     preset: String,
     flavour: Flavour,
     feed: FeedMode,
-    bounds: Bounds,
+    /// The interpolation bounds and what the splitting needs of the machine ([`Plan`]).
+    plan: Plan,
     /// Unlimited rotary axes (reset modulo 360° at a layer change).
     unlimited: Vec<bool>,
     ew: EWriter,
@@ -181,7 +191,7 @@ pub struct MachineEmitter {
     /// The axis values the last `G1` of this region wrote, as the firmware reads them (rounded
     /// to [`MM_DECIMALS`]); `None` at a region's start. A move that would write them again,
     /// with no change of E either, is one the firmware reads as no move: not written.
-    written_axes: Option<Vec<f64>>,
+    written_axes: Option<Written>,
     /// Moves not written because the firmware would read them as no move.
     dropped: u64,
     prev: Option<Pose>,
@@ -285,7 +295,9 @@ impl MachineEmitter {
             feed,
             ..MachineReport::default()
         };
+        let plan = Plan::new(machine.as_ref(), &DEFAULT_BOUNDS);
         Ok(MachineEmitter {
+            plan,
             preset: machine.name().to_string(),
             machine,
             limits,
@@ -294,7 +306,6 @@ impl MachineEmitter {
             config,
             flavour,
             feed,
-            bounds: DEFAULT_BOUNDS,
             unlimited,
             ew: EWriter::default(),
             last_f: None,
@@ -329,7 +340,7 @@ impl MachineEmitter {
 
     /// Use other interpolation bounds (`--interpolation`, `--interpolation-caps`).
     pub fn with_bounds(mut self, bounds: Bounds) -> MachineEmitter {
-        self.bounds = bounds;
+        self.plan = Plan::new(self.machine.as_ref(), &bounds);
         self
     }
 
@@ -431,12 +442,13 @@ impl MachineEmitter {
             return Err(self.travel_error(out, i, axes[i], p));
         }
         // the move as the firmware reads it: the written (rounded) values
-        let read =
-            |v: &[f64]| -> Vec<f64> { v.iter().map(|a| written_value(*a, MM_DECIMALS)).collect() };
+        let read = |v: &[f64]| AxisBuf::from_fn(v.len(), |i| written_value(v[i], MM_DECIMALS));
         let to_read = read(axes);
         let e_before = self.ew.current();
         let e_word = e.map(|(de, relative)| self.ew.advance(de, relative));
-        if self.written_axes.as_ref() == Some(&to_read) && self.ew.current() == e_before {
+        if self.written_axes.as_ref().map(|w| &w.read) == Some(&to_read)
+            && self.ew.current() == e_before
+        {
             // every axis word as the last line wrote it and E unchanged: the firmware reads no
             // move (the tip moved less than the written step; a filament change below the E
             // step stays in the E writer's exact total)
@@ -444,7 +456,19 @@ impl MachineEmitter {
             return Ok(());
         }
         let de = e.map_or(0.0, |(de, _)| de);
-        let from_read = read(from);
+        // most moves start where the last line ended: its values as read are known
+        let from_read = match &self.written_axes {
+            Some(w)
+                if w.raw.len() == from.len()
+                    && w.raw
+                        .iter()
+                        .zip(from)
+                        .all(|(a, b)| a.to_bits() == b.to_bits()) =>
+            {
+                w.read.clone()
+            }
+            _ => read(from),
+        };
         let firmware_length =
             self.flavour
                 .length_rule()
@@ -484,7 +508,10 @@ impl MachineEmitter {
         // timed as the firmware reads it: the written values
         self.speeds
             .add_move(self.feed_now(), &from_read, &to_read, f_fw, firmware_length);
-        self.written_axes = Some(to_read);
+        self.written_axes = Some(Written {
+            raw: AxisBuf::from_slice(axes),
+            read: to_read,
+        });
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -510,7 +537,8 @@ impl MachineEmitter {
                 );
                 prev.axes[i] = w;
                 if let Some(wa) = self.written_axes.as_mut() {
-                    wa[i] = written_value(w, MM_DECIMALS);
+                    wa.raw[i] = w;
+                    wa.read[i] = written_value(w, MM_DECIMALS);
                 }
                 self.report.rotary_resets += 1;
             }
@@ -776,7 +804,7 @@ impl MachineEmitter {
             let from = match run.pieces.start {
                 0 => prev.clone(),
                 k => Pose {
-                    axes: moves[k - 1].axes.clone(),
+                    axes: AxisBuf::from_slice(&moves[k - 1].axes),
                     p: moves[k - 1].p,
                     n: moves[k - 1].n,
                 },
@@ -801,7 +829,7 @@ impl MachineEmitter {
             return None;
         }
         let pose = Pose {
-            axes: alt,
+            axes: AxisBuf::from_slice(&alt),
             p: prev.p,
             n: prev.n,
         };
@@ -810,11 +838,11 @@ impl MachineEmitter {
             return None;
         }
         let mut tess = self.tess;
-        let moves = tessellate_move(
+        let moves = tessellate_planned(
             self.machine.as_ref(),
+            &self.plan,
             (&pose.axes, prev.p, prev.n),
             tp,
-            &self.bounds,
             &mut tess,
         )
         .ok()?;
@@ -850,7 +878,7 @@ impl MachineEmitter {
             .map(|i| (to[i] - from.axes[i]).abs())
             .fold(0.0, f64::max);
         let count = (turn / FLIP_STEP_DEG).ceil().max(1.0) as usize;
-        let mut steps = vec![(from.axes.clone(), from.n)];
+        let mut steps = vec![(from.axes.to_vec(), from.n)];
         for k in 1..=count {
             let s = k as f64 / count as f64;
             let axes: Vec<f64> = (0..from.axes.len())
@@ -932,7 +960,7 @@ impl MachineEmitter {
             let e = (!tp.travel).then_some((tp.e, relative));
             self.write_g1(out, &axes, &axes, tp.p, e, 0.0, tp.f, "")?;
             self.prev = Some(Pose {
-                axes,
+                axes: AxisBuf::from_slice(&axes),
                 p: tp.p,
                 n: tp.n,
             });
@@ -940,11 +968,11 @@ impl MachineEmitter {
         };
         // the report counts the move as written: on this branch, or on the other after a flip
         let mut tess = self.tess;
-        let mut moves = tessellate_move(
+        let mut moves = tessellate_planned(
             self.machine.as_ref(),
+            &self.plan,
             (&prev.axes, prev.p, prev.n),
             tp,
-            &self.bounds,
             &mut tess,
         )?;
         let mut prev = prev;
@@ -972,7 +1000,7 @@ impl MachineEmitter {
                 )?;
                 let last = &moves[run.pieces.end - 1];
                 from = Pose {
-                    axes: last.axes.clone(),
+                    axes: AxisBuf::from_slice(&last.axes),
                     p: last.p,
                     n: last.n,
                 };
@@ -989,7 +1017,7 @@ impl MachineEmitter {
                     self.carry_e += m.e;
                 }
                 let to = Pose {
-                    axes: m.axes.clone(),
+                    axes: AxisBuf::from_slice(&m.axes),
                     p: m.p,
                     n: m.n,
                 };
@@ -1006,7 +1034,7 @@ impl MachineEmitter {
                 self.write_g1(out, &from.axes, &m.axes, m.p, e, m.tip_length, m.f, tag)?;
             }
             from = Pose {
-                axes: m.axes.clone(),
+                axes: AxisBuf::from_slice(&m.axes),
                 p: m.p,
                 n: m.n,
             };
@@ -1049,9 +1077,9 @@ impl Emitter for MachineEmitter {
             ),
             format!(
                 "; warpslice interpolation bound = {} mm / {} deg{}",
-                self.bounds.max_position_mm,
-                self.bounds.max_angle_deg,
-                match (self.bounds.max_step_mm, self.bounds.max_step_deg) {
+                self.plan.bounds().max_position_mm,
+                self.plan.bounds().max_angle_deg,
+                match (self.plan.bounds().max_step_mm, self.plan.bounds().max_step_deg) {
                     (Some(mm), Some(deg)) => format!("; moves capped at {mm} mm / {deg} deg"),
                     _ => String::new(),
                 }
@@ -1110,11 +1138,11 @@ impl Emitter for MachineEmitter {
             // the slicer's lines before the region passed through (not this emitter's): the
             // head is where they left it, and the next G1 is always written
             self.written_axes = None;
-            self.prev = self
-                .machine
-                .inverse(p, n, None)
-                .ok()
-                .map(|axes| Pose { axes, p, n });
+            self.prev = self.machine.inverse(p, n, None).ok().map(|axes| Pose {
+                axes: AxisBuf::from_slice(&axes),
+                p,
+                n,
+            });
         }
         Ok(())
     }

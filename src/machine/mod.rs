@@ -46,6 +46,7 @@ use glam::{DMat3, DVec3};
 pub mod abtable;
 pub mod angles;
 pub mod axes;
+pub mod axis_buf;
 pub mod batch;
 pub mod bhead;
 pub mod bound;

@@ -60,6 +60,7 @@ use core::sync::atomic::{AtomicU64, Ordering};
 
 use glam::DVec3;
 
+use super::axis_buf::AxisBuf;
 use super::{InverseResult, Machine, MachineError};
 use crate::num;
 use crate::toolpath::{Feature, ToolPoint};
@@ -267,49 +268,66 @@ impl Slerp {
     }
 }
 
-/// Most axes a machine has; more are interpolated in a `Vec`.
-const MAX_AXES: usize = 8;
-
-/// Axis values on the stack (the interpolation check makes one per sample).
-struct Axes {
-    buf: [f64; MAX_AXES],
-    heap: Vec<f64>,
-    len: usize,
-}
-
-impl Axes {
-    fn as_slice(&self) -> &[f64] {
-        if self.len <= MAX_AXES {
-            &self.buf[..self.len]
-        } else {
-            &self.heap
-        }
-    }
-}
-
-/// `a + (b − a)·s` per axis.
-fn lerp_axes(a: &[f64], b: &[f64], s: f64) -> Axes {
-    let mut out = Axes {
-        buf: [0.0; MAX_AXES],
-        heap: Vec::new(),
-        len: a.len().min(b.len()),
-    };
-    if out.len <= MAX_AXES {
-        for (o, (x, y)) in out.buf.iter_mut().zip(a.iter().zip(b)) {
-            *o = x + (y - x) * s;
-        }
-    } else {
-        out.heap = a.iter().zip(b).map(|(x, y)| x + (y - x) * s).collect();
-    }
-    out
-}
-
 /// The angle between two unit vectors in degrees, without trigonometry when they are equal.
 fn angle_deg(a: DVec3, b: DVec3) -> f64 {
     if a == b {
         0.0
     } else {
         num::deg(num::angle_between(a, b))
+    }
+}
+
+/// Relative margin of [`AngleLimit`]'s trigonometry-free decisions: far above the few ulps by
+/// which `atan2`, the products and the degree conversion may err, far below any angle a
+/// decision could hinge on (the limits are ≥ 1e-6° apart from what they are compared with only
+/// by chance; within this margin the exact angle is computed).
+const ANGLE_DECISION_MARGIN: f64 = 1e-9;
+
+/// `deg(angle_between(a, b)) > limit` decided as that very expression would, without `atan2`
+/// where the tangent shows the answer: with `c = |a × b|`, `d = a · b` (`angle_between`'s own
+/// operands) and `d > 0`, the angle is `atan(c/d)`, increasing in `c/d`, so `c ≤ d·tan(limit)`
+/// less [`ANGLE_DECISION_MARGIN`] means at most the limit and `c ≥ d·tan(limit)` plus the
+/// margin more than it. Between the two, and for limits outside (0°, 89°] (where the margin
+/// shrinks relative to the angle: `d atan/d tan = cos²`), the angle itself is computed.
+#[derive(Clone, Copy, Debug)]
+struct AngleLimit {
+    deg: f64,
+    /// `tan(limit)·(1 ∓ margin)`; NaN: always compute.
+    tan_lo: f64,
+    tan_hi: f64,
+}
+
+impl AngleLimit {
+    fn new(deg: f64) -> AngleLimit {
+        let (tan_lo, tan_hi) = if deg > 0.0 && deg <= 89.0 {
+            let t = num::tan(num::rad(deg));
+            (
+                t * (1.0 - ANGLE_DECISION_MARGIN),
+                t * (1.0 + ANGLE_DECISION_MARGIN),
+            )
+        } else {
+            (f64::NAN, f64::NAN)
+        };
+        AngleLimit {
+            deg,
+            tan_lo,
+            tan_hi,
+        }
+    }
+
+    /// `num::deg(num::angle_between(a, b)) > self.deg`.
+    fn exceeded(&self, a: DVec3, b: DVec3) -> bool {
+        let c = a.cross(b).length();
+        let d = a.dot(b);
+        if d > 0.0 {
+            if c <= d * self.tan_lo {
+                return false;
+            }
+            if c >= d * self.tan_hi {
+                return true;
+            }
+        }
+        num::deg(num::atan2(c, d)) > self.deg
     }
 }
 
@@ -321,14 +339,72 @@ struct Piece<'a> {
     a0: &'a [f64],
 }
 
-struct Ctx<'m> {
-    machine: &'m dyn Machine,
+/// What the splitting needs of a machine and the bounds, found once per emitter
+/// ([`Plan::new`]) instead of once per move ([`tessellate_planned`]).
+#[derive(Clone, Debug)]
+pub struct Plan {
     bounds: Bounds,
+    /// The single-revolution rotary axes ([`wrap_axes`]).
     wrap_axes: Vec<bool>,
     /// The rotary axes, when the machine is [`Machine::linear_at_fixed_pose`].
     fixed_pose_rotary: Option<Vec<bool>>,
     /// [`Machine::realises_requests`].
     requests_realised: bool,
+    /// The held-axis probe's limit: [`SAMPLING_MARGIN`] of the angle bound.
+    probe_limit: AngleLimit,
+    /// The caps' turn per piece, when capped by angle.
+    cap_limit: Option<AngleLimit>,
+    /// [`crate::tolerance::DROPPED_TILT_WARN_DEG`] as a limit, and the report's worst dropped
+    /// angle as one (rebuilt when the worst changes): [`Plan::note_dropped`].
+    warn_limit: AngleLimit,
+    worst_limit: Cell<AngleLimit>,
+}
+
+impl Plan {
+    /// The plan of `machine` under `bounds`.
+    pub fn new(machine: &dyn Machine, bounds: &Bounds) -> Plan {
+        Plan {
+            bounds: *bounds,
+            wrap_axes: wrap_axes(machine),
+            fixed_pose_rotary: machine
+                .linear_at_fixed_pose()
+                .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
+            requests_realised: machine.realises_requests(),
+            probe_limit: AngleLimit::new(SAMPLING_MARGIN * bounds.max_angle_deg),
+            cap_limit: bounds.max_step_deg.map(AngleLimit::new),
+            warn_limit: AngleLimit::new(crate::tolerance::DROPPED_TILT_WARN_DEG),
+            worst_limit: Cell::new(AngleLimit::new(0.0)),
+        }
+    }
+
+    /// `rep.dropped(deg(angle_between(n, realised)))` — the same report — with the angle
+    /// computed only where it can raise the worst: the count above the warning threshold and
+    /// the comparison with the worst so far are [`AngleLimit`] decisions, exact without `atan2`
+    /// away from their limits.
+    fn note_dropped(&self, rep: &mut TessellationReport, n: DVec3, realised: DVec3) {
+        if n == realised {
+            rep.dropped(0.0);
+            return;
+        }
+        if self.worst_limit.get().deg != rep.worst_dropped_deg {
+            self.worst_limit.set(AngleLimit::new(rep.worst_dropped_deg));
+        }
+        if self.worst_limit.get().exceeded(n, realised) {
+            rep.dropped(num::deg(num::angle_between(n, realised)));
+        } else if self.warn_limit.exceeded(n, realised) {
+            rep.dropped_moves += 1;
+        }
+    }
+
+    /// The bounds the plan splits to.
+    pub fn bounds(&self) -> &Bounds {
+        &self.bounds
+    }
+}
+
+struct Ctx<'m> {
+    machine: &'m dyn Machine,
+    plan: &'m Plan,
     /// Kinematics evaluations, pieces sampled and pieces bounded by this context.
     evaluations: Cell<u64>,
     sampled: Cell<u64>,
@@ -359,15 +435,10 @@ enum ClosedForm {
 type Measured = ((f64, f64), Option<Vec<f64>>);
 
 impl<'m> Ctx<'m> {
-    fn new(machine: &'m dyn Machine, bounds: &Bounds) -> Ctx<'m> {
+    fn new(machine: &'m dyn Machine, plan: &'m Plan) -> Ctx<'m> {
         Ctx {
             machine,
-            bounds: *bounds,
-            wrap_axes: wrap_axes(machine),
-            fixed_pose_rotary: machine
-                .linear_at_fixed_pose()
-                .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
-            requests_realised: machine.realises_requests(),
+            plan,
             evaluations: Cell::new(0),
             sampled: Cell::new(0),
             bounded: Cell::new(0),
@@ -400,7 +471,7 @@ impl<'m> Ctx<'m> {
         stop_when_over: bool,
     ) -> Result<Measured, MachineError> {
         self.sampled.set(self.sampled.get() + 1);
-        let k = self.bounds.samples.max(2);
+        let k = self.plan.bounds.samples.max(2);
         let (mut dp, mut da) = (0.0f64, 0.0f64);
         let mut mid = None;
         let sl = Slerp::new(pc.n0, pc.n1);
@@ -419,7 +490,7 @@ impl<'m> Ctx<'m> {
                 }
                 exact
             };
-            let fw = self.forward(lerp_axes(pc.a0, a1, s).as_slice())?;
+            let fw = self.forward(&AxisBuf::lerp(pc.a0, a1, s))?;
             dp = dp.max((fw.0 - exact.0).length());
             da = da.max(angle_deg(fw.1, exact.1));
             if stop_when_over && self.over(dp, da) {
@@ -431,8 +502,8 @@ impl<'m> Ctx<'m> {
 
     /// Whether a sampled error calls for a split (beyond [`SAMPLING_MARGIN`] of a bound).
     fn over(&self, dp: f64, da: f64) -> bool {
-        dp > SAMPLING_MARGIN * self.bounds.max_position_mm
-            || da > SAMPLING_MARGIN * self.bounds.max_angle_deg
+        dp > SAMPLING_MARGIN * self.plan.bounds.max_position_mm
+            || da > SAMPLING_MARGIN * self.plan.bounds.max_angle_deg
     }
 
     /// Whether the machine's closed-form bound lets the piece through without samples and
@@ -449,8 +520,8 @@ impl<'m> Ctx<'m> {
         else {
             return ClosedForm::None;
         };
-        let ok = bp <= SAMPLING_MARGIN * self.bounds.max_position_mm
-            && ba <= SAMPLING_MARGIN * self.bounds.max_angle_deg
+        let ok = bp <= SAMPLING_MARGIN * self.plan.bounds.max_position_mm
+            && ba <= SAMPLING_MARGIN * self.plan.bounds.max_angle_deg
             && bp <= rep.worst_position_mm.max(REPORT_FLOOR_MM)
             && ba <= rep.worst_angle_deg.max(REPORT_FLOOR_DEG);
         if ok {
@@ -540,17 +611,17 @@ impl<'m> Ctx<'m> {
             for (axes, _, _) in &poses {
                 let (q0, r0) = self.forward(&from)?;
                 let (q1, r1) = self.forward(axes)?;
-                let kk = self.bounds.samples.max(2);
+                let kk = self.plan.bounds.samples.max(2);
                 for i in 1..kk {
                     let s = i as f64 / kk as f64;
-                    let fw = self.forward(lerp_axes(&from, axes, s).as_slice())?;
+                    let fw = self.forward(&AxisBuf::lerp(&from, axes, s))?;
                     wp = wp.max((fw.0 - q0.lerp(q1, s)).length());
                     wa = wa.max(num::deg(num::angle_between(fw.1, slerp(r0, r1, s))));
                 }
                 from = axes.clone();
             }
-            if wp > SAMPLING_MARGIN * self.bounds.max_position_mm
-                || wa > SAMPLING_MARGIN * self.bounds.max_angle_deg
+            if wp > SAMPLING_MARGIN * self.plan.bounds.max_position_mm
+                || wa > SAMPLING_MARGIN * self.plan.bounds.max_angle_deg
             {
                 ok = false;
             }
@@ -569,7 +640,7 @@ impl<'m> Ctx<'m> {
     /// ends, on a machine that is [`Machine::linear_at_fixed_pose`] (most moves of a layer
     /// whose normal does not change; no sampling needed).
     fn exact_at_fixed_pose(&self, pc: &Piece, a1: &[f64]) -> bool {
-        self.fixed_pose_rotary.as_ref().is_some_and(|rotary| {
+        self.plan.fixed_pose_rotary.as_ref().is_some_and(|rotary| {
             pc.n0 == pc.n1
                 && rotary
                     .iter()
@@ -579,7 +650,8 @@ impl<'m> Ctx<'m> {
     }
 
     fn wraps(&self, a0: &[f64], a1: &[f64]) -> bool {
-        self.wrap_axes
+        self.plan
+            .wrap_axes
             .iter()
             .zip(a0.iter().zip(a1))
             .any(|(w, (x, y))| *w && (y - x).abs() > 180.0)
@@ -596,7 +668,7 @@ impl<'m> Ctx<'m> {
     ) -> Result<(), MachineError> {
         let len = (pc.p1 - pc.p0).length();
         let wrap = self.wraps(pc.a0, &a1);
-        if wrap && (len <= SEAM_PIECE_MM || depth >= self.bounds.max_depth) {
+        if wrap && (len <= SEAM_PIECE_MM || depth >= self.plan.bounds.max_depth) {
             rep.rotate_arounds += 1;
             out.push(End {
                 axes: a1,
@@ -608,12 +680,14 @@ impl<'m> Ctx<'m> {
             });
             return Ok(());
         }
-        let turn = num::deg(num::angle_between(pc.n0, pc.n1));
-        let capped = self.bounds.max_step_mm.is_some_and(|c| len > c)
-            || self.bounds.max_step_deg.is_some_and(|c| turn > c);
+        let capped = self.plan.bounds.max_step_mm.is_some_and(|c| len > c)
+            || self
+                .plan
+                .cap_limit
+                .is_some_and(|c| c.exceeded(pc.n0, pc.n1));
         // a piece that is split whatever its error (capped, below the depth limit) is not
         // measured: its halves are
-        let splits = depth < self.bounds.max_depth;
+        let splits = depth < self.plan.bounds.max_depth;
         let closed = if wrap || (capped && splits) || self.exact_at_fixed_pose(&pc, &a1) {
             ClosedForm::Accepted
         } else {
@@ -622,14 +696,14 @@ impl<'m> Ctx<'m> {
         let ((dp, da), mid) = match closed {
             ClosedForm::Accepted => ((0.0, 0.0), None),
             // the bound promises that `inverse` succeeds along the piece
-            ClosedForm::Given => self.error(&pc, &a1, self.requests_realised, splits)?,
+            ClosedForm::Given => self.error(&pc, &a1, self.plan.requests_realised, splits)?,
             ClosedForm::None => self.error(&pc, &a1, false, splits)?,
         };
         let over = self.over(dp, da);
         // a piece crossing a single-revolution axis's seam is halved until the crossing is
         // shorter than SEAM_PIECE_MM: the rest of the move is printed, only that piece is
         // turned around in the air
-        if (over || capped || wrap) && depth < self.bounds.max_depth {
+        if (over || capped || wrap) && depth < self.plan.bounds.max_depth {
             let pm = pc.p0.lerp(pc.p1, 0.5);
             let nm = slerp(pc.n0, pc.n1, 0.5);
             // the sample at s = ½ is this very inverse (same tip, same slerp, same seed)
@@ -744,35 +818,54 @@ pub fn tessellate_move(
     bounds: &Bounds,
     rep: &mut TessellationReport,
 ) -> Result<Vec<MachineMove>, MachineError> {
-    let ctx = Ctx::new(machine, bounds);
+    tessellate_planned(machine, &Plan::new(machine, bounds), from, to, rep)
+}
+
+/// [`tessellate_move`] with the machine's [`Plan`] found once (the emitter's).
+///
+/// The probe for a held axis asks the realised tool axis at s = [`START_PROBE`]: on a machine
+/// that [realises its requests](Machine::realises_requests) that is the request
+/// `slerp(n₀, n₁, START_PROBE)` itself (within law 1's 1e-9 rad, far below the
+/// [`SAMPLING_MARGIN`] of the angle bound the probe compares with), so it is not solved.
+pub fn tessellate_planned(
+    machine: &dyn Machine,
+    plan: &Plan,
+    from: (&[f64], DVec3, DVec3),
+    to: &ToolPoint,
+    rep: &mut TessellationReport,
+) -> Result<Vec<MachineMove>, MachineError> {
+    let ctx = Ctx::new(machine, plan);
     let (a0_in, p0, n0) = from;
     let mut ends = Vec::new();
     let mut reoriented = 0;
     let r0 = ctx.forward(a0_in)?.1;
     let pe = p0.lerp(to.p, START_PROBE);
-    let ae = ctx.inverse(pe, slerp(n0, to.n, START_PROBE), Some(a0_in))?;
-    let re = ctx.forward(&ae)?.1;
+    let ne = slerp(n0, to.n, START_PROBE);
+    let re = if plan.requests_realised {
+        ne
+    } else {
+        let ae = ctx.inverse(pe, ne, Some(a0_in))?;
+        ctx.forward(&ae)?.1
+    };
     let a_start;
-    let a0: &[f64] =
-        if num::deg(num::angle_between(r0, re)) > SAMPLING_MARGIN * bounds.max_angle_deg {
-            let a_r = ctx.inverse(p0, re, Some(a0_in))?;
-            let pc = Piece {
-                p0,
-                n0: r0,
-                p1: p0,
-                n1: re,
-                a0: a0_in,
-            };
-            ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
-            reoriented = ends.len();
-            a_start = a_r;
-            &a_start
-        } else {
-            a0_in
+    let a0: &[f64] = if plan.probe_limit.exceeded(r0, re) {
+        let a_r = ctx.inverse(p0, re, Some(a0_in))?;
+        let pc = Piece {
+            p0,
+            n0: r0,
+            p1: p0,
+            n1: re,
+            a0: a0_in,
         };
+        ctx.split(pc, a_r.clone(), 0, &mut ends, rep)?;
+        reoriented = ends.len();
+        a_start = a_r;
+        &a_start
+    } else {
+        a0_in
+    };
     let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
-    let dropped = num::deg(num::angle_between(to.n, machine.realised_axis(to.p, to.n)));
-    rep.dropped(dropped);
+    plan.note_dropped(rep, to.n, machine.realised_axis(to.p, to.n));
     rep.moves_in += 1;
     let pc = Piece {
         p0,
@@ -901,4 +994,46 @@ pub fn tessellate(
         prev = Some((last, tp.p, tp.n));
     }
     Ok((moves, rep))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The trigonometry-free decision is the computed angle's, at angles spread over the whole
+    /// range and clustered within 1e-12 … 1e-6 (relative) of each limit, for limits from
+    /// 1e-4° to 120° (beyond 89° the angle is always computed).
+    #[test]
+    fn an_angle_limits_decision_is_the_computed_angles() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut decided_cheaply = 0;
+        for limit in [1e-4, 0.095, 0.95, 1.0, 10.0, 45.0, 88.9, 89.0, 95.0, 120.0] {
+            let l = AngleLimit::new(limit);
+            for k in 0..4000 {
+                let a = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize();
+                let angle = if k % 2 == 0 {
+                    limit * (1.0 + (rnd() - 0.5) * 10f64.powf(-6.0 - 6.0 * rnd()))
+                } else {
+                    rnd() * 180.0
+                };
+                // b: a turned by `angle` about an axis perpendicular to it
+                let axis = a.any_orthonormal_vector();
+                let b = glam::DQuat::from_axis_angle(axis, num::rad(angle)) * a;
+                let exact = num::deg(num::angle_between(a, b)) > limit;
+                assert_eq!(l.exceeded(a, b), exact, "limit {limit}°, angle {angle}°");
+                let (c, d) = (a.cross(b).length(), a.dot(b));
+                if d > 0.0 && (c <= d * l.tan_lo || c >= d * l.tan_hi) {
+                    decided_cheaply += 1;
+                }
+            }
+        }
+        // most decisions need no atan2 (the point of it)
+        assert!(decided_cheaply > 12_000, "{decided_cheaply}");
+    }
 }
