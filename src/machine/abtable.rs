@@ -377,7 +377,7 @@ impl Machine for AbTable {
     }
     /// Where a bound is given (ideal axes, the piece in the tilt cap and out of the pole's hold
     /// zone) the closed form of `inverse` is exact: two circles' meeting, no hold, no nearest.
-    fn realises_requests(&self) -> bool {
+    fn realises_bounded_requests(&self) -> bool {
         true
     }
     /// The firmware's tip is `F(s) = b_pos + R_B(−B) G`, `G = a_pos − b_pos + R_A(−A) v`,

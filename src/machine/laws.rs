@@ -5,7 +5,8 @@
 //!    centre of the machine's [`Workspace`]) × tool axes (vertical, 1e-6°, 0.25°, 0.5°, 1°, 10°,
 //!    45°, 90°, 135°, 180° and exactly the workspace's largest tilt, at azimuths including
 //!    ±180° ± 1e-4° and ±90°), `forward(inverse(p, n, None)) = (p, realised_axis(p, n))` within
-//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`]; a tilt 3° beyond the workspace's largest
+//!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`] — `= (p, n)` itself, whatever the branch, for a
+//!    machine that [`Machine::realises_requests`]; a tilt 3° beyond the workspace's largest
 //!    (when below 180°) must be refused.
 //! 2. **Paths** ([`check_paths`]): sweeps of the azimuth over two full turns (crossing ±180°)
 //!    and a meridian through the vertical, each point solved with the previous axes: the round
@@ -39,7 +40,7 @@
 //!    [`Machine::interpolation_bound`] for a piece (from every grid position and sample axis,
 //!    short moves turning the tool by 0.3°–8°), the firmware's path sampled densely
 //!    ([`BOUND_SAMPLES`] points) stays within it, and `inverse` succeeds at every sample; for a
-//!    machine that [`Machine::realises_requests`], `forward(inverse(p(s), n(s)))` is the request
+//!    machine that [`Machine::realises_bounded_requests`], `forward(inverse(p(s), n(s)))` is the request
 //!    `(p(s), n(s))` itself there, within [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`].
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
@@ -173,8 +174,10 @@ fn check_one(
         .forward(&a)
         .map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
     let dp = (q - p).length();
-    let want = m.realised_axis(p, n);
-    let freedom = if previous.is_some() {
+    // a machine that realises every request exactly is held to the request itself
+    let exact = m.realises_requests();
+    let want = if exact { n } else { m.realised_axis(p, n) };
+    let freedom = if previous.is_some() && !exact {
         m.branch_freedom(p, n)
     } else {
         0.0
@@ -549,7 +552,7 @@ pub fn check_interpolation_bound(m: &dyn Machine) -> Result<LawReport, String> {
 /// pose `forward(lerp(a₀, a₁, s))` against the intended `forward(inverse(lerp(p₀, p₁, s),
 /// n(s), a₀))`, n(s) the great-circle interpolation of n₀ and n₁ (written here from its
 /// definition, not with the tessellation's code). Tip mm, axis degrees.
-fn sampled_error(
+pub fn sampled_error(
     m: &dyn Machine,
     (a0, p0, n0): (&[f64], DVec3, DVec3),
     (a1, p1, n1): (&[f64], DVec3, DVec3),
@@ -571,8 +574,8 @@ fn sampled_error(
             )
         })?;
         let exact = m.forward(&exact_axes).map_err(|e| e.to_string())?;
-        // a machine that realises requests is held to the request itself along the piece
-        if m.realises_requests()
+        // a machine that realises requests where bounded is held to the request itself here
+        if m.realises_bounded_requests()
             && !((exact.0 - p).length() <= POSITION_TOLERANCE
                 && num::angle_between(exact.1, n) <= ANGLE_TOLERANCE)
         {
