@@ -114,6 +114,7 @@ fn variants_obey_the_laws() {
         r#"{"name":"rotbot-misaligned","kind":"rtn","revolution":"unlimited","axis_names":["X","Y","Z","U"],"e_parallel_mm":0.3,"e_perpendicular_mm":-0.2}"#,
         r#"{"name":"rtn-single-misaligned","kind":"rtn","e_parallel_mm":0.1,"e_perpendicular_mm":0.25,"tilt_deg":30}"#,
         r#"{"name":"pax-offset","kind":"pax","pivot_to_tip_mm":35,"rot_offset_deg":-90,"max_tilt_deg":100}"#,
+        r#"{"name":"pax-offset-90","kind":"pax","pivot_to_tip_mm":35,"max_tilt_deg":90}"#,
         r#"{"name":"open5x-calibrated","kind":"ab-table","a_pos":[3,-1.2,-40.5],"a_dir":[0.9998,0.012,-0.008],"b_pos":[0.4,0.7,0],"b_dir":[0.004,-0.006,1],"part_offset":[0,0,12],"z_wobble_mm":0.13}"#,
         r#"{"name":"open5x-wobble","kind":"ab-table","z_wobble_mm":-0.13,"b_pos":[0,0,5],"a_pos":[0,0,-30]}"#,
         r#"{"name":"r-theta-0","kind":"r-theta","pivot_to_tip_mm":0}"#,
@@ -185,4 +186,67 @@ fn any_previous_pose_keeps_the_round_trip() {
             }
         }
     }
+}
+
+/// The rotating nozzle's bound where its single-revolution range clamps the rotation (rtn.rs
+/// `clamped_error`): pieces on the 45° cone whose target rotation crosses the range's end
+/// (the kink of the clamp) or stays beyond it in the shadow (the nozzle stopped there: no
+/// error), checked against law 6's dense sampling of the firmware's path.
+#[test]
+fn the_rtn_bound_holds_where_the_range_clamps_the_rotation() {
+    let m = preset("rtn-slicer4rtn")
+        .and_then(|s| s.build())
+        .unwrap_or_else(|e| panic!("{e}"));
+    let tilt = 45f64.to_radians();
+    let axis = |az_deg: f64| {
+        let a = az_deg.to_radians();
+        glam::DVec3::new(tilt.sin() * a.cos(), tilt.sin() * a.sin(), tilt.cos())
+    };
+    // R = φ + 180° − 90°: the range's end 170° is at φ = 80°, −170° at φ = 100°, the shadow's
+    // middle at φ = 90°
+    let (mut crossing_ratio, mut crossings, mut stopped) = (0.0f64, 0, 0);
+    for k in 0..400 {
+        let turn = [0.5, 1.0, 2.0, 4.0][k % 4];
+        let step = (k / 12) as f64;
+        let (az0, az1) = match k % 3 {
+            // across 170° (and back), across −170°
+            0 => (78.0 + step * 0.03, 78.0 + step * 0.03 + turn),
+            1 => (102.0 - step * 0.03, 102.0 - step * 0.03 - turn),
+            // in the shadow, short of its middle
+            _ => (81.0 + step * 0.1, (81.0 + step * 0.1 + turn).min(89.0)),
+        };
+        let (p0, p1) = (
+            glam::DVec3::new(10.0, 5.0, 2.0),
+            glam::DVec3::new(10.4, 5.3, 2.05),
+        );
+        let (n0, n1) = (axis(az0), axis(az1));
+        let a0 = m.inverse(p0, n0, None).unwrap();
+        let a1 = m.inverse(p1, n1, Some(&a0)).unwrap();
+        let Some((bp, ba)) = m.interpolation_bound((&a0, p0, n0), (&a1, p1, n1)) else {
+            panic!("no bound from φ = {az0}° to {az1}° (axes {a0:?} → {a1:?})");
+        };
+        let (wp, wa) = laws::sampled_error(m.as_ref(), (&a0, p0, n0), (&a1, p1, n1))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            wp <= bp && wa <= ba,
+            "φ {az0}° → {az1}° (R {} → {}): sampled {wp:e} mm / {wa:e}° above the bound {bp:e} mm / {ba:e}°",
+            a0[3],
+            a1[3]
+        );
+        let crosses = (a0[3] - a1[3]).abs() > 1e-9;
+        if k % 3 == 2 {
+            // stopped at 170° all along: no error, and a bound of the rounding slack alone
+            assert!(!crosses && ba < 1e-5, "φ {az0}° → {az1}°: bound {ba:e}°");
+            stopped += 1;
+        } else if crosses && wa > 1e-3 {
+            crossings += 1;
+            crossing_ratio = crossing_ratio.max(wa / ba);
+        }
+    }
+    eprintln!(
+        "rtn clamp: {crossings} pieces across a range end, largest sampled / bound {crossing_ratio:.3}; {stopped} stopped in the shadow"
+    );
+    assert!(crossings > 100 && stopped > 100);
+    // within a factor 2 of the truth: the kink's bound halved fails
+    assert!(crossing_ratio > 0.5);
 }

@@ -375,21 +375,31 @@ impl Machine for AbTable {
     fn linear_at_fixed_pose(&self) -> bool {
         true
     }
-    /// The firmware's tip is `F(s) = b_pos + R_B(−B)(a_pos − b_pos + R_A(−A) v)`,
+    /// Where a bound is given (ideal axes, the piece in the tilt cap and out of the pole's hold
+    /// zone) the closed form of `inverse` is exact: two circles' meeting, no hold, no nearest.
+    fn realises_bounded_requests(&self) -> bool {
+        true
+    }
+    /// The firmware's tip is `F(s) = b_pos + R_B(−B) G`, `G = a_pos − b_pos + R_A(−A) v`,
     /// `v = q − a_pos`, q = (X, Y, Z − wobble(A)) (linear in s: the wobble is linear for
-    /// |A| ≤ 90°), A and B linear (totals K_A, K_B radians). By [`super::bound`] Lemma 2,
-    /// with D = max |vᵢ| (a segment's farthest point is an end) and Δ = |q₁ − q₀|:
+    /// |A| ≤ 90°), A and B linear (totals K_A, K_B radians). By [`super::bound`] Lemma 2, in the
+    /// frames turning with each rotation: `|G''| ≤ K_A² V + 2 K_A Δ` and `|G'| ≤ K_A V + Δ`, with
+    /// V the largest distance of q from the A line (a segment's farthest point is an end) and
+    /// Δ = |q₁ − q₀|; and `|F''| ≤ K_B² R + 2 K_B |G'| + |G''|`, R the largest distance of G from
+    /// the B line: at the ends the part point's distance from the B axis
+    /// (`|(p + part_offset − b_pos)⊥b|`, a rotation about b keeps it), along the piece at most
+    /// `|G''|/8` more (Lemma 1). So
     ///
     /// ```text
-    /// |F''| ≤ K_B² (|a_pos − b_pos| + D) + 2 K_B (K_A D + Δ) + K_A² D + 2 K_A Δ
+    /// |F''| ≤ K_B² R + 2 K_B (K_A V + Δ) + K_A² V + 2 K_A Δ,   R ≤ max_ends |x⊥b| + (K_A² V + 2 K_A Δ)/8
     /// ```
     ///
     /// and the tip is within `|F''|/8` of the straight line (Lemma 1). The tool axis
-    /// `R_B(−B) R_A(−A) e_z` is within `2 asin((K_A + K_B)²/8)` of the slerp (Lemmas 2–3) when
-    /// the intended axis is realised all along: ideal axes (A about X, B about Z),
-    /// `a_limit_deg` ≤ 90° (the reachable axes are a cap) and the piece out of the pole's hold
-    /// zone (its least angle from +Z, at least `(θ₀ + θ₁ − w)/2`, beyond the hold radius).
-    /// Else the tip bound alone is no use: sample.
+    /// `R_B(−B) R_A(−A) e_z = u(A, 90° − B)` (tilt A, azimuth 90° − B) is within Lemma 5's chord
+    /// of the slerp when the intended axis is realised all along: ideal axes (A about X, B
+    /// about Z), `a_limit_deg` ≤ 90° (the reachable axes are a cap) and the piece out of the
+    /// pole's hold zone (its least angle from +Z, at least `(θ₀ + θ₁ − w)/2`, beyond the hold
+    /// radius). Else the tip bound alone is no use: sample.
     fn interpolation_bound(
         &self,
         from: super::PieceEnd,
@@ -414,19 +424,30 @@ impl Machine for AbTable {
         }
         let q = |a: &[f64]| DVec3::new(a[0], a[1], a[2] - self.z_wobble(a[3]));
         let (q0, q1) = (q(a0), q(a1));
-        let d = (q0 - pr.a_pos).length().max((q1 - pr.a_pos).length());
+        // distances from the A line (a_dir = X) and, of the part points, from the B line (Z)
+        let off_a = |q: DVec3| {
+            let d = q - pr.a_pos;
+            d.y.hypot(d.z)
+        };
+        let off_b = |p: DVec3| (p + pr.part_offset - pr.b_pos).truncate().length();
+        let v = off_a(q0).max(off_a(q1));
         let dq = (q1 - q0).length();
         let (ka, kb) = (
             num::rad((a1[3] - a0[3]).abs()),
             num::rad((a1[4] - a0[4]).abs()),
         );
-        let acc = kb * kb * ((pr.a_pos - pr.b_pos).length() + d)
-            + 2.0 * kb * (ka * d + dq)
-            + ka * ka * d
-            + 2.0 * ka * dq;
+        let g2 = ka * ka * v + 2.0 * ka * dq;
+        let r = off_b(from.1).max(off_b(to.1)) + bound::chord_deviation(g2);
+        let acc = kb * kb * r + 2.0 * kb * (ka * v + dq) + g2;
+        let (chord, _) = bound::spherical_deviation(
+            num::rad(a0[3]),
+            num::rad(a1[3]),
+            num::rad(a1[4] - a0[4]),
+            w,
+        )?;
         Some((
             bound::chord_deviation(acc) + bound::ROUND_TRIP_SLACK_MM,
-            bound::turned_axis_deviation_deg(ka + kb) + bound::ROUND_TRIP_SLACK_DEG,
+            bound::angle_of_chord(chord) + bound::ROUND_TRIP_SLACK_DEG,
         ))
     }
     fn workspace(&self) -> Workspace {

@@ -191,7 +191,7 @@ impl Machine for BHead {
         if !bound::usable(from, to, 4) {
             return None;
         }
-        let g = bound::slerp_azimuth_deviation(n0, n1, |n| glam::DVec2::new(n.z, n.x))?;
+        let g = bound::slerp_azimuth_deviation(n0, n1, DVec3::Y, |n| glam::DVec2::new(n.z, n.x))?;
         let (b0, b1) = (a0[3], a1[3]);
         let matches = (b0 - num::deg(num::atan2(n0.x, n0.z))).abs() <= bound::AZIMUTH_MATCH_DEG
             && (b1 - num::deg(num::atan2(n1.x, n1.z))).abs() <= bound::AZIMUTH_MATCH_DEG

@@ -39,7 +39,9 @@
 //! 6. **Closed-form bounds** ([`check_interpolation_bound`]): wherever a machine gives a
 //!    [`Machine::interpolation_bound`] for a piece (from every grid position and sample axis,
 //!    short moves turning the tool by 0.3°–8°), the firmware's path sampled densely
-//!    ([`BOUND_SAMPLES`] points) stays within it, and `inverse` succeeds at every sample.
+//!    ([`BOUND_SAMPLES`] points) stays within it, and `inverse` succeeds at every sample; for a
+//!    machine that [`Machine::realises_bounded_requests`], `forward(inverse(p(s), n(s)))` is the request
+//!    `(p(s), n(s))` itself there, within [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`].
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -550,7 +552,7 @@ pub fn check_interpolation_bound(m: &dyn Machine) -> Result<LawReport, String> {
 /// pose `forward(lerp(a₀, a₁, s))` against the intended `forward(inverse(lerp(p₀, p₁, s),
 /// n(s), a₀))`, n(s) the great-circle interpolation of n₀ and n₁ (written here from its
 /// definition, not with the tessellation's code). Tip mm, axis degrees.
-fn sampled_error(
+pub fn sampled_error(
     m: &dyn Machine,
     (a0, p0, n0): (&[f64], DVec3, DVec3),
     (a1, p1, n1): (&[f64], DVec3, DVec3),
@@ -572,6 +574,18 @@ fn sampled_error(
             )
         })?;
         let exact = m.forward(&exact_axes).map_err(|e| e.to_string())?;
+        // a machine that realises requests where bounded is held to the request itself here
+        if m.realises_bounded_requests()
+            && !((exact.0 - p).length() <= POSITION_TOLERANCE
+                && num::angle_between(exact.1, n) <= ANGLE_TOLERANCE)
+        {
+            return Err(format!(
+                "{}: realises requests, but forward(inverse({p}, {n})) = ({}, {}) inside a bounded piece",
+                m.name(),
+                exact.0,
+                exact.1
+            ));
+        }
         let lerped: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| x + (y - x) * s).collect();
         let fw = m.forward(&lerped).map_err(|e| e.to_string())?;
         wp = wp.max((fw.0 - exact.0).length());

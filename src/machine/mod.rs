@@ -184,13 +184,23 @@ pub trait Machine: Send + Sync + fmt::Debug {
     }
     /// Whether the machine realises every request it solves exactly: `forward(inverse(p, n,
     /// previous)) = (p, n)` (within the round-trip tolerance of law 1) whatever `previous` —
-    /// no dropped component, no clip, no branch hold. The interpolation check then takes
-    /// `(p(s), n(s))` as the exact pose of a sample instead of solving it, where the machine's
-    /// [`Machine::interpolation_bound`] promises that `inverse` succeeds along the piece
-    /// ([`tessellate`]). Law 1 holds a machine that says so to `(p, n)` itself, not to
-    /// [`Machine::realised_axis`]. Default: `false`.
+    /// no dropped component, no clip, no branch hold (the triple-Z bed, the 5-axis head). The
+    /// held-axis probe then takes the request as the realised axis, and the interpolation check
+    /// takes `(p(s), n(s))` as the exact pose of a sample ([`tessellate`]). Law 1 holds a
+    /// machine that says so to `(p, n)` itself, not to [`Machine::realised_axis`]. Default:
+    /// `false`.
     fn realises_requests(&self) -> bool {
         false
+    }
+    /// Whether the machine realises every request exactly along each piece its
+    /// [`Machine::interpolation_bound`] is given for: `forward(inverse(p(s), n(s), a₀)) =
+    /// (p(s), n(s))` within law 1's round-trip tolerance there (the A/B table: a bound is given
+    /// only away from its pole hold). The interpolation check then takes the request as the
+    /// exact pose of such a piece's samples ([`tessellate`]); law 6
+    /// ([`laws::check_interpolation_bound`]) checks the promise at every sample of every bounded
+    /// piece. Default: [`Machine::realises_requests`].
+    fn realises_bounded_requests(&self) -> bool {
+        self.realises_requests()
     }
     /// The largest angle (radians) by which the realised axis may differ from
     /// `realised_axis(p, n)` when `previous` picks a branch (e.g. holding B near the pole).

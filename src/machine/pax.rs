@@ -157,12 +157,18 @@ impl Machine for Pax {
     fn linear_at_fixed_pose(&self) -> bool {
         true
     }
+    /// Every axis within the tilt limit is realised exactly (A and signed B are its azimuth and
+    /// tilt; a vertical axis whatever A), and a bound is given only inside that cap.
+    fn realises_requests(&self) -> bool {
+        true
+    }
     /// Tip = X Y Z + l·(e_z − u(A, B)) with u the unit axis of azimuth A − offset and tilt B,
-    /// l = `pivot_to_tip_mm`. With A and B interpolated linearly (totals ΔA, ΔB, radians;
-    /// K = |ΔA| + |ΔB|) the firmware's tip leaves the intended straight line by
-    /// `l·|u(s) − chord| ≤ l K²/8` (seed 001 §4.5; [`super::bound`] Lemmas 1–2) and its axis
-    /// the slerp by `2 asin(K²/8)` (Lemmas 2–3); the realised axis is the asked one. Only when
-    /// the slerp stays within `max_tilt_deg` ≤ 90° (geodesic convexity): else sample.
+    /// l = `pivot_to_tip_mm`. With A and B interpolated linearly (totals ΔA, ΔB, radians) u is
+    /// a vector in spherical coordinates turned linearly ([`super::bound`] Lemma 5): the
+    /// firmware's tip leaves the intended straight line by `l·|u(s) − chord| ≤ l A/8` (Lemma 1,
+    /// A = Lemma 5's bound of |u''|) and its axis the slerp by Lemma 5's chord D, an angle of
+    /// `2 asin(D/2)`; the realised axis is the asked one ([`Machine::realises_requests`]). Only
+    /// when the slerp stays within `max_tilt_deg` ≤ 90° (geodesic convexity): else sample.
     fn interpolation_bound(
         &self,
         from: super::PieceEnd,
@@ -175,11 +181,16 @@ impl Machine for Pax {
         {
             return None;
         }
-        let k = num::rad((a1[3] - a0[3]).abs() + (a1[4] - a0[4]).abs());
+        let (chord, acc) = bound::spherical_deviation(
+            num::rad(a0[4]),
+            num::rad(a1[4]),
+            num::rad(a1[3] - a0[3]),
+            bound::angle(from.2, to.2),
+        )?;
         let l = self.params.pivot_to_tip_mm.abs();
         Some((
-            l * bound::chord_deviation(k * k) + bound::ROUND_TRIP_SLACK_MM,
-            bound::turned_axis_deviation_deg(k) + bound::ROUND_TRIP_SLACK_DEG,
+            l * bound::chord_deviation(acc) + bound::ROUND_TRIP_SLACK_MM,
+            bound::angle_of_chord(chord) + bound::ROUND_TRIP_SLACK_DEG,
         ))
     }
     fn workspace(&self) -> Workspace {

@@ -197,6 +197,48 @@ impl Rtn {
         nearer(hi, lo, base - hi, lo + 360.0 - base)
     }
 
+    /// `single` revolution: the target rotation `target` (degrees, any turn) written in the
+    /// window `(m − 360°, m]`, m the middle of the rotation shadow `(hi, lo + 360°)`, which
+    /// holds the range `[lo, hi]` with the shadow's upper half below it and its lower half
+    /// above; and the range's clamp C(t) = `t.clamp(lo, hi)` in that window, which is
+    /// [`Rtn::in_range`] away from the shadow's middle (the stop at the nearer end).
+    fn range_window(&self, target: f64) -> (f64, f64) {
+        let [lo, hi] = self.params.rotation_range_deg;
+        let m = (hi + lo + 360.0) / 2.0;
+        (m - (m - target).rem_euclid(360.0), m)
+    }
+
+    /// The bound on the rotation error (degrees) of [`Machine::interpolation_bound`] for a
+    /// `single` revolution (its documentation): the ends' rotations `r0`, `r1`, the start's
+    /// asked azimuth `psi0` and the slerp's turn (degrees), G = `g_deg`. `None` when an end does
+    /// not realise the clamp of its target or the piece comes near the shadow's middle.
+    fn clamped_error(&self, r0: f64, r1: f64, psi0: f64, turn: f64, g_deg: f64) -> Option<f64> {
+        use super::bound;
+        let [lo, hi] = self.params.rotation_range_deg;
+        let (t0, m) = self.range_window(self.rotation_of(psi0));
+        let t1 = t0 + turn;
+        let (tmin, tmax) = (t0.min(t1) - g_deg, t0.max(t1) + g_deg);
+        if !(tmin - bound::BRANCH_MARGIN_DEG > m - 360.0 && tmax + bound::BRANCH_MARGIN_DEG < m) {
+            return None;
+        }
+        let (c0, c1) = (t0.clamp(lo, hi), t1.clamp(lo, hi));
+        let matches = (r0 - c0).abs() <= bound::AZIMUTH_MATCH_DEG
+            && (r1 - c1).abs() <= bound::AZIMUTH_MATCH_DEG;
+        if !matches {
+            return None;
+        }
+        // beyond one end all along: the nozzle stays stopped there, as the firmware's
+        if tmin >= hi + bound::BRANCH_MARGIN_DEG || tmax <= lo - bound::BRANCH_MARGIN_DEG {
+            return Some(0.0);
+        }
+        let kink = [lo, hi]
+            .iter()
+            .filter(|&&c| (t0 - c) * (t1 - c) < 0.0)
+            .map(|&c| (c - t0).abs() * (t1 - c).abs() / (t1 - t0).abs())
+            .fold(0.0, f64::max);
+        Some(kink + g_deg)
+    }
+
     /// The rotation value (degrees, not wrapped) for the tool-axis azimuth `phi_deg`.
     pub fn rotation_of(&self, phi_deg: f64) -> f64 {
         phi_deg + self.params.rot_convention.base_deg() + self.params.rot_offset_deg
@@ -331,12 +373,20 @@ impl Machine for Rtn {
     }
     /// Tip = X Y Z + R_z(φ)(e_par, e_perp, 0), axis on the cone of half-angle `tilt_deg` at
     /// azimuth φ. With the rotation interpolated linearly (Δφ radians) the offset leaves its
-    /// chord by the sagitta bound `|e| Δφ²/8` ([`super::bound`] Lemmas 1–2); the intended
-    /// axis is the cone's at the azimuth ψ(s) of the slerp, which leaves the linear azimuth by
-    /// at most G (Lemma 4), so the axes are at most `sin(tilt)·G` apart (the small circle's arc
-    /// is longer than the great circle's). Only when both ends realise their asked azimuth
-    /// and, for a single revolution, the whole piece stays inside the rotation range (no
-    /// shadow, no seam): else sample.
+    /// chord by the sagitta bound `|e| Δφ²/8` ([`super::bound`] Lemmas 1–2); the intended tip is
+    /// on the chord whatever the intended rotation (the linear axes make up the offset at each
+    /// end). The intended axis is the cone's at the rotation `C(T(s))`: T(s) the target
+    /// `rotation_of(ψ(s))`, ψ(s) the azimuth of the slerp (within G of its linear
+    /// interpolation, Lemma 4), and C the range's clamp ([`Rtn::range_clamp`]; the identity for
+    /// unlimited revolutions). C is 1-Lipschitz, so the intended rotation is within G of
+    /// `C(T_lin(s))`, and the firmware's, linear between `C(T₀)` and `C(T₁)`, leaves
+    /// `C(T_lin(s))` by at most the kink `|c − T₀||T₁ − c|/|T₁ − T₀|` where T_lin crosses a range
+    /// end c (0 elsewhere). Where the whole piece, widened by G, lies beyond one end (the nozzle
+    /// stopped there in the shadow) the intended rotation is that end, as the firmware's: no G.
+    /// Two axes of the cone whose rotations differ by E are at most `sin(tilt)·E` apart (the
+    /// small circle's arc is longer than the great circle's). Only when both ends realise
+    /// `C(T)` of their asked azimuth, the firmware turns the short way, and the piece stays
+    /// clear of the shadow's middle (where the nozzle's stop switches end): else sample.
     fn interpolation_bound(
         &self,
         from: super::PieceEnd,
@@ -347,25 +397,26 @@ impl Machine for Rtn {
         if !bound::usable(from, to, 4) {
             return None;
         }
-        let g = bound::slerp_azimuth_deviation(n0, n1, DVec3::truncate)?;
+        let g = bound::slerp_azimuth_deviation(n0, n1, DVec3::Z, DVec3::truncate)?;
+        let g_deg = num::deg(g) + 2.0 * bound::AZIMUTH_MATCH_DEG;
         let (psi0, psi1) = (
             num::deg(num::atan2(n0.y, n0.x)),
             num::deg(num::atan2(n1.y, n1.x)),
         );
-        let matches = wrap180(a0[3] - self.rotation_of(psi0)).abs() <= bound::AZIMUTH_MATCH_DEG
-            && wrap180(a1[3] - self.rotation_of(psi1)).abs() <= bound::AZIMUTH_MATCH_DEG
-            && ((a1[3] - a0[3]) - wrap180(psi1 - psi0)).abs() <= 2.0 * bound::AZIMUTH_MATCH_DEG;
-        if !matches {
-            return None;
-        }
-        let g_deg = num::deg(g) + 2.0 * bound::AZIMUTH_MATCH_DEG;
-        if self.params.revolution == Revolution::Single {
-            let [lo, hi] = self.params.rotation_range_deg;
-            let m = g_deg + bound::BRANCH_MARGIN_DEG;
-            if !(a0[3].min(a1[3]) - m >= lo && a0[3].max(a1[3]) + m <= hi) {
-                return None;
+        let turn = wrap180(psi1 - psi0);
+        let az_error = match self.params.revolution {
+            Revolution::Unlimited => {
+                let matches = wrap180(a0[3] - self.rotation_of(psi0)).abs()
+                    <= bound::AZIMUTH_MATCH_DEG
+                    && wrap180(a1[3] - self.rotation_of(psi1)).abs() <= bound::AZIMUTH_MATCH_DEG
+                    && ((a1[3] - a0[3]) - turn).abs() <= 2.0 * bound::AZIMUTH_MATCH_DEG;
+                if !matches {
+                    return None;
+                }
+                g_deg
             }
-        }
+            Revolution::Single => self.clamped_error(a0[3], a1[3], psi0, turn, g_deg)?,
+        };
         let e = self
             .params
             .e_parallel_mm
@@ -374,7 +425,7 @@ impl Machine for Rtn {
         let sin_t = num::sin(num::rad(self.params.tilt_deg)).abs();
         Some((
             e * bound::chord_deviation(dphi * dphi) + bound::ROUND_TRIP_SLACK_MM,
-            sin_t * g_deg + bound::ROUND_TRIP_SLACK_DEG,
+            sin_t * az_error + bound::ROUND_TRIP_SLACK_DEG,
         ))
     }
     fn workspace(&self) -> Workspace {

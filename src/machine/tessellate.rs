@@ -41,8 +41,9 @@
 //! change by a byte. Elsewhere the 16 samples remain.
 //!
 //! ## Requests realised exactly
-//! A machine that [`Machine::realises_requests`] (the triple-Z bed) puts the tip at p and the
-//! tool along n for every request it solves, so `exact(s) = (p(s), n(s))` up to law 1's
+//! A machine that [`Machine::realises_bounded_requests`] (the triple-Z bed and the 5-axis head,
+//! which [`Machine::realises_requests`] everywhere; the A/B table) puts the tip at p and the
+//! tool along n for every request along a piece its bound is given for, so `exact(s) = (p(s), n(s))` up to law 1's
 //! round-trip tolerance (10⁻⁹ mm, 10⁻⁹ rad). Where its closed-form bound is given but too
 //! large to skip the samples, the bound also promises that `inverse` succeeds along the piece,
 //! and the samples take the request itself as the exact pose: one forward kinematics per
@@ -349,6 +350,8 @@ pub struct Plan {
     fixed_pose_rotary: Option<Vec<bool>>,
     /// [`Machine::realises_requests`].
     requests_realised: bool,
+    /// [`Machine::realises_bounded_requests`].
+    bounded_requests_realised: bool,
     /// The held-axis probe's limit: [`SAMPLING_MARGIN`] of the angle bound.
     probe_limit: AngleLimit,
     /// The caps' turn per piece, when capped by angle.
@@ -369,6 +372,7 @@ impl Plan {
                 .linear_at_fixed_pose()
                 .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
             requests_realised: machine.realises_requests(),
+            bounded_requests_realised: machine.realises_bounded_requests(),
             probe_limit: AngleLimit::new(SAMPLING_MARGIN * bounds.max_angle_deg),
             cap_limit: bounds.max_step_deg.map(AngleLimit::new),
             warn_limit: AngleLimit::new(crate::tolerance::DROPPED_TILT_WARN_DEG),
@@ -695,7 +699,9 @@ impl<'m> Ctx<'m> {
         let ((dp, da), mid) = match closed {
             ClosedForm::Accepted => ((0.0, 0.0), None),
             // the bound promises that `inverse` succeeds along the piece
-            ClosedForm::Given => self.error(&pc, &a1, self.plan.requests_realised, splits)?,
+            ClosedForm::Given => {
+                self.error(&pc, &a1, self.plan.bounded_requests_realised, splits)?
+            }
             ClosedForm::None => self.error(&pc, &a1, false, splits)?,
         };
         let over = self.over(dp, da);
