@@ -78,6 +78,8 @@ pub mod shapes;
 pub mod slicer;
 pub mod suggest;
 pub mod surfaces;
+#[cfg(test)]
+mod test_rng;
 pub mod toolpath;
 pub mod unwarp;
 pub mod warp;

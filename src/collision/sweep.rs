@@ -1241,24 +1241,14 @@ mod tests {
         cells.iter().map(|c| (cell_of(c.x), cell_of(c.y))).collect()
     }
 
-    struct Lcg(u64);
-    impl Lcg {
-        fn unit(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, a: f64, b: f64) -> f64 {
-            a + (b - a) * self.unit()
-        }
-        /// A point of the box `[lo, hi]`, its coordinates drawn in x, y, z order.
-        fn within(&mut self, lo: DVec3, hi: DVec3) -> DVec3 {
-            let x = self.range(lo.x, hi.x);
-            let y = self.range(lo.y, hi.y);
-            DVec3::new(x, y, self.range(lo.z, hi.z))
-        }
+    use crate::test_rng::Lcg;
+
+    /// Test-only draws of this module's cases.
+    trait Draws {
+        fn axis(&mut self, tilts: bool) -> DVec3;
+    }
+
+    impl Draws for Lcg {
         /// A tool axis: vertical for a 3-axis head (`tilts` false), else tilted up to 30° at
         /// any azimuth.
         fn axis(&mut self, tilts: bool) -> DVec3 {

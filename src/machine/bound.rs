@@ -239,17 +239,7 @@ mod tests {
             );
         }
     }
-    /// A deterministic stream of numbers in [0, 1) (no dependency for a test's randomness).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::test_rng::Lcg;
 
     /// The slerp from its definition (not the tessellation's code).
     fn great_circle(n0: DVec3, n1: DVec3, s: f64) -> DVec3 {
@@ -303,14 +293,14 @@ mod tests {
         let mut pieces = 0;
         for k in 0..6000 {
             let family = k % 3;
-            let t0 = 0.2 + 1.2 * r.next();
-            let dphi = (r.next() - 0.5) * if family == 2 { 0.6 } else { 1.2 };
+            let t0 = 0.2 + 1.2 * r.unit();
+            let dphi = (r.unit() - 0.5) * if family == 2 { 0.6 } else { 1.2 };
             let t1 = match family {
                 0 => t0,
-                1 => t0 + (r.next() - 0.5) * 0.02 * dphi.abs(),
-                _ => 0.2 + 1.2 * r.next(),
+                1 => t0 + (r.unit() - 0.5) * 0.02 * dphi.abs(),
+                _ => 0.2 + 1.2 * r.unit(),
             };
-            let phi0 = 6.0 * r.next();
+            let phi0 = 6.0 * r.unit();
             let (n0, n1) = (unit(t0, phi0), unit(t1, phi0 + dphi));
             let Some(bound) = slerp_azimuth_deviation(n0, n1, DVec3::Z, DVec3::truncate) else {
                 continue;
@@ -340,13 +330,13 @@ mod tests {
         let mut r = Lcg(11);
         let (mut chord_ratio, mut acc_ratio, mut pieces) = (0.0f64, 0.0f64, 0);
         for k in 0..3000 {
-            let t0 = (r.next() - 0.5) * core::f64::consts::PI;
+            let t0 = (r.unit() - 0.5) * core::f64::consts::PI;
             let t1 = if k % 3 == 0 {
                 t0
             } else {
-                (t0 + (r.next() - 0.5) * 0.8).clamp(-1.5, 1.5)
+                (t0 + (r.unit() - 0.5) * 0.8).clamp(-1.5, 1.5)
             };
-            let (phi0, dphi) = (6.0 * r.next(), (r.next() - 0.5) * 1.0);
+            let (phi0, dphi) = (6.0 * r.unit(), (r.unit() - 0.5) * 1.0);
             let f = |s: f64| unit(t0 + (t1 - t0) * s, phi0 + dphi * s);
             let (n0, n1) = (f(0.0), f(1.0));
             let w = n0.dot(n1).clamp(-1.0, 1.0).acos();

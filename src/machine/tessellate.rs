@@ -1010,13 +1010,8 @@ mod tests {
     /// 1e-4° to 120° (beyond 89° the angle is always computed).
     #[test]
     fn an_angle_limits_decision_is_the_computed_angles() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg(3);
+        let mut rnd = move || rng.unit();
         let mut decided_cheaply = 0;
         for limit in [1e-4, 0.095, 0.95, 1.0, 10.0, 45.0, 88.9, 89.0, 95.0, 120.0] {
             let l = AngleLimit::new(limit);

@@ -321,13 +321,8 @@ mod tests {
     /// nozzle cone below the block profile.
     #[test]
     fn the_block_skipping_head_clearance_is_every_cells_maximum() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg(17);
+        let mut rnd = move || rng.unit();
         let mut p = block();
         p.pieces.push(crate::emit::clearance::ProfilePiece {
             name: "nozzle".into(),
