@@ -459,11 +459,10 @@ impl MachineEmitter {
         // most moves start where the last line ended: its values as read are known
         let from_read = match &self.written_axes {
             Some(w)
-                if w.raw.len() == from.len()
-                    && w.raw
-                        .iter()
-                        .zip(from)
-                        .all(|(a, b)| a.to_bits() == b.to_bits()) =>
+                if w.raw
+                    .iter()
+                    .map(|a| a.to_bits())
+                    .eq(from.iter().map(|b| b.to_bits())) =>
             {
                 w.read.clone()
             }

@@ -964,6 +964,7 @@ pub fn tessellate(
     start: Option<&[f64]>,
     bounds: &Bounds,
 ) -> Result<(Vec<MachineMove>, TessellationReport), MachineError> {
+    let plan = Plan::new(machine, bounds);
     let mut rep = TessellationReport::default();
     let mut moves: Vec<MachineMove> = Vec::with_capacity(path.len());
     let mut prev: Option<(Vec<f64>, DVec3, DVec3)> = None;
@@ -971,8 +972,7 @@ pub fn tessellate(
         match &prev {
             None => {
                 let a1 = machine.inverse(tp.p, tp.n, start)?;
-                let dropped = num::deg(num::angle_between(tp.n, machine.realised_axis(tp.p, tp.n)));
-                rep.dropped(dropped);
+                plan.note_dropped(&mut rep, tp.n, machine.realised_axis(tp.p, tp.n));
                 rep.moves_in += 1;
                 rep.moves_out += 1;
                 moves.push(MachineMove {
@@ -991,7 +991,7 @@ pub fn tessellate(
                 });
             }
             Some((a0, p0, n0)) => {
-                let m = tessellate_move(machine, (a0, *p0, *n0), tp, bounds, &mut rep)?;
+                let m = tessellate_planned(machine, &plan, (a0, *p0, *n0), tp, &mut rep)?;
                 moves.extend(m);
             }
         }
