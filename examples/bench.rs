@@ -10,7 +10,7 @@
 //!    Peak memory: VmHWM of this process (Linux), printed after each step.
 //! 3. `unwarp --machine` of the same G-code into memory per preset (`--presets a,b` runs only
 //!    those; `--rounds N` takes the best of N, default 1), in both interpolation modes (the
-//!    default 0.02 mm / 0.1°, and with the paper's 1 mm / 1° caps): the time, its ratio to the
+//!    default 0.02 mm / 0.1°, and with the paper's 1 mm / 1° caps unless `--no-caps`): the time, its ratio to the
 //!    3-axis unwarp of the same G-code measured in this run (issue 13's target: ×2), output
 //!    lines/s, and kinematics evaluations per output move (the library's counters,
 //!    `machine::tessellate::counters`, with the pieces sampled and bounded in closed form).
@@ -278,6 +278,7 @@ mod native {
             .unwrap_or(1)
             .max(1);
         let collisions = !std::env::args().any(|a| a == "--no-collisions");
+        let no_caps = std::env::args().any(|a| a == "--no-caps");
         let (t3, c3, out3) = best_of_cpu(3, || {
             warpslice::pipeline::unwarp(gcode, &w.job, &UnwarpOptions::default().into())
                 .expect("3-axis unwarp")
@@ -319,6 +320,9 @@ mod native {
                 ("0.02 mm / 0.1°", None),
                 ("0.02 mm / 0.1°, caps 1 mm / 1°", Some([1.0, 1.0])),
             ] {
+                if no_caps && caps.is_some() {
+                    continue;
+                }
                 let s = settings(caps, false);
                 let before = counters();
                 let (t, c, r) =

@@ -61,6 +61,22 @@ pub fn written_value(v: f64, decimals: u32) -> f64 {
     }
 }
 
+/// [`push_mm`] returning what a reader gets back from the word written
+/// ([`written_value`]`(v, MM_DECIMALS)`), from the one rounding both need (the machine
+/// emitter times and checks each move by its written values).
+pub fn push_mm_read(out: &mut Vec<u8>, v: f64) -> f64 {
+    match scaled(v, MM_DECIMALS) {
+        Some(n) => {
+            push_scaled(out, n, MM_DECIMALS);
+            n as f64 / pow10(MM_DECIMALS)
+        }
+        None => {
+            push_core(out, v, MM_DECIMALS);
+            v
+        }
+    }
+}
+
 /// Append `v` with at most `decimals` decimals (0–9), trimmed, never `-0`.
 pub fn push_fixed(out: &mut Vec<u8>, v: f64, decimals: u32) {
     let decimals = decimals.min(9);
@@ -257,6 +273,31 @@ mod tests {
         ];
         for &(f, v, want) in cases {
             assert_eq!(s(f, v), want, "{v}");
+        }
+    }
+
+    #[test]
+    fn push_mm_read_writes_push_mm_and_returns_the_written_value() {
+        let mut rng = crate::test_rng::Lcg(7);
+        let mut values = vec![0.0, -0.0, -0.0004, 0.0005, -0.0005, 1e20, -1.5e17, 9.0e12];
+        values.extend([f64::NAN, f64::INFINITY, f64::NEG_INFINITY]);
+        for _ in 0..20_000 {
+            let mag = 10f64.powf(rng.range(-5.0, 14.0));
+            let v = rng.range(-mag, mag);
+            values.push(v);
+            // on a written step's half: the rounding's tie
+            values.push(((v * 1e3).trunc() + 0.5) / 1e3);
+        }
+        for v in values {
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            let r = push_mm_read(&mut a, v);
+            push_mm(&mut b, v);
+            assert_eq!(a, b, "{v:e}");
+            let w = written_value(v, MM_DECIMALS);
+            assert!(
+                r.to_bits() == w.to_bits() || (r.is_nan() && w.is_nan()),
+                "{v:e}: {r} vs {w}"
+            );
         }
     }
 

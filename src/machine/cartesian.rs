@@ -109,6 +109,10 @@ impl Machine for Cartesian {
     fn realised_axis(&self, _p: DVec3, _n: DVec3) -> DVec3 {
         DVec3::Z
     }
+    /// No rotary axis: the nozzle points along +Z at every pose.
+    fn fixed_tool_axis(&self) -> Option<DVec3> {
+        Some(DVec3::Z)
+    }
     /// Rotary axes fixed ⇒ the tip is affine in the linear axes (law 3).
     fn linear_at_fixed_pose(&self) -> bool {
         true

@@ -82,7 +82,7 @@ use super::tessellate::{
 use super::{AxisLimit, Machine, MachineError, MachineSpec};
 use crate::emit::clearance::{segment_distance, HeadProfile, Printed, HEAD_CLEARANCE_MM};
 use crate::emit::{EWriter, EmitError, Emitter, MachineReport, SwingPlace, DEFAULT_TRAVEL_FEED};
-use crate::gcode::write::{push_e, push_fixed, push_mm, written_value, MM_DECIMALS};
+use crate::gcode::write::{push_e, push_fixed, push_mm, push_mm_read, written_value, MM_DECIMALS};
 use crate::job::Job;
 use crate::toolpath::{Feature, ToolPoint};
 
@@ -441,9 +441,15 @@ impl MachineEmitter {
         if let Err(i) = self.reach.check(axes) {
             return Err(self.travel_error(out, i, axes[i], p));
         }
-        // the move as the firmware reads it: the written (rounded) values
-        let read = |v: &[f64]| AxisBuf::from_fn(v.len(), |i| written_value(v[i], MM_DECIMALS));
-        let to_read = read(axes);
+        // the axis words, and the move as the firmware reads them: the written (rounded)
+        // values, from the same rounding
+        let start = out.len();
+        out.extend_from_slice(b"G1");
+        let to_read = AxisBuf::from_fn(axes.len(), |i| {
+            out.push(b' ');
+            out.extend_from_slice(self.limits[i].name.as_bytes());
+            push_mm_read(out, axes[i])
+        });
         let e_before = self.ew.current();
         let e_word = e.map(|(de, relative)| self.ew.advance(de, relative));
         if self.written_axes.as_ref().map(|w| &w.read) == Some(&to_read)
@@ -451,7 +457,8 @@ impl MachineEmitter {
         {
             // every axis word as the last line wrote it and E unchanged: the firmware reads no
             // move (the tip moved less than the written step; a filament change below the E
-            // step stays in the E writer's exact total)
+            // step stays in the E writer's exact total): the line is taken back
+            out.truncate(start);
             self.dropped += 1;
             return Ok(());
         }
@@ -466,18 +473,12 @@ impl MachineEmitter {
             {
                 w.read.clone()
             }
-            _ => read(from),
+            _ => AxisBuf::from_fn(from.len(), |i| written_value(from[i], MM_DECIMALS)),
         };
         let firmware_length =
             self.flavour
                 .length_rule()
                 .length(&self.rule_limits, &from_read, &to_read, de);
-        out.extend_from_slice(b"G1");
-        for (l, &v) in self.limits.iter().zip(axes) {
-            out.push(b' ');
-            out.extend_from_slice(l.name.as_bytes());
-            push_mm(out, v);
-        }
         if let Some(v) = e_word {
             out.extend_from_slice(b" E");
             push_e(out, v);

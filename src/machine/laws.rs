@@ -7,7 +7,9 @@
 //!    ±180° ± 1e-4° and ±90°), `forward(inverse(p, n, None)) = (p, realised_axis(p, n))` within
 //!    [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`] — `= (p, n)` itself, whatever the branch, for a
 //!    machine that [`Machine::realises_requests`]; a tilt 3° beyond the workspace's largest
-//!    (when below 180°) must be refused.
+//!    (when below 180°) must be refused. A machine with a [`Machine::fixed_tool_axis`] must
+//!    give exactly that axis, from `forward` and from `realised_axis`, at every point solved
+//!    (here and in law 2).
 //! 2. **Paths** ([`check_paths`]): sweeps of the azimuth over two full turns (crossing ±180°)
 //!    and a meridian through the vertical, each point solved with the previous axes: the round
 //!    trip still holds (orientation within `branch_freedom`), and every rotary axis moves by at
@@ -173,6 +175,15 @@ fn check_one(
     let (q, nq) = m
         .forward(&a)
         .map_err(|e| format!("{}: forward({a:?}) failed: {e}", m.name()))?;
+    if let Some(fixed) = m.fixed_tool_axis() {
+        let realised = m.realised_axis(p, n);
+        if nq != fixed || realised != fixed {
+            return Err(format!(
+                "{}: fixed_tool_axis {fixed} but forward(inverse({p}, {n}, {previous:?})) has axis {nq} and realised_axis {realised}",
+                m.name()
+            ));
+        }
+    }
     let dp = (q - p).length();
     // a machine that realises every request exactly is held to the request itself
     let exact = m.realises_requests();

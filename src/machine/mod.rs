@@ -192,6 +192,15 @@ pub trait Machine: Send + Sync + fmt::Debug {
     fn realises_requests(&self) -> bool {
         false
     }
+    /// The tool axis every pose of the machine realises, when it is one (a 3-axis machine:
+    /// `forward(axes).1` is this vector bit for bit whatever `axes`, and so is
+    /// [`Machine::realised_axis`]). The held-axis probe of [`tessellate`] then has nothing to
+    /// find (a realised axis that never moves cannot jump at a move's start) and is skipped.
+    /// Law 1 ([`laws::check_round_trip`]) and law 2 hold a machine that says so to it at every
+    /// point they solve. Default: `None`.
+    fn fixed_tool_axis(&self) -> Option<DVec3> {
+        None
+    }
     /// Whether the machine realises every request exactly along each piece its
     /// [`Machine::interpolation_bound`] is given for: `forward(inverse(p(s), n(s), a₀)) =
     /// (p(s), n(s))` within law 1's round-trip tolerance there (the A/B table: a bound is given

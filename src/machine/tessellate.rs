@@ -139,8 +139,9 @@ struct End {
     n: DVec3,
     wrap: bool,
     limited: bool,
-    /// Part of an in-place re-pose (see [`Ctx::repose`]).
-    repose: bool,
+    /// Part of an in-place re-pose (see [`Ctx::repose`]) or of the reorientation before a
+    /// move ([`tessellate_move`]): written as a reorientation.
+    reorient: bool,
 }
 
 /// A pose of a re-pose: axes, tip, intended tool axis.
@@ -317,19 +318,36 @@ impl AngleLimit {
 
     /// `num::deg(num::angle_between(a, b)) > self.deg`.
     fn exceeded(&self, a: DVec3, b: DVec3) -> bool {
-        let c = a.cross(b).length();
-        let d = a.dot(b);
+        let (c, d) = operands(a, b);
+        self.decided(c, d)
+            .unwrap_or_else(|| num::deg(num::atan2(c, d)) > self.deg)
+    }
+
+    /// The decision from `angle_between`'s operands `c`, `d` where the tangent shows it;
+    /// `None` in the gap (the angle must be computed).
+    fn decided(&self, c: f64, d: f64) -> Option<bool> {
         if d > 0.0 {
             if c <= d * self.tan_lo {
-                return false;
+                return Some(false);
             }
             if c >= d * self.tan_hi {
-                return true;
+                return Some(true);
             }
         }
-        num::deg(num::atan2(c, d)) > self.deg
+        None
     }
 }
+
+/// `angle_between(a, b)`'s operands: `(|a × b|, a · b)`.
+fn operands(a: DVec3, b: DVec3) -> (f64, f64) {
+    (a.cross(b).length(), a.dot(b))
+}
+
+/// How many dropped angles computed in [`Plan::note_dropped`] are remembered by their
+/// operands' bits. A warp of constant slope (a cone) gives tool axes whose angle to a fixed
+/// realised axis has only a few distinct operand pairs (they differ in the last bits), all
+/// within the worst's decision gap: without the memo every move computed `atan2`.
+const DROPPED_MEMO: usize = 4;
 
 struct Piece<'a> {
     p0: DVec3,
@@ -350,6 +368,8 @@ pub struct Plan {
     fixed_pose_rotary: Option<Vec<bool>>,
     /// [`Machine::realises_requests`].
     requests_realised: bool,
+    /// [`Machine::fixed_tool_axis`] is given: no held-axis probe.
+    fixed_axis: bool,
     /// [`Machine::realises_bounded_requests`].
     bounded_requests_realised: bool,
     /// The held-axis probe's limit: [`SAMPLING_MARGIN`] of the angle bound.
@@ -360,6 +380,10 @@ pub struct Plan {
     /// angle as one (rebuilt when the worst changes): [`Plan::note_dropped`].
     warn_limit: AngleLimit,
     worst_limit: Cell<AngleLimit>,
+    /// `(c bits, d bits, deg(atan2(c, d)))` of the last dropped angles computed, replaced in
+    /// turn ([`DROPPED_MEMO`]); at first NaN keys with the NaN angle `atan2` gives them.
+    dropped_memo: Cell<[(u64, u64, f64); DROPPED_MEMO]>,
+    dropped_next: Cell<usize>,
 }
 
 impl Plan {
@@ -372,11 +396,16 @@ impl Plan {
                 .linear_at_fixed_pose()
                 .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
             requests_realised: machine.realises_requests(),
+            fixed_axis: machine.fixed_tool_axis().is_some(),
             bounded_requests_realised: machine.realises_bounded_requests(),
             probe_limit: AngleLimit::new(SAMPLING_MARGIN * bounds.max_angle_deg),
             cap_limit: bounds.max_step_deg.map(AngleLimit::new),
             warn_limit: AngleLimit::new(crate::tolerance::DROPPED_TILT_WARN_DEG),
             worst_limit: Cell::new(AngleLimit::new(0.0)),
+            dropped_memo: Cell::new(
+                [(f64::NAN.to_bits(), f64::NAN.to_bits(), f64::NAN); DROPPED_MEMO],
+            ),
+            dropped_next: Cell::new(0),
         }
     }
 
@@ -392,11 +421,34 @@ impl Plan {
         if self.worst_limit.get().deg != rep.worst_dropped_deg {
             self.worst_limit.set(AngleLimit::new(rep.worst_dropped_deg));
         }
-        if self.worst_limit.get().exceeded(n, realised) {
-            rep.dropped(num::deg(num::angle_between(n, realised)));
+        let (c, d) = operands(n, realised);
+        let worst = self.worst_limit.get();
+        let raises = match worst.decided(c, d) {
+            Some(false) => None,
+            Some(true) => Some(self.dropped_angle(c, d)),
+            None => Some(self.dropped_angle(c, d)).filter(|&a| a > worst.deg),
+        };
+        if let Some(deg) = raises {
+            rep.dropped(deg);
         } else if self.warn_limit.exceeded(n, realised) {
             rep.dropped_moves += 1;
         }
+    }
+
+    /// `deg(atan2(c, d))` — `deg(angle_between(n, realised))` from its operands — remembered
+    /// for the next [`DROPPED_MEMO`] distinct operand pairs.
+    fn dropped_angle(&self, c: f64, d: f64) -> f64 {
+        let key = (c.to_bits(), d.to_bits());
+        let mut memo = self.dropped_memo.get();
+        if let Some(&(_, _, deg)) = memo.iter().find(|m| (m.0, m.1) == key) {
+            return deg;
+        }
+        let deg = num::deg(num::atan2(c, d));
+        let i = self.dropped_next.get();
+        memo[i] = (key.0, key.1, deg);
+        self.dropped_memo.set(memo);
+        self.dropped_next.set((i + 1) % DROPPED_MEMO);
+        deg
     }
 
     /// The bounds the plan splits to.
@@ -679,7 +731,7 @@ impl<'m> Ctx<'m> {
                 n: pc.n1,
                 wrap: true,
                 limited: false,
-                repose: false,
+                reorient: false,
             });
             return Ok(());
         }
@@ -760,7 +812,7 @@ impl<'m> Ctx<'m> {
                         n,
                         wrap: false,
                         limited: false,
-                        repose: true,
+                        reorient: true,
                     });
                 }
                 return Ok(());
@@ -775,7 +827,7 @@ impl<'m> Ctx<'m> {
             n: pc.n1,
             wrap: false,
             limited: over,
-            repose: false,
+            reorient: false,
         });
         Ok(())
     }
@@ -832,6 +884,11 @@ pub fn tessellate_move(
 /// that [realises its requests](Machine::realises_requests) that is the request
 /// `slerp(n₀, n₁, START_PROBE)` itself (within law 1's 1e-9 rad, far below the
 /// [`SAMPLING_MARGIN`] of the angle bound the probe compares with), so it is not solved.
+/// On a machine with a [`Machine::fixed_tool_axis`] the probe is skipped: `r₀` and `r_ε` are
+/// that axis bit for bit, and an angle of exactly 0 exceeds no limit. (The probe's solve, a
+/// tip and axis 1e-7 of the way from an already solved start, raises no error the move's end
+/// does not: such a machine refuses only non-unit or non-finite input, checked at the end
+/// too, and tilts beyond a cap, which is convex.)
 pub fn tessellate_planned(
     machine: &dyn Machine,
     plan: &Plan,
@@ -843,17 +900,10 @@ pub fn tessellate_planned(
     let (a0_in, p0, n0) = from;
     let mut ends = Vec::new();
     let mut reoriented = 0;
-    let r0 = ctx.forward(a0_in)?.1;
-    let pe = p0.lerp(to.p, START_PROBE);
-    let ne = slerp(n0, to.n, START_PROBE);
-    let re = if plan.requests_realised {
-        ne
-    } else {
-        let ae = ctx.inverse(pe, ne, Some(a0_in))?;
-        ctx.forward(&ae)?.1
-    };
     let a_start;
-    let a0: &[f64] = if plan.probe_limit.exceeded(r0, re) {
+    let a0: &[f64] = if plan.fixed_axis {
+        a0_in
+    } else if let Some((r0, re)) = held_axis_jump(&ctx, from, to)? {
         let a_r = ctx.inverse(p0, re, Some(a0_in))?;
         let pc = Piece {
             p0,
@@ -880,13 +930,20 @@ pub fn tessellate_planned(
         a0,
     };
     ctx.split(pc, a1, 0, &mut ends, rep)?;
+    for end in &mut ends[..reoriented] {
+        end.reorient = true;
+    }
     // a piece that ends where the previous one did, with the same axes (within NO_OP_EPSILON),
     // moves nothing: it is a no-op line (an in-place reorientation split to the depth limit at a pole repeated its
-    // last pose about 20 times: issue 12 item 6); its filament share goes to the others
-    let mut kept: Vec<(End, bool)> = Vec::with_capacity(ends.len());
-    let mut prev_axes: &[f64] = a0_in;
-    let mut prev_p = p0;
-    for (i, end) in ends.into_iter().enumerate() {
+    // last pose about 20 times: issue 12 item 6); its filament share goes to the others. The
+    // kept ends are moved to the front, in order.
+    let mut kept = 0;
+    for i in 0..ends.len() {
+        let (prev_axes, prev_p) = match kept {
+            0 => (a0_in, p0),
+            k => (&ends[k - 1].axes[..], ends[k - 1].p),
+        };
+        let end = &ends[i];
         let same = !end.wrap
             && (end.p - prev_p).length() <= NO_OP_EPSILON
             && end
@@ -895,40 +952,35 @@ pub fn tessellate_planned(
                 .zip(prev_axes)
                 .all(|(a, b)| (a - b).abs() <= NO_OP_EPSILON);
         if !same {
-            kept.push((end, i < reoriented));
-            let last = &kept[kept.len() - 1].0;
-            prev_axes = &last.axes;
-            prev_p = last.p;
+            ends.swap(kept, i);
+            kept += 1;
         }
     }
-    if kept.is_empty() {
+    ends.truncate(kept);
+    if ends.is_empty() {
         // a move to where the head already is: one line, as before
-        kept.push((
-            End {
-                axes: a0_in.to_vec(),
-                p: to.p,
-                n: to.n,
-                wrap: false,
-                limited: false,
-                repose: false,
-            },
-            false,
-        ));
+        ends.push(End {
+            axes: a0_in.to_vec(),
+            p: to.p,
+            n: to.n,
+            wrap: false,
+            limited: false,
+            reorient: false,
+        });
     }
     let total = (to.p - p0).length();
     let mut last_p = p0;
-    let count = kept.len();
+    let count = ends.len();
     let mut moves = Vec::with_capacity(count);
-    for (end, reoriented) in kept {
+    for end in ends {
         let End {
             axes,
             p,
             n,
             wrap,
             limited,
-            repose,
+            reorient,
         } = end;
-        let reorient = reoriented || repose;
         let len = (p - last_p).length();
         let share = if total > crate::tolerance::LENGTH_EPSILON {
             len / total
@@ -953,6 +1005,25 @@ pub fn tessellate_planned(
     }
     rep.moves_out += moves.len();
     Ok(moves)
+}
+
+/// The held-axis probe of [`tessellate_planned`]: the realised tool axes `(r₀, r_ε)` at the
+/// move's start and at s = [`START_PROBE`], when they are more than the probe's limit apart.
+fn held_axis_jump(
+    ctx: &Ctx,
+    (a0, p0, n0): (&[f64], DVec3, DVec3),
+    to: &ToolPoint,
+) -> Result<Option<(DVec3, DVec3)>, MachineError> {
+    let r0 = ctx.forward(a0)?.1;
+    let pe = p0.lerp(to.p, START_PROBE);
+    let ne = slerp(n0, to.n, START_PROBE);
+    let re = if ctx.plan.requests_realised {
+        ne
+    } else {
+        let ae = ctx.inverse(pe, ne, Some(a0))?;
+        ctx.forward(&ae)?.1
+    };
+    Ok(ctx.plan.probe_limit.exceeded(r0, re).then_some((r0, re)))
 }
 
 /// Turn a toolpath into machine moves whose linear interpolation stays within `bounds`.
@@ -1035,5 +1106,53 @@ mod tests {
         }
         // most decisions need no atan2 (the point of it)
         assert!(decided_cheaply > 12_000, "{decided_cheaply}");
+    }
+
+    /// `note_dropped` (the AngleLimit decisions and the memo of computed angles) reports what
+    /// `rep.dropped(deg(angle_between(n, realised)))` reports for every move: the worst bit for
+    /// bit and the count above the warning. Three phases: tool axes of a cone (tilt 30°: the
+    /// memo's hits, angles equal to the worst within a few ulps) against a vertical and a
+    /// slightly tilted realised axis, with random smaller tilts; a tilt rising by 0.002° a move
+    /// (the worst raised clearly each time) with repeats; random tilts to 120° (beyond 89° the
+    /// angle is always computed).
+    #[test]
+    fn the_dropped_angle_report_is_the_computed_angles() {
+        let mut rng = crate::test_rng::Lcg(11);
+        let cart = super::super::preset("cartesian").unwrap().build().unwrap();
+        let plan = Plan::new(cart.as_ref(), &DEFAULT_BOUNDS);
+        let (mut fast, mut direct) = (TessellationReport::default(), TessellationReport::default());
+        for k in 0..45_000 {
+            let tilt = match (k / 15_000, k % 3) {
+                (0, 2) => rng.range(0.0, 30.0),
+                (0, _) => 30.0,
+                (1, 0) => 30.0 + 0.002 * (k - 15_000) as f64,
+                (1, _) => 30.0 + 0.002 * (k - 15_000 - k % 3) as f64,
+                _ => rng.range(0.0, 120.0),
+            };
+            let n = super::super::laws::axis(tilt, rng.range(-180.0, 180.0));
+            let realised = if k % 3 == 1 && k % 2 == 0 {
+                super::super::laws::axis(1e-3 * rng.unit(), 0.0)
+            } else {
+                DVec3::Z
+            };
+            plan.note_dropped(&mut fast, n, realised);
+            direct.dropped(num::deg(num::angle_between(n, realised)));
+            assert_eq!(
+                (fast.worst_dropped_deg.to_bits(), fast.dropped_moves),
+                (direct.worst_dropped_deg.to_bits(), direct.dropped_moves),
+                "case {k}: tilt {tilt}°, n {n}, realised {realised}"
+            );
+        }
+        // the memo itself, on operand pairs that share one operand, in turn and repeated
+        let (cs, ds) = ([0.5, 0.25, 0.75, 1e-9], [0.866, -0.866, 0.1]);
+        for k in 0..240 {
+            let (c, d) = (cs[k % 4], ds[(k / 4) % 3]);
+            let want = num::deg(num::atan2(c, d));
+            assert_eq!(
+                plan.dropped_angle(c, d).to_bits(),
+                want.to_bits(),
+                "{c} {d}"
+            );
+        }
     }
 }
