@@ -399,3 +399,66 @@ impl Material {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Lcg;
+
+    /// [`Material::max_over`] is the largest top of the cells of the blocks the rectangle
+    /// touches, found cell by cell through [`Material::height`] (no tile or block maximum):
+    /// random beads over four tiles about the origin (negative indices too), random rectangles
+    /// from a cell wide to several tiles; and [`Material::any_above`] says whether that
+    /// largest top is above a height drawn on either side of it.
+    #[test]
+    fn the_maximum_over_a_rectangle_is_the_highest_cell_of_the_blocks_it_touches_and_any_above_agrees(
+    ) {
+        let mut rng = Lcg(31);
+        let mut m = Material::new();
+        for layer in 1..=40 {
+            let lo = DVec3::new(-12.0, -12.0, 0.0);
+            let hi = DVec3::new(12.0, 12.0, 0.0);
+            let a = rng.within(lo, hi) + DVec3::Z * (0.05 * layer as f64);
+            let b = a + rng.within(DVec3::new(-6.0, -6.0, -0.5), DVec3::new(6.0, 6.0, 0.5));
+            m.deposit(a, b, rng.range(-0.3, 0.3), rng.range(0.3, 0.6), layer);
+        }
+        let b = BLOCK as i64;
+        let (mut wide, mut found) = (0, 0);
+        for k in 0..3000 {
+            let side = [0.1, 1.0, 7.0, 14.0, 30.0][k % 5];
+            let x0 = rng.range(-16.0, 14.0);
+            let y0 = rng.range(-16.0, 14.0);
+            let rect = (x0, y0, x0 + rng.range(0.0, side), y0 + rng.range(0.0, side));
+            let (bi0, bi1) = (cell_of(rect.0).div_euclid(b), cell_of(rect.2).div_euclid(b));
+            let (bj0, bj1) = (cell_of(rect.1).div_euclid(b), cell_of(rect.3).div_euclid(b));
+            let mut brute = f64::NEG_INFINITY;
+            for j in bj0 * b..(bj1 + 1) * b {
+                for i in bi0 * b..(bi1 + 1) * b {
+                    brute = brute.max(m.height(i, j));
+                }
+            }
+            let got = m.max_over(rect);
+            assert!(
+                got == brute,
+                "rect {rect:?}: max_over {got}, the blocks' cells {brute}"
+            );
+            // any_above: the same bound as a yes/no, on either side of it
+            let z = if brute.is_finite() {
+                brute + rng.range(-0.5, 0.5)
+            } else {
+                rng.range(-1.0, 3.0)
+            };
+            assert_eq!(
+                m.any_above(rect, z),
+                brute > z,
+                "rect {rect:?}: any_above {z}, the blocks' cells' highest {brute}"
+            );
+            wide += usize::from(bi1 - bi0 >= 2 * GROUP as i64);
+            found += usize::from(brute.is_finite());
+        }
+        assert!(
+            wide > 300 && found > 1500,
+            "{wide} rectangles over eight blocks or more, {found} over material"
+        );
+    }
+}
