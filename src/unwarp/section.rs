@@ -159,7 +159,7 @@ impl Sections {
             for ix in (cx - r).max(0)..=(cx + r).min(nx - 1) {
                 for &s in &cut.cells[(iy * nx + ix) as usize] {
                     let (a, b) = cut.segs[s as usize];
-                    best = best.min(segment_distance(q, a, b));
+                    best = crate::num::min(best, segment_distance(q, a, b));
                 }
             }
         }
