@@ -71,9 +71,10 @@ pub fn concave_bound(d: [f64; 3]) -> f64 {
 
 /// Split [0, 1] for the curve `map` (t ↦ model point). Appends the end parameter of each
 /// piece (in increasing order, the last being 1.0) and their mapped points to `out`.
-/// `p0` = map(0). Reuses `stack` (no allocation in the steady state).
+/// `p0` = map(0). Reuses `stack` (no allocation in the steady state). Generic over the map, so
+/// that it is inlined (in wasm, a `&dyn Fn` is an indirect call per sample).
 pub fn split(
-    map: &dyn Fn(f64) -> DVec3,
+    map: &impl Fn(f64) -> DVec3,
     p0: DVec3,
     tolerance: f64,
     max_segment: f64,
