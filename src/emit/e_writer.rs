@@ -15,7 +15,7 @@ pub struct EWriter {
 pub const E_QUANTUM: f64 = 1e-5;
 
 fn round_e(v: f64) -> f64 {
-    (v / E_QUANTUM).round() * E_QUANTUM
+    crate::num::round(v / E_QUANTUM) * E_QUANTUM
 }
 
 impl EWriter {

@@ -38,7 +38,7 @@ pub fn push_feed(out: &mut Vec<u8>, v: f64) {
 fn scaled(v: f64, decimals: u32) -> Option<i64> {
     let x = v * pow10(decimals);
     if x.abs() < EXACT_LIMIT {
-        Some(x.round() as i64)
+        Some(crate::num::round(x) as i64)
     } else {
         None
     }
@@ -86,49 +86,78 @@ pub fn push_fixed(out: &mut Vec<u8>, v: f64, decimals: u32) {
     }
 }
 
-/// Append n·10^−d.
+/// Append n·10^−d (`decimals` ≤ 9, |n| < 2⁶³): the digits are assembled right to left in a
+/// stack buffer and appended at once. One 64-bit division splits |n| into the integer part and
+/// the fraction (< 10⁹); everything else is 32-bit arithmetic on values below 2³², where a
+/// division by a constant is a multiplication in wasm too (a 64-bit one needs the high half of
+/// a 128-bit product, which wasm lacks).
 fn push_scaled(out: &mut Vec<u8>, n: i64, decimals: u32) {
     if n == 0 {
         out.push(b'0');
         return;
     }
-    if n < 0 {
-        out.push(b'-');
-    }
     let a = n.unsigned_abs();
-    let p = 10u64.pow(decimals);
-    push_u64(out, a / p);
-    let mut frac = a % p;
-    if frac != 0 {
-        let mut d = decimals;
-        while frac.is_multiple_of(10) {
-            frac /= 10;
-            d -= 1;
+    let d = decimals as usize;
+    let p = POW10_U64[d];
+    let (int, frac) = (a / p, (a % p) as u32);
+    // sign, ≤ 19 integer digits, the dot and ≤ 9 decimals
+    let mut buf = [b'0'; 32];
+    let mut end = buf.len();
+    let mut start = end - d;
+    if frac == 0 {
+        end = start;
+    } else {
+        // d digits with leading zeros, then the trailing zeros trimmed
+        let mut f = frac;
+        for b in buf[start..end].iter_mut().rev() {
+            *b = b'0' + (f % 10) as u8;
+            f /= 10;
         }
-        out.push(b'.');
-        let mut buf = [b'0'; 20];
-        let mut k = d as usize;
-        while k > 0 {
-            k -= 1;
-            buf[k] = b'0' + (frac % 10) as u8;
-            frac /= 10;
+        while buf[end - 1] == b'0' {
+            end -= 1;
         }
-        out.extend_from_slice(&buf[..d as usize]);
+        start -= 1;
+        buf[start] = b'.';
     }
+    start = digits_before(&mut buf, start, int);
+    if n < 0 {
+        start -= 1;
+        buf[start] = b'-';
+    }
+    out.extend_from_slice(&buf[start..end]);
 }
 
-fn push_u64(out: &mut Vec<u8>, mut v: u64) {
-    let mut buf = [0u8; 20];
-    let mut k = buf.len();
-    loop {
-        k -= 1;
-        buf[k] = b'0' + (v % 10) as u8;
+/// 10^d for d = 0..=9.
+const POW10_U64: [u64; 10] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+    1_000_000_000,
+];
+
+/// Writes the decimal digits of `v` into `buf` ending just before `end` (at least one digit,
+/// `0` for 0); returns where they start.
+fn digits_before(buf: &mut [u8], mut end: usize, mut v: u64) -> usize {
+    while v > u64::from(u32::MAX) {
+        end -= 1;
+        buf[end] = b'0' + (v % 10) as u8;
         v /= 10;
-        if v == 0 {
-            break;
+    }
+    let mut w = v as u32;
+    loop {
+        end -= 1;
+        buf[end] = b'0' + (w % 10) as u8;
+        w /= 10;
+        if w == 0 {
+            return end;
         }
     }
-    out.extend_from_slice(&buf[k..]);
 }
 
 /// Huge or non-finite values: core's exact formatting, trimmed.
@@ -273,6 +302,64 @@ mod tests {
         ];
         for &(f, v, want) in cases {
             assert_eq!(s(f, v), want, "{v}");
+        }
+    }
+
+    /// What `push_fixed(v, d)` must write, by std's rounding and integer formatting and string
+    /// work: round(v·10^d) as digits, the dot inserted d digits from the right, trailing zeros
+    /// and a bare dot trimmed, `-` only before a nonzero value.
+    fn fixed_oracle(v: f64, d: u32) -> String {
+        let scale: f64 = format!("1e{d}").parse().unwrap();
+        let n = (v * scale).round();
+        let digits = format!("{:0>w$}", n.abs() as u64, w = d as usize + 1);
+        let (int, frac) = digits.split_at(digits.len() - d as usize);
+        let frac = frac.trim_end_matches('0');
+        let body = if frac.is_empty() {
+            int.to_string()
+        } else {
+            format!("{int}.{frac}")
+        };
+        if n < 0.0 && body != "0" {
+            format!("-{body}")
+        } else {
+            body
+        }
+    }
+
+    #[test]
+    fn fixed_point_text_matches_a_string_oracle() {
+        let mut rng = crate::test_rng::Lcg(7);
+        let mut cases = vec![
+            (0.0, 3),
+            (4_294.967_295, 3),
+            (4_294.967_296, 3),
+            (-4_294.967_296, 3),
+            (42_949.672_96, 5),
+            (80_142.725_49, 5),
+            (8.999e15, 0),
+            (-8.999e11, 4),
+            (0.000_000_001, 9),
+            (-0.000_000_000_5, 9),
+            (1.0, 9),
+            (0.1, 1),
+        ];
+        for _ in 0..100_000 {
+            let d = (rng.unit() * 10.0) as u32;
+            // magnitudes up to the exact range (|v·10^d| < 9·10^15), and values on the grid
+            let m = 10f64.powf(rng.range(-(d as f64) - 1.0, 15.0 - d as f64));
+            let v = rng.range(-m, m);
+            cases.push((v, d));
+            let grid: f64 = format!("1e-{d}").parse().unwrap();
+            cases.push(((v / grid).trunc() * grid, d));
+        }
+        for (v, d) in cases {
+            let mut o = Vec::new();
+            push_fixed(&mut o, v, d);
+            assert_eq!(
+                String::from_utf8(o).unwrap(),
+                fixed_oracle(v, d),
+                "{v:e} with {d} decimals"
+            );
         }
     }
 

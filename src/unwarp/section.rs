@@ -11,7 +11,10 @@
 //! distance to the nearest segment, negative inside, clamped to ±[`SEARCH_RADIUS`].
 //!
 //! Segments are kept in a uniform grid of [`CELL`] cells over the cut's box: the distance
-//! looks at the cells within [`SEARCH_RADIUS`], the ray at the cells of q's row to its right.
+//! looks at the cells within [`SEARCH_RADIUS`], the ray at the segments of q's row that reach
+//! q's column or beyond (each row lists its segments once, with the last column each
+//! occupies: the segments met in the row's cells from q's to the right, without visiting the
+//! cells or de-duplicating a segment met in several).
 
 use glam::{DVec2, DVec3};
 
@@ -33,6 +36,8 @@ struct Cut {
     nx: usize,
     ny: usize,
     cells: Vec<Vec<u32>>,
+    /// Per grid row, its segments once each with the last grid column they occupy.
+    rows: Vec<Vec<(DVec2, DVec2, usize)>>,
 }
 
 /// The warped mesh, cut at the current layer's mid-height on demand.
@@ -42,9 +47,6 @@ pub struct Sections {
     tris: Vec<([DVec3; 3], f64, f64)>,
     /// The last cut made.
     cut: Option<Cut>,
-    /// Stamps for de-duplicating segments met in several cells.
-    seen: Vec<u32>,
-    stamp: u32,
 }
 
 impl Sections {
@@ -61,12 +63,7 @@ impl Sections {
             })
             .collect();
         tris.sort_by(|a, b| a.1.total_cmp(&b.1));
-        Sections {
-            tris,
-            cut: None,
-            seen: Vec::new(),
-            stamp: 0,
-        }
+        Sections { tris, cut: None }
     }
 
     fn cut_at(&mut self, z: f64) -> &Cut {
@@ -117,17 +114,18 @@ impl Sections {
                 )
             };
             let mut cells = vec![Vec::new(); nx * ny];
+            let mut rows = vec![Vec::new(); ny];
             for (i, (a, b)) in segs.iter().enumerate() {
                 let c0 = ((a.min(*b) - lo) / CELL).floor();
                 let c1 = ((a.max(*b) - lo) / CELL).floor();
+                let last = (c1.x as usize).min(nx - 1);
                 for iy in c0.y as usize..=(c1.y as usize).min(ny - 1) {
-                    for ix in c0.x as usize..=(c1.x as usize).min(nx - 1) {
+                    for ix in c0.x as usize..=last {
                         cells[iy * nx + ix].push(i as u32);
                     }
+                    rows[iy].push((*a, *b, last));
                 }
             }
-            self.seen = vec![0; segs.len()];
-            self.stamp = 0;
             self.cut = Some(Cut {
                 z,
                 segs,
@@ -135,6 +133,7 @@ impl Sections {
                 nx,
                 ny,
                 cells,
+                rows,
             });
         }
         self.cut.as_ref().expect("cut")
@@ -153,39 +152,32 @@ impl Sections {
         let (cx, cy) = (c.x as i64, c.y as i64);
         // nearest segment within the search radius
         let r = (SEARCH_RADIUS / CELL).ceil() as i64;
-        self.stamp = self.stamp.wrapping_add(1);
         let mut best = SEARCH_RADIUS;
         for iy in (cy - r).max(0)..=(cy + r).min(ny - 1) {
             for ix in (cx - r).max(0)..=(cx + r).min(nx - 1) {
                 for &s in &cut.cells[(iy * nx + ix) as usize] {
                     let (a, b) = cut.segs[s as usize];
-                    best = best.min(segment_distance(q, a, b));
+                    best = crate::num::min(best, segment_distance(q, a, b));
                 }
             }
         }
-        // the ray toward +x along q's row: parity and winding
+        // the ray toward +x along q's row: parity and winding, over the row's segments in a
+        // cell from q's column on (a segment's cells in a row are contiguous and start at or
+        // before its last, so it has one there exactly when its last column is q's or beyond)
         let inside = if cy < 0 || cy >= ny {
             false
         } else {
             let (mut crossings, mut winding) = (0u32, 0i32);
-            for ix in cx.max(0)..nx {
-                for &s in &cut.cells[(cy * nx + ix) as usize] {
-                    let seen = &mut self.seen[s as usize];
-                    if *seen == self.stamp {
-                        continue;
-                    }
-                    *seen = self.stamp;
-                    let (a, b) = cut.segs[s as usize];
-                    if (a.y <= q.y) == (b.y <= q.y) {
-                        continue;
-                    }
-                    let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                    if x > q.x {
-                        crossings += 1;
-                        // with the outward normal on each segment's right, a closed outline
-                        // runs counter-clockwise: the ray leaves it through an upward segment
-                        winding += if b.y > a.y { 1 } else { -1 };
-                    }
+            for &(a, b, last) in &cut.rows[cy as usize] {
+                if (last as i64) < cx || (a.y <= q.y) == (b.y <= q.y) {
+                    continue;
+                }
+                let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
+                if x > q.x {
+                    crossings += 1;
+                    // with the outward normal on each segment's right, a closed outline
+                    // runs counter-clockwise: the ray leaves it through an upward segment
+                    winding += if b.y > a.y { 1 } else { -1 };
                 }
             }
             crossings % 2 == 1 || winding != 0
@@ -201,6 +193,7 @@ impl Sections {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::Mesh;
 
     #[test]
     fn a_cube_cut_at_mid_height_is_signed_inside_and_outside() {
@@ -254,5 +247,71 @@ mod tests {
             assert!((d - 0.2).abs() < 1e-9, "0.2 mm outside the wall {dir}: {d}");
         }
         assert_eq!(s.signed_distance(z, c), -SEARCH_RADIUS);
+    }
+
+    /// Three shells, two of them overlapping (a slicer unites them: inside by winding), cut
+    /// at several heights: at random points in and around them the signed distance is the
+    /// one found over every segment of the cut without the grid (the point–segment distance
+    /// written out here, the ray cast against all segments), so the grid's cells and the rows'
+    /// segment lists find what the whole cut holds.
+    #[test]
+    fn signed_distance_matches_a_search_of_every_segment() {
+        let mut m = crate::shapes::sphere(10.0, 24, 48);
+        let mut add = |part: Mesh, by: DVec3| {
+            let base = m.vertices.len() as u32;
+            m.vertices.extend(part.vertices.iter().map(|&v| v + by));
+            m.triangles
+                .extend(part.triangles.iter().map(|t| t.map(|i| i + base)));
+        };
+        add(
+            crate::shapes::cylinder(6.0, 20.0, 40),
+            DVec3::new(8.0, 3.0, -10.0),
+        );
+        add(crate::shapes::cube(8.0), DVec3::new(-30.0, 0.0, -4.0));
+        let b = m.bbox();
+        let mut s = Sections::new(&m);
+        let mut rng = crate::test_rng::Lcg(5);
+        let (mut inside, mut near) = (0, 0);
+        for k in 0..7 {
+            let z = b.min.z + (b.max.z - b.min.z) * (k as f64 + 0.5) / 7.0;
+            for _ in 0..3000 {
+                let q = DVec2::new(
+                    rng.range(b.min.x - 2.0, b.max.x + 2.0),
+                    rng.range(b.min.y - 2.0, b.max.y + 2.0),
+                );
+                let got = s.signed_distance(z, q);
+                let segs = &s.cut.as_ref().expect("cut").segs;
+                let (mut d, mut crossings, mut winding) = (SEARCH_RADIUS, 0, 0);
+                for &(a, c) in segs {
+                    let (ab, aq) = (c - a, q - a);
+                    let t = (aq.dot(ab) / ab.dot(ab)).clamp(0.0, 1.0);
+                    let e = aq - ab * t;
+                    d = d.min((e.x * e.x + e.y * e.y).sqrt());
+                    if (a.y > q.y) != (c.y > q.y) {
+                        let x = a.x + (c.x - a.x) * (q.y - a.y) / (c.y - a.y);
+                        if x > q.x {
+                            crossings += 1;
+                            winding += if c.y > a.y { 1 } else { -1 };
+                        }
+                    }
+                }
+                let want = if crossings % 2 == 1 || winding != 0 {
+                    inside += 1;
+                    -d
+                } else {
+                    d
+                };
+                near += usize::from(d < SEARCH_RADIUS);
+                assert!(
+                    (got - want).abs() < 1e-9,
+                    "z {z}, q {q}: {got}, over every segment {want}"
+                );
+            }
+        }
+        // the points cover the inside, the outside and the outlines' neighbourhood
+        assert!(
+            inside > 2000 && near > 2000,
+            "{inside} inside, {near} near an outline"
+        );
     }
 }

@@ -18,6 +18,8 @@
 
 use glam::DVec3;
 
+use crate::num::{max, min};
+
 /// Deepest halving (2⁻²⁴ of a move: far below any tolerance for a move of < 1 m).
 pub const MAX_DEPTH: u32 = 24;
 
@@ -40,26 +42,26 @@ pub fn concave_bound(d: [f64; 3]) -> f64 {
     let f = [0.0, d[0], d[1], d[2], 0.0];
     // the line through samples i and i + 1, at parameter t
     let line = |i: usize, t: f64| f[i] + (f[i + 1] - f[i]) * (t / Q - i as f64);
-    let mut bound = d[0].max(d[1]).max(d[2]);
+    let mut bound = max(max(d[0], d[1]), d[2]);
     for q in 0usize..4 {
         let (lo, hi) = (q as f64 * Q, (q + 1) as f64 * Q);
         // the chord left of this quarter (samples q − 1, q) and right of it (q + 1, q + 2)
         let left = q.checked_sub(1);
         let right = (q + 2 <= 4).then_some(q + 1);
         let at = |t: f64| match (left, right) {
-            (Some(l), Some(r)) => line(l, t).min(line(r, t)),
+            (Some(l), Some(r)) => min(line(l, t), line(r, t)),
             (Some(l), None) => line(l, t),
             (None, Some(r)) => line(r, t),
             (None, None) => 0.0,
         };
-        bound = bound.max(at(lo)).max(at(hi));
+        bound = max(max(bound, at(lo)), at(hi));
         if let (Some(l), Some(r)) = (left, right) {
             // slopes per unit t; the lines cross where they are equal
             let (sl, sr) = ((f[l + 1] - f[l]) / Q, (f[r + 1] - f[r]) / Q);
             if sl != sr {
                 let t = (line(r, 0.0) - line(l, 0.0)) / (sl - sr);
                 if t > lo && t < hi {
-                    bound = bound.max(line(l, t));
+                    bound = max(bound, line(l, t));
                 }
             }
         }
@@ -69,9 +71,10 @@ pub fn concave_bound(d: [f64; 3]) -> f64 {
 
 /// Split [0, 1] for the curve `map` (t ↦ model point). Appends the end parameter of each
 /// piece (in increasing order, the last being 1.0) and their mapped points to `out`.
-/// `p0` = map(0). Reuses `stack` (no allocation in the steady state).
+/// `p0` = map(0). Reuses `stack` (no allocation in the steady state). Generic over the map, so
+/// that it is inlined (in wasm, a `&dyn Fn` is an indirect call per sample).
 pub fn split(
-    map: &dyn Fn(f64) -> DVec3,
+    map: &impl Fn(f64) -> DVec3,
     p0: DVec3,
     tolerance: f64,
     max_segment: f64,
