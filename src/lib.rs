@@ -17,7 +17,8 @@
 //! fails on any `crate::` path that points sideways or back, and on any cycle:
 //!
 //! ```text
-//! 1  error num schema tolerance test_rng
+//! 0  test_rng
+//! 1  error num schema tolerance
 //! 2  mesh
 //! 3  shapes warp planar
 //! 4  anchor job overhang toolpath
