@@ -161,6 +161,38 @@ pub struct ToolPoint {
     pub line: u64,
 }
 
+/// The decimation of a collected toolpath (`UnwarpOptions::toolpath_every`): of the points
+/// seen in order, point i (0-based over the whole run) is kept when `i mod every = 0`, or when
+/// its layer differs from the last kept point's, so a decimated preview still starts every
+/// layer at its first point (the page's layer ranges stay exact). `every` 0 or 1 keeps all.
+#[derive(Clone, Copy, Debug)]
+pub struct Thinning {
+    every: u64,
+    seen: u64,
+    last_layer: Option<u32>,
+}
+
+impl Thinning {
+    /// Keep one point in `every` (0 and 1: every point).
+    pub fn new(every: u32) -> Thinning {
+        Thinning {
+            every: u64::from(every.max(1)),
+            seen: 0,
+            last_layer: None,
+        }
+    }
+
+    /// Whether the next point, on `layer`, is kept.
+    pub fn keeps(&mut self, layer: u32) -> bool {
+        let keep = self.seen % self.every == 0 || self.last_layer.is_some_and(|l| l != layer);
+        self.seen += 1;
+        if keep {
+            self.last_layer = Some(layer);
+        }
+        keep
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,5 +206,53 @@ mod tests {
         }
         // the last variant is the last of ALL: a variant added after it would be missing
         assert_eq!(Feature::Custom as usize + 1, Feature::ALL.len());
+    }
+
+    /// Against the rule said another way: point i is kept when i is a multiple of `every` or
+    /// its layer is not the previous point's (the same thing, since the previous point's
+    /// layer is always the last kept one's: a point on another layer is kept).
+    #[test]
+    fn thinning_keeps_every_nth_point_and_each_layers_first() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for every in [0, 1, 2, 3, 7, 64] {
+            let mut layer = 0u32;
+            let layers: Vec<u32> = (0..5000)
+                .map(|_| {
+                    match next() % 23 {
+                        0 => layer += 1,
+                        1 => layer = layer.saturating_sub(1), // a layer met again (a travel)
+                        _ => {}
+                    }
+                    layer
+                })
+                .collect();
+            let mut t = Thinning::new(every);
+            let kept: Vec<usize> = (0..layers.len()).filter(|&i| t.keeps(layers[i])).collect();
+            let n = every.max(1) as usize;
+            let want: Vec<usize> = (0..layers.len())
+                .filter(|&i| i % n == 0 || (i > 0 && layers[i] != layers[i - 1]))
+                .collect();
+            if let Some(i) = (0..kept.len().max(want.len())).find(|&i| kept.get(i) != want.get(i)) {
+                panic!(
+                    "every {every}: kept point {:?} where the rule keeps {:?} (the {i}th kept)",
+                    kept.get(i),
+                    want.get(i)
+                );
+            }
+            if n > 1 {
+                assert!(
+                    kept.len() < layers.len() / 2 + layers.len() / 4,
+                    "every {every}: {} of {}",
+                    kept.len(),
+                    layers.len()
+                );
+            }
+        }
     }
 }

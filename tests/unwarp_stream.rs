@@ -175,3 +175,66 @@ fn an_emitter_refusing_the_job_stops_before_the_first_line() {
     assert_eq!(e.to_string(), "this emitter refuses the job");
     assert!(u.take_output().is_empty(), "nothing written");
 }
+
+/// `toolpath_every` (the page's preview decimation, done in the core): the points drained
+/// chunk by chunk are those of the whole toolpath with point i kept when i is a multiple of
+/// `every` or starts a layer (its layer is not the previous point's), the output bytes are the
+/// same, and every layer of the whole toolpath still appears, starting at its first point.
+#[test]
+fn a_thinned_toolpath_keeps_every_nth_point_and_each_layers_first() {
+    let (job, g) = job_and_gcode();
+    let all = unwarp(
+        &g,
+        &job,
+        &UnwarpOptions {
+            collect_toolpath: true,
+            ..UnwarpOptions::default()
+        }
+        .into(),
+    )
+    .unwrap();
+    let full = all.toolpath;
+    assert!(full.len() > 500, "{} points", full.len());
+    for (every, chunk) in [(1, 4096), (3, 1000), (16, 7777), (1000, 4096)] {
+        let opts = UnwarpOptions {
+            collect_toolpath: true,
+            toolpath_every: every,
+            ..UnwarpOptions::default()
+        };
+        let mut u = Unwarper::new(&job, &opts, Box::new(Cartesian::new())).unwrap();
+        for c in g.chunks(chunk) {
+            u.scan(c).unwrap();
+        }
+        u.end_scan().unwrap();
+        let (mut out, mut kept) = (Vec::new(), Vec::new());
+        for c in g.chunks(chunk) {
+            u.push(c).unwrap();
+            out.extend(u.take_output());
+            kept.extend(u.take_toolpath());
+        }
+        u.finish().unwrap();
+        out.extend(u.take_output());
+        kept.extend(u.take_toolpath());
+        assert!(out == all.gcode, "every {every}: the output changed");
+        let want: Vec<&ToolPoint> = full
+            .iter()
+            .enumerate()
+            .filter(|&(i, p)| i % every as usize == 0 || (i > 0 && p.layer != full[i - 1].layer))
+            .map(|(_, p)| p)
+            .collect();
+        assert_eq!(kept.len(), want.len(), "every {every}: points kept");
+        for (k, (a, b)) in kept.iter().zip(&want).enumerate() {
+            assert_eq!(a, *b, "every {every}: the {k}th point kept");
+        }
+        let layers = |v: &mut dyn Iterator<Item = u32>| {
+            let mut l: Vec<u32> = v.collect();
+            l.dedup();
+            l
+        };
+        assert_eq!(
+            layers(&mut kept.iter().map(|p| p.layer)),
+            layers(&mut full.iter().map(|p| p.layer)),
+            "every {every}: the layer sequence"
+        );
+    }
+}

@@ -123,8 +123,10 @@ async function* slices(file) {
  * they belong to (`headMachine`, a preset name or JSON text).
  */
 class Preview {
-  constructor(stride) {
+  /** `thinned`: the points come already decimated 1:`stride` (the core's `toolpath_every`). */
+  constructor(stride, thinned = false) {
     this.stride = stride;
+    this.thinned = thinned;
     this.count = 0;
     this.seen = 0;
     this.cap = 1 << 16;
@@ -161,7 +163,7 @@ class Preview {
       this.maxes = new Float32Array(this.cap * k);
     }
     for (let i = 0; i + 9 < tp.length; i += 10) {
-      const keep = this.seen % this.stride === 0;
+      const keep = this.thinned || this.seen % this.stride === 0;
       this.seen++;
       // Keep every point of a layer change so the layer ranges stay exact.
       const layer = tp[i + 7];
@@ -282,8 +284,11 @@ function machineFrame({ machine, name }, pv) {
 
 async function unwarpFile(msg) {
   const { id, file, job } = msg;
-  const options = { ...msg.options, collect_toolpath: true };
   const total = file.size;
+  // The preview's decimation is done by the core as the points are made (`toolpath_every`):
+  // only the kept points cross into JS.
+  const stride = Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS));
+  const options = { ...msg.options, collect_toolpath: true, toolpath_every: stride };
   let preview = null;
   const post = (phase, done) => self.postMessage({ id, type: 'progress', phase, done, total: total * 2, workerBytes: wasmBytes() + (preview ? preview.cap * 37 : 0) });
   const head = await readSlice(file, 0, Math.min(total, 16));
@@ -303,7 +308,7 @@ async function unwarpFile(msg) {
     const registration = stream.endScan();
     self.postMessage({ id, type: 'registration', registration });
     const parts = [];
-    preview = new Preview(Math.max(1, Math.ceil(total / BYTES_PER_POINT / PREVIEW_POINTS)));
+    preview = new Preview(stride, true);
     let outBytes = 0;
     const drain = () => {
       const out = stream.takeOutput();

@@ -36,7 +36,7 @@ use crate::job::Job;
 use crate::num::fmt_shortest as fmt;
 use crate::register::Registration;
 use crate::tolerance::{BED_Z, LENGTH_EPSILON};
-use crate::toolpath::{Feature, ToolPoint};
+use crate::toolpath::{Feature, Thinning, ToolPoint};
 use crate::warp::Warp;
 
 /// A travel's stop within this distance (XY, mm) of the object's extrusions' box is mapped as
@@ -132,6 +132,8 @@ pub(super) struct Core {
     pub(super) e_relative: bool,
     pub(super) report: UnwarpReport,
     pub(super) toolpath: Vec<ToolPoint>,
+    /// Which toolpath points are kept (`toolpath_every`).
+    pub(super) thinning: Thinning,
     pub(super) stack: Vec<(f64, DVec3, u32)>,
     pub(super) pieces: Vec<(f64, DVec3)>,
     /// The lines outside the region are converted by the emitter ([`super::outside`]).
@@ -441,7 +443,7 @@ impl Core {
         if !tp.travel || tp.e == 0.0 {
             self.cur = Some((tp.p, tp.n));
         }
-        if self.opts.collect_toolpath {
+        if self.opts.collect_toolpath && self.thinning.keeps(tp.layer) {
             self.toolpath.push(tp);
         }
     }

@@ -9,7 +9,7 @@ use crate::gcode::{ReadOptions, Reader};
 use crate::job::Job;
 use crate::mesh::Mesh;
 use crate::register::{Registration, Scanner};
-use crate::toolpath::ToolPoint;
+use crate::toolpath::{Thinning, ToolPoint};
 
 /// Streaming unwarp: [`Unwarper::scan`] the whole G-code, [`Unwarper::end_scan`], then
 /// [`Unwarper::push`] it again, draining [`Unwarper::take_output`] as you go, and
@@ -154,6 +154,7 @@ impl Unwarper {
                 ..UnwarpReport::default()
             },
             toolpath: Vec::new(),
+            thinning: Thinning::new(self.opts.toolpath_every),
             stack: Vec::new(),
             pieces: Vec::new(),
             convert_outside: false,

@@ -34,6 +34,12 @@ pub struct UnwarpOptions {
     pub retract_length: f64,
     /// Keep the toolpath in memory (for the machines and the preview).
     pub collect_toolpath: bool,
+    /// With `collect_toolpath`: keep one point in `toolpath_every` (counted over every point
+    /// of the run) and every point on another layer than the last one kept, so that each
+    /// layer's first point is kept (the page's preview decimation, done where the points are
+    /// made instead of after copying every one out of wasm); 0 and 1 keep every point. See
+    /// [`crate::toolpath::Thinning`].
+    pub toolpath_every: u32,
 }
 
 impl Default for UnwarpOptions {
@@ -49,6 +55,7 @@ impl Default for UnwarpOptions {
             travel_clearance: DEFAULT_TRAVEL_CLEARANCE,
             retract_length: DEFAULT_RETRACT_LENGTH,
             collect_toolpath: false,
+            toolpath_every: 1,
         }
     }
 }
