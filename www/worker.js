@@ -117,8 +117,7 @@ async function* slices(file) {
 /**
  * The preview buffer: positions (f32 xyz), axes (f32 xyz), layer (u32), flags (u8: feature |
  * travel<<7); for a checked G-code also the file line of each point (u32, `line`), whether a
- * collision was found on it (u8, `hit`) and the parts in collision per file line (`hitParts`,
- * set by `markHits`); for a machine's file the machine's axis values of each point (f32,
+ * collision was found on it and which parts (`hit`, `hitSets`: set by `markHits`); for a machine's file the machine's axis values of each point (f32,
  * `axisCount` per point, `maxes`: the pose the head is drawn at, `head` op) and the machine
  * they belong to (`headMachine`, a preset name or JSON text).
  */
@@ -198,14 +197,27 @@ function addHit(parts, line, part) {
 }
 
 /**
- * Flag (`hit`) every preview point whose file line has a part in collision (`parts`: line →
- * part names, every collision of the check, not only the findings its report lists), and keep
- * `parts` as the preview's `hitParts`.
+ * Flag every preview point whose file line has a part in collision (`parts`: line → part
+ * names, every collision of the check, not only the findings its report lists): `hit[i]` is 0,
+ * or 1 + the index in `hitSets` of the names of the parts in collision there. Typed and
+ * transferred, so the page's main thread gets no map of every line to clone.
  */
 function markHits(pv, parts) {
-  pv.hitParts = parts;
-  pv.hit = new Uint8Array(pv.count);
-  for (let i = 0; i < pv.count; i++) if (parts.has(pv.line[i])) pv.hit[i] = 1;
+  const index = new Map();
+  pv.hitSets = [];
+  pv.hit = new Uint32Array(pv.count);
+  for (let i = 0; i < pv.count; i++) {
+    const names = parts.get(pv.line[i]);
+    if (!names) continue;
+    const key = names.join('\n');
+    let k = index.get(key);
+    if (k === undefined) {
+      k = pv.hitSets.length;
+      index.set(key, k);
+      pv.hitSets.push(names.slice());
+    }
+    pv.hit[i] = k + 1;
+  }
 }
 
 /**
@@ -386,10 +398,43 @@ async function unwarpFile(msg) {
     // the worker's memory: the wasm module's idle size and, at the end (wasm memory never
     // shrinks), its size now plus the preview buffers; the unwarp's and the check's times
     const memory = { idleBytes, workerBytes: wasmBytes() + preview.cap * 37 + (checkPreview ? checkPreview.bytes : 0) };
-    self.postMessage({ id, type: 'done', blob, report, registration, config, check, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, unwarpMs, checkMs, ...memory, preview: pv }, transfer);
+    const listed = pageLists(report, check);
+    self.postMessage({ id, type: 'done', blob, ...listed, registration, config, checkError, checkPreview, bytes: outBytes, ms: performance.now() - t0, unwarpMs, checkMs, ...memory, preview: pv }, transfer);
   } finally {
     stream.free();
   }
+}
+
+/**
+ * Most entries of a findings list (the unwarp report's `machine.collisions`, the check's
+ * `findings`) the page gets as objects: it shows the first FINDINGS_SHOWN (js/check.js).
+ */
+const FINDINGS_TO_PAGE = 1000;
+
+/**
+ * The unwarp's `report` and `check` as the page gets them: with a findings list longer than
+ * FINDINGS_TO_PAGE (the big pax-5axis test lists 88 261 collisions in each), the lists are
+ * cut there and `lists` has the whole report and check as JSON text (each as it sits in the
+ * page's summary, one level deep, 2-space indent), for the summary download. Cloning every
+ * finding into the page was a main-thread task of 0.45–0.77 s.
+ */
+function pageLists(report, check) {
+  const collisions = report.machine?.collisions;
+  const long = (collisions?.length ?? 0) > FINDINGS_TO_PAGE || (check?.findings?.length ?? 0) > FINDINGS_TO_PAGE;
+  if (!long) return { report, check, lists: null };
+  const lists = { report: nestedJson(report), check: check ? nestedJson(check) : null };
+  const cut = (a) => (a && a.length > FINDINGS_TO_PAGE ? a.slice(0, FINDINGS_TO_PAGE) : a);
+  return {
+    report: collisions ? { ...report, machine: { ...report.machine, collisions: cut(collisions) } } : report,
+    check: check ? { ...check, findings: cut(check.findings) } : check,
+    lists,
+  };
+}
+
+/** `v` as JSON text one level deep in a `JSON.stringify(…, null, 2)` object, in a Blob. */
+function nestedJson(v) {
+  const t = JSON.stringify({ v }, null, 2); // '{\n  "v": …\n}'
+  return new Blob([t.slice(t.indexOf(': ') + 2, -2)]);
 }
 
 // ── The one-click path: the built-in slicer, then the unwarp above ──────────────────────────

@@ -66,7 +66,7 @@ export async function showHead(d, i, map) {
     return;
   }
   if (mine !== seq) return;
-  const hit = new Set(d.hitParts?.get(d.line?.[i]) ?? []);
+  const hit = new Set(d.hitSets?.[(d.hit?.[i] ?? 0) - 1] ?? []);
   draw(head, hit, map, i);
   $('canvas-wrap').dataset.headDone = String(mine);
 }

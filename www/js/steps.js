@@ -307,7 +307,7 @@ export async function runToResult({ file = null, what, request, again, onEvent =
       setDownload('config-download', new Blob([out.config.text], { type: 'text/plain' }), `${name}.${m.name}.${out.config.flavour}.${out.config.file}.txt`);
     }
     const summary = makeSummary(out, file);
-    setLazyDownload('summary-download', () => new Blob([JSON.stringify(summary, null, 2)], { type: 'application/json' }), `${name}.summary.json`);
+    setLazyDownload('summary-download', () => summaryBlob(summary, out.lists), `${name}.summary.json`);
     info($('summary'), Object.entries(summary.display));
     showUnwarpWarnings(out.report);
     tp.data = out.preview;
@@ -356,6 +356,29 @@ function offerAllowCollisions(again) {
     again();
   });
   $('error').append(el('div', {}, button));
+}
+
+/**
+ * The summary's JSON text (2-space indent) as a Blob. `lists`: the worker's JSON text of the
+ * whole report and check when the page got their findings lists cut (worker.js `pageLists`),
+ * put in place of the page's cut copies without parsing them here.
+ */
+function summaryBlob(summary, lists) {
+  const type = { type: 'application/json' };
+  const keys = ['report', 'check'].filter((k) => lists?.[k] && summary[k] !== undefined);
+  if (!keys.length) return new Blob([JSON.stringify(summary, null, 2)], type);
+  const marked = { ...summary };
+  for (const k of keys) marked[k] = `\u0000${k}\u0000`;
+  const text = JSON.stringify(marked, null, 2);
+  const at = keys.map((k) => [text.indexOf(JSON.stringify(marked[k])), k]).sort((a, b) => a[0] - b[0]);
+  const parts = [];
+  let from = 0;
+  for (const [i, k] of at) {
+    parts.push(text.slice(from, i), lists[k]);
+    from = i + JSON.stringify(marked[k]).length;
+  }
+  parts.push(text.slice(from));
+  return new Blob(parts, type);
 }
 
 export function makeSummary(out, file) {

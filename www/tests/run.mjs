@@ -1434,8 +1434,15 @@ async function bigRun(label, gcode, dir) {
   rmSync(outPath);
   rmSync(cliOut);
   assert(b.equals(c), `${label}: the browser's G-code (${b.length} B, ${sha(b)}) is the CLI's (${c.length} B, ${sha(c)}): ${summary.cli.unwarp.join(' ')}`);
+  // The summary download lists every collision the file ends with (the page itself gets the
+  // long lists cut, the summary has the worker's whole ones spliced in: worker.js pageLists).
+  const mark = Buffer.from('\n; warpslice collision: line ');
+  let listedInFile = 0;
+  for (let at = b.indexOf(mark); at >= 0; at = b.indexOf(mark, at + 1)) listedInFile++;
+  const inSummary = summary.report.machine?.collisions?.length ?? 0;
+  assert(inSummary === listedInFile, `${label}: the summary lists ${inSummary} collisions, the file ${listedInFile}`);
   const f = {
-    cli: summary.cli.unwarp.join(' '), output_bytes: b.length, output_sha: sha(b),
+    cli: summary.cli.unwarp.join(' '), output_bytes: b.length, output_sha: sha(b), collisions_listed: listedInFile,
     browser_s: browserS, browser_unwarp_s: unwarpMs / 1000, browser_check_s: checkMs / 1000, browser_after_done_s: afterMs / 1000,
     native_s: cli.seconds, native_cpu_s: cli.cpu_seconds, native_peak_rss_bytes: cli.peak_rss_bytes,
     ratio: browserS / cli.seconds,
