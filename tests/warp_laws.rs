@@ -543,3 +543,58 @@ fn assert_same_warp(a: &mut WarpParams, b: &mut WarpParams, what: &str, tol: [f6
         }
     }
 }
+
+/// A shear built for its height's own type (`Height::into_shear`, what `WarpParams::build`
+/// returns: g and ∇g called directly) is the shear over `dyn Height` (`Shear::new` of the
+/// spec's boxed height) bit for bit: forward, inverse, Jacobian, its determinant and the tool
+/// axis, on every shear warp of `all_warps` with and without the base blend.
+#[test]
+fn a_shear_of_its_heights_own_type_is_the_dyn_shear_bit_for_bit() {
+    use warpslice::warp::{BaseBlend, Shear, Warp};
+    let mut shears = 0;
+    for mut params in all_warps() {
+        if !params.spec.is_shear() {
+            continue;
+        }
+        let built = params.build(&bbox()).unwrap();
+        let blend = params.base.map(|[z0, z1]| BaseBlend::new(z0, z1));
+        let dynamic = Shear::new(params.spec.height().unwrap(), blend);
+        let what = format!("{} base {:?}", params.spec.name(), params.base);
+        for i in 0..=16 {
+            for j in 0..=12 {
+                for z in [0.0, 0.3, 0.6, 5.0, 22.7, 39.9, 45.0] {
+                    let p = DVec3::new(-20.0 + 2.5 * i as f64 + 0.013, -15.0 + 2.5 * j as f64, z);
+                    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+                    assert_eq!(
+                        bits(built.forward(p)),
+                        bits(dynamic.forward(p)),
+                        "{what}: forward at {p}"
+                    );
+                    assert_eq!(
+                        bits(built.inverse(p)),
+                        bits(dynamic.inverse(p)),
+                        "{what}: inverse at {p}"
+                    );
+                    assert_eq!(
+                        bits(built.tool_axis(p)),
+                        bits(dynamic.tool_axis(p)),
+                        "{what}: tool axis at {p}"
+                    );
+                    let (ja, jb) = (built.jacobian(p), dynamic.jacobian(p));
+                    assert_eq!(
+                        ja.to_cols_array().map(f64::to_bits),
+                        jb.to_cols_array().map(f64::to_bits),
+                        "{what}: Jacobian at {p}"
+                    );
+                    assert_eq!(
+                        built.jacobian_det(p).to_bits(),
+                        dynamic.jacobian_det(p).to_bits(),
+                        "{what}: det J at {p}"
+                    );
+                }
+            }
+        }
+        shears += 1;
+    }
+    assert!(shears >= 20, "{shears} shear warps compared");
+}

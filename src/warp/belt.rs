@@ -28,6 +28,10 @@ impl Belt {
 }
 
 impl Height for Belt {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, y: f64) -> f64 {
         self.k.x * x + self.k.y * y
     }

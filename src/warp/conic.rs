@@ -35,6 +35,10 @@ impl Conic {
 }
 
 impl Height for Conic {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, y: f64) -> f64 {
         let (dx, dy) = (x - self.cx, y - self.cy);
         self.k * (dx * dx + dy * dy).sqrt()

@@ -29,6 +29,10 @@ impl Curved {
 }
 
 impl Height for Curved {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, _y: f64) -> f64 {
         let u = x + self.a;
         self.k * u * u

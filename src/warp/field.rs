@@ -161,6 +161,10 @@ impl std::fmt::Debug for Expression {
 }
 
 impl Height for Expression {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, y: f64) -> f64 {
         self.eval(&self.g, x, y)
     }

@@ -697,10 +697,9 @@ impl WarpParams {
             let name = if grid.is_some() { "grid" } else { expr };
             field::check_over(height.as_ref(), model_bbox, name)?;
         }
-        let shear = Shear::new(height, blend);
         if let Some(b) = blend {
             // ∂z'/∂z = 1 + w'(z)·g(x,y) ≥ 1 − w'_max·max(−g): check g over the bbox.
-            let (min_g, at) = shear.height().min_over(model_bbox);
+            let (min_g, at) = height.min_over(model_bbox);
             let need = -min_g * b.max_slope();
             if need >= 1.0 {
                 let limit_g = 1.0 / b.max_slope() * (1.0 - MONOTONIC_MARGIN);
@@ -714,7 +713,7 @@ impl WarpParams {
                 });
             }
         }
-        Ok(Box::new(shear))
+        Ok(height.into_shear(blend))
     }
 }
 

@@ -33,6 +33,10 @@ pub struct Sum {
 }
 
 impl Height for Sum {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, y: f64) -> f64 {
         self.family.g(x, y) + self.field.g(x, y)
     }

@@ -231,6 +231,10 @@ impl Spline {
 }
 
 impl Height for Spline {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, y: f64) -> f64 {
         self.sum(x, y, basis, basis)
     }

@@ -35,6 +35,10 @@ impl Tilted {
 }
 
 impl Height for Tilted {
+    fn into_shear(self: Box<Self>, blend: Option<super::BaseBlend>) -> Box<dyn super::Warp> {
+        Box::new(super::Shear::new(self, blend))
+    }
+
     fn g(&self, x: f64, _y: f64) -> f64 {
         self.k * (x + self.a).abs()
     }
