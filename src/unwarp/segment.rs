@@ -69,6 +69,28 @@ pub fn concave_bound(d: [f64; 3]) -> f64 {
     bound
 }
 
+/// Relative slack of [`concave_bound_exceeds`]'s quick "within" decision: [`concave_bound`]
+/// is at most 2·max(d) exactly, and its computed value exceeds that by a few rounding errors
+/// of numbers of that size (≈ 10⁻¹⁵ relative), far below this.
+const QUICK_SLACK: f64 = 1e-9;
+
+/// Whether [`concave_bound`]`(d) > tolerance`, decided from m = max(d) where that is enough.
+/// The bound is at least m (it starts there), and for d ≥ 0 at most 2m: on an outer quarter
+/// it is below the inner chord's extension, whose values there are d₀ and 2d₀ − d₁ ≤ 2d₀ (or
+/// the mirror), and on a middle quarter below the outer chord's extension, d₀ and 2d₀ (or
+/// the mirror). So m > tolerance says yes, 2m(1 + [`QUICK_SLACK`]) ≤ tolerance says no, and
+/// only between them (and for NaN) is the bound computed: the same decision every time.
+pub fn concave_bound_exceeds(d: [f64; 3], tolerance: f64) -> bool {
+    let m = max(max(d[0], d[1]), d[2]);
+    if m > tolerance {
+        return true;
+    }
+    if 2.0 * m * (1.0 + QUICK_SLACK) <= tolerance {
+        return false;
+    }
+    concave_bound(d) > tolerance
+}
+
 /// Split [0, 1] for the curve `map` (t ↦ model point). Appends the end parameter of each
 /// piece (in increasing order, the last being 1.0) and their mapped points to `out`.
 /// `p0` = map(0). Reuses `stack` (no allocation in the steady state). Generic over the map, so
@@ -91,7 +113,7 @@ pub fn split(
             let chord = (b - a).length();
             chord > max_segment || {
                 let d = [0.25, 0.5, 0.75].map(|f| dist_to_segment(map(t0 + (t1 - t0) * f), a, b));
-                concave_bound(d) > tolerance
+                concave_bound_exceeds(d, tolerance)
             }
         };
         if needs {
@@ -174,6 +196,54 @@ mod tests {
         let parabola = |t: f64| 4.0 * t * (1.0 - t);
         let b = concave_bound([0.25, 0.5, 0.75].map(parabola));
         assert!((b - 1.125).abs() < 1e-12, "{b}");
+    }
+
+    /// The quick decision is the bound's own on random samples (d ≥ 0, a zero, equal values)
+    /// against tolerances at, just off and between m and 2m, and the bound lies in [m, 2m].
+    #[test]
+    fn concave_bound_exceeds_decides_as_the_bound() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in 0..200_000 {
+            let mut d = [unit(), unit(), unit()].map(|u| u * 10f64.powi((k % 7) as i32 - 4));
+            match k % 5 {
+                0 => d[k % 3] = 0.0,
+                1 => d[(k + 1) % 3] = d[k % 3],
+                2 => d = [0.0, d[1], 0.0],
+                _ => {}
+            }
+            let m = d[0].max(d[1]).max(d[2]);
+            let b = concave_bound(d);
+            assert!(
+                b >= m && b <= 2.0 * m * (1.0 + 1e-12),
+                "{d:?}: bound {b}, max {m}"
+            );
+            for tol in [
+                m,
+                2.0 * m,
+                b,
+                m * (1.0 + unit()),
+                b * (1.0 - 1e-16),
+                b * (1.0 + 1e-16),
+                2.0 * m * (1.0 + 2e-9),
+                unit() * 3.0 * m,
+            ] {
+                assert_eq!(
+                    concave_bound_exceeds(d, tol),
+                    b > tol,
+                    "{d:?} against {tol}: bound {b}"
+                );
+            }
+        }
+        assert!(
+            concave_bound_exceeds([f64::NAN, 0.0, 0.0], 1.0)
+                == (concave_bound([f64::NAN, 0.0, 0.0]) > 1.0)
+        );
     }
 
     #[test]
