@@ -184,7 +184,8 @@ impl Thinning {
 
     /// Whether the next point, on `layer`, is kept.
     pub fn keeps(&mut self, layer: u32) -> bool {
-        let keep = self.seen % self.every == 0 || self.last_layer.is_some_and(|l| l != layer);
+        let keep =
+            self.seen.is_multiple_of(self.every) || self.last_layer.is_some_and(|l| l != layer);
         self.seen += 1;
         if keep {
             self.last_layer = Some(layer);
