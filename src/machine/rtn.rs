@@ -125,6 +125,9 @@ impl Default for RtnParams {
 pub struct Rtn {
     axis_set: AxisSet,
     params: RtnParams,
+    /// The unit XY direction of the tool axis whose rotation is the middle of the rotation
+    /// shadow (single revolution; [`Machine::start_drift_deg`]).
+    shadow_middle: glam::DVec2,
 }
 
 impl Rtn {
@@ -149,7 +152,15 @@ impl Rtn {
             Revolution::Unlimited => UNLIMITED,
         };
         let axis_set = AxisSet::linear_then_rotary(name, names, &[r]);
-        Ok(Rtn { axis_set, params })
+        // the tool axis' azimuth whose rotation is the shadow's middle m (range_window)
+        let psi_m = num::rad((hi + lo + 360.0) / 2.0)
+            - (num::rad(params.rot_convention.base_deg()) + num::rad(params.rot_offset_deg));
+        let shadow_middle = glam::DVec2::new(num::cos(psi_m), num::sin(psi_m));
+        Ok(Rtn {
+            axis_set,
+            params,
+            shadow_middle,
+        })
     }
 
     /// The parameters.
@@ -427,6 +438,33 @@ impl Machine for Rtn {
             e * bound::chord_deviation(dphi * dphi) + bound::ROUND_TRIP_SLACK_MM,
             sin_t * az_error + bound::ROUND_TRIP_SLACK_DEG,
         ))
+    }
+    /// The rotation is the target `rotation_of(ψ)`, ψ = atan2(n_y, n_x), unwrapped next to
+    /// the previous value (unlimited) or taken into the range (single: [`Rtn::in_range`],
+    /// 1-Lipschitz in the target modulo 360° except at the shadow's middle, where the nozzle's
+    /// stop switches end); it is held only where `|n_xy| < POLE_EPSILON`. A turn of the request
+    /// by at most `turn` moves ψ by at most `d = turn/(ρ − turn)` ([`super::drift`], ρ =
+    /// |n_xy|), clear of the pole; two axes of the cone whose rotations differ by `d` are at
+    /// most `sin(tilt)·d ≤ d` apart. For a single revolution only where the drift (plus the
+    /// range's tie slack) cannot reach the shadow's middle.
+    fn start_drift_deg(
+        &self,
+        _p: DVec3,
+        n: DVec3,
+        _axes: &[f64],
+        turn: f64,
+        _tip_mm: f64,
+    ) -> Option<f64> {
+        use super::drift;
+        let xy = n.truncate();
+        let d = drift::azimuth_drift(xy, n.length(), turn)?;
+        if self.params.revolution == Revolution::Single {
+            let reach = d + num::rad(2.0 * super::LIMIT_SLACK_DEG);
+            if !drift::clear_of(xy, self.shadow_middle, reach) {
+                return None;
+            }
+        }
+        Some(num::deg(d) + drift::DRIFT_SLACK_DEG)
     }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(180.0)
