@@ -45,7 +45,7 @@
 
 use glam::DVec3;
 
-use super::angles::{rot_z, unwrap_near, wrap180};
+use super::angles::{unwrap_near, wrap180, Turn};
 use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
     UNLIMITED,
@@ -128,6 +128,8 @@ pub struct Rtn {
     /// The unit XY direction of the tool axis whose rotation is the middle of the rotation
     /// shadow (single revolution; [`Machine::start_drift_deg`]).
     shadow_middle: glam::DVec2,
+    /// `(sin α, cos α)` of the tilt, computed once (the same bits as each call's).
+    tilt_sin_cos: (f64, f64),
 }
 
 impl Rtn {
@@ -156,8 +158,10 @@ impl Rtn {
         let psi_m = num::rad((hi + lo + 360.0) / 2.0)
             - (num::rad(params.rot_convention.base_deg()) + num::rad(params.rot_offset_deg));
         let shadow_middle = glam::DVec2::new(num::cos(psi_m), num::sin(psi_m));
+        let tilt = num::rad(params.tilt_deg);
         Ok(Rtn {
             axis_set,
+            tilt_sin_cos: (num::sin(tilt), num::cos(tilt)),
             params,
             shadow_middle,
         })
@@ -260,24 +264,24 @@ impl Rtn {
         num::rad(r - self.params.rot_convention.base_deg() - self.params.rot_offset_deg)
     }
 
+    /// The tool axis at azimuth `phi` (radians): `(sin α cos φ, sin α sin φ, cos α)`.
     fn axis_of(&self, phi: f64) -> DVec3 {
-        let t = num::rad(self.params.tilt_deg);
-        DVec3::new(
-            num::sin(t) * num::cos(phi),
-            num::sin(t) * num::sin(phi),
-            num::cos(t),
-        )
+        self.axis_turned(&Turn::new(DVec3::Z, phi))
     }
 
-    fn offset(&self, phi: f64) -> DVec3 {
-        rot_z(
-            DVec3::new(
-                self.params.e_parallel_mm,
-                self.params.e_perpendicular_mm,
-                0.0,
-            ),
-            phi,
-        )
+    /// [`Rtn::axis_of`] with the azimuth's sine and cosine given (the tilt's computed once).
+    fn axis_turned(&self, phi: &Turn) -> DVec3 {
+        let (s, c) = self.tilt_sin_cos;
+        DVec3::new(s * phi.cos(), s * phi.sin(), c)
+    }
+
+    /// The tip's offset from the rotation axis at azimuth `phi`: `R_z(φ)·(e_par, e_perp, 0)`.
+    fn offset(&self, phi: &Turn) -> DVec3 {
+        phi.about_z(DVec3::new(
+            self.params.e_parallel_mm,
+            self.params.e_perpendicular_mm,
+            0.0,
+        ))
     }
 }
 
@@ -337,17 +341,17 @@ impl Machine for Rtn {
             (Revolution::Unlimited, None) => wrap180(target),
             (Revolution::Single, _) => self.in_range(target, prev),
         };
-        let phi = self.azimuth_of(r);
-        let o = self.offset(phi);
+        let o = self.offset(&Turn::new(DVec3::Z, self.azimuth_of(r)));
         let axes = vec![p.x - o.x, p.y - o.y, p.z, r];
         self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
         self.axis_set.check_count(4, axes)?;
-        let phi = self.azimuth_of(axes[3]);
+        // one sine and cosine of the azimuth for the offset and the axis
+        let phi = Turn::new(DVec3::Z, self.azimuth_of(axes[3]));
         Ok((
-            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
-            self.axis_of(phi),
+            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(&phi),
+            self.axis_turned(&phi),
         ))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
@@ -433,7 +437,8 @@ impl Machine for Rtn {
             .e_parallel_mm
             .hypot(self.params.e_perpendicular_mm);
         let dphi = num::rad(a1[3] - a0[3]);
-        let sin_t = num::sin(num::rad(self.params.tilt_deg)).abs();
+        // the same bits as sin(rad(tilt)), computed once
+        let sin_t = self.tilt_sin_cos.0.abs();
         Some((
             e * bound::chord_deviation(dphi * dphi) + bound::ROUND_TRIP_SLACK_MM,
             sin_t * az_error + bound::ROUND_TRIP_SLACK_DEG,
