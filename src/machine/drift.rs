@@ -88,6 +88,28 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 15_000, "{checked}");
+        // the worst case: a turn of half of ρ in every direction (the azimuth then moves by up
+        // to asin(sin T / ρ), above T/ρ and below T/(ρ − T))
+        for theta in [0.001, 0.01, 0.1, 0.5, 1.0, 1.5] {
+            let n = crate::machine::laws::axis(num::deg(theta), 30.0);
+            let turn = num::sin(theta) / 2.0;
+            let d = azimuth_drift(n.truncate(), n.length(), turn).unwrap();
+            let side = n.any_orthonormal_vector();
+            let mut worst = 0.0f64;
+            for k in 0..3600 {
+                let about = crate::machine::angles::rotate(side, n, num::rad(0.1 * k as f64));
+                let m = crate::machine::angles::rotate(n, about, turn);
+                let dpsi = crate::machine::angles::wrap180(num::deg(
+                    num::atan2(m.y, m.x) - num::atan2(n.y, n.x),
+                ));
+                worst = worst.max(num::rad(dpsi.abs()));
+            }
+            assert!(worst <= d, "θ {theta}: {worst} > {d} rad");
+            assert!(
+                worst > turn / n.truncate().length(),
+                "θ {theta}: {worst} rad"
+            );
+        }
         assert_eq!(azimuth_drift(DVec2::new(1e-7, 0.0), 1.0, 1e-7), None);
         assert_eq!(azimuth_drift(DVec2::new(f64::NAN, 0.0), 1.0, 1e-7), None);
     }
