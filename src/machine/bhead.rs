@@ -214,6 +214,39 @@ impl Machine for BHead {
             g_deg + bound::ROUND_TRIP_SLACK_DEG,
         ))
     }
+    /// B is the clamp of the azimuth ψ = atan2(n_x, n_z) about Y to ±`clip_limit_deg(z)`
+    /// (with the clip) and is held only where `|n_xz| < POLE_EPSILON`. A turn of the request by
+    /// at most `turn` moves ψ by at most `turn/(ρ − turn)` ([`super::drift`], ρ = |n_xz|),
+    /// clear of the pole; the clip's limit moves by at most `|90° − b₀|/z_clip` per mm of tip;
+    /// a clamp is 1-Lipschitz; and the realised axes `(sin B, 0, cos B)` are |ΔB| apart. So the
+    /// bound is the sum, where the drift cannot reach atan2's cut at ψ = ±180° (the clamp
+    /// would send B from one clip end to the other) and B stays within its travel.
+    fn start_drift_deg(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        axes: &[f64],
+        turn: f64,
+        tip_mm: f64,
+    ) -> Option<f64> {
+        use super::drift;
+        let xz = glam::DVec2::new(n.z, n.x);
+        let d = drift::azimuth_drift(xz, n.length(), turn)?;
+        if !drift::clear_of(xz, glam::DVec2::new(-1.0, 0.0), d) || !p.is_finite() {
+            return None;
+        }
+        let mut d_deg = num::deg(d);
+        if self.params.clip {
+            d_deg += (90.0 - self.params.clip_b0_deg).abs() / self.params.clip_z_mm * tip_mm;
+        }
+        let b = *axes.get(3)?;
+        // false for a NaN: no bound
+        let within = b.abs() + d_deg <= self.params.b_limit_deg;
+        if !within {
+            return None;
+        }
+        Some(d_deg + drift::DRIFT_SLACK_DEG)
+    }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(if self.params.clip {
             180.0

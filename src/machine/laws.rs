@@ -44,6 +44,10 @@
 //!    ([`BOUND_SAMPLES`] points) stays within it, and `inverse` succeeds at every sample; for a
 //!    machine that [`Machine::realises_bounded_requests`], `forward(inverse(p(s), n(s)))` is the request
 //!    `(p(s), n(s))` itself there, within [`POSITION_TOLERANCE`] and [`ANGLE_TOLERANCE`].
+//! 7. **Start drift** ([`check_start_drift`]): wherever a machine gives a
+//!    [`Machine::start_drift_deg`] at a grid pose, requests turned and moved to the edge of
+//!    its domain realise axes within it, and the tessellation's held-axis probe, wherever the
+//!    bound lets the tessellation skip it, finds no jump and raises no error.
 
 // `!(x <= tol)` on purpose: a NaN error must fail the law.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -603,4 +607,134 @@ pub fn sampled_error(
         wa = wa.max(num::deg(num::angle_between(fw.1, exact.1)));
     }
     Ok((wp, wa))
+}
+
+/// Turns (radians) and tip steps (mm) at which law 7 checks a start-drift bound at the edge
+/// of its domain: the held-axis probe's own turn with the tip steps of moves of 0, 1 and
+/// 1000 mm, and wider ones.
+const DRIFT_STEPS: [(f64, f64); 5] = [
+    (super::tessellate::PROBE_TURN_RAD, 0.0),
+    (super::tessellate::PROBE_TURN_RAD, 1e-7),
+    (super::tessellate::PROBE_TURN_RAD, 1e-4),
+    (1e-4, 1e-3),
+    (1e-2, 0.5),
+];
+
+/// Directions of law 7's tip steps (unit).
+fn drift_directions() -> [DVec3; 8] {
+    let d = DVec3::new(1.0, -1.0, 1.0).normalize();
+    [
+        DVec3::X,
+        -DVec3::X,
+        DVec3::Y,
+        -DVec3::Y,
+        DVec3::Z,
+        -DVec3::Z,
+        d,
+        -d,
+    ]
+}
+
+/// Law 7 (start drift; see [`Machine::start_drift_deg`]): at every grid position and axis of
+/// law 1, solved alone and after the solution of another grid axis (a held axis, another
+/// branch), wherever the machine gives a bound:
+/// - (a) for each of [`DRIFT_STEPS`] the request turned by exactly that turn in 8 directions
+///   about it, with the tip moved by that step, is solved from the start's axes and its
+///   realised axis is within the bound of the start's (`forward`, written here);
+/// - (b) wherever the tessellation would skip its held-axis probe ([`Plan::probe_skipped`],
+///   under the default bounds and under a 1e-4° angle bound) for a move to another grid
+///   position or a point 1 m away with the same, the opposite or another grid axis, the
+///   probe itself ([`tessellate::held_axis_probe`]) raises no error and finds no jump.
+///
+/// `points` counts the checks of (a) and (b); the worst angle is the largest realised drift
+/// of (a) as a fraction of its bound.
+///
+/// [`Plan::probe_skipped`]: super::tessellate::Plan::probe_skipped
+/// [`tessellate::held_axis_probe`]: super::tessellate::held_axis_probe
+pub fn check_start_drift(m: &dyn Machine) -> Result<LawReport, String> {
+    use super::tessellate::{held_axis_probe, Bounds, Plan, DEFAULT_BOUNDS};
+    let ws = m.workspace();
+    let grid = positions(&ws);
+    let grid_axes = axes(&ws);
+    let dirs = drift_directions();
+    let tight = Bounds {
+        max_angle_deg: 1e-4,
+        ..DEFAULT_BOUNDS
+    };
+    let plans = [Plan::new(m, &DEFAULT_BOUNDS), Plan::new(m, &tight)];
+    let mut rep = LawReport::default();
+    for (i, &p) in grid.iter().enumerate() {
+        for (j, &n) in grid_axes.iter().enumerate() {
+            let other = grid_axes[(j + 7) % grid_axes.len()];
+            for prev in [None, m.inverse(p, other, None).ok()] {
+                let Ok(a0) = m.inverse(p, n, prev.as_deref()) else {
+                    continue;
+                };
+                let r0 = m.forward(&a0).map_err(|e| e.to_string())?.1;
+                // (a) the bound at the edge of its domain
+                for &(turn, tip) in &DRIFT_STEPS {
+                    let Some(bound) = m.start_drift_deg(p, n, &a0, turn, tip) else {
+                        continue;
+                    };
+                    let side = n.any_orthonormal_vector();
+                    for (k, dir) in dirs.iter().enumerate() {
+                        let about = super::angles::rotate(side, n, num::rad(45.0 * k as f64));
+                        let n2 = super::angles::rotate(n, about, turn);
+                        let p2 = p + *dir * tip;
+                        let a2 = m.inverse(p2, n2, Some(&a0)).map_err(|e| {
+                            format!(
+                                "{}: start_drift_deg gave {bound}° at {p}, {n} (axes {a0:?}), but inverse({p2}, {n2}) fails: {e}",
+                                m.name()
+                            )
+                        })?;
+                        let r2 = m.forward(&a2).map_err(|e| e.to_string())?.1;
+                        let got = num::deg(num::angle_between(r0, r2));
+                        rep.points += 1;
+                        rep.worst_angle_rad = rep.worst_angle_rad.max(got / bound);
+                        if !(got <= bound) {
+                            return Err(format!(
+                                "{}: start_drift_deg gave {bound:e}° at {p}, {n} (axes {a0:?}) for a turn of {turn:e} rad and a tip step of {tip:e} mm, but {p2}, {n2} realises {r2} (axes {a2:?}), {got:e}° from {r0}",
+                                m.name()
+                            ));
+                        }
+                    }
+                }
+                // (b) the probe itself where the tessellation skips it
+                for plan in &plans {
+                    plan.note_solved(&a0, p, n);
+                    let ends = [
+                        grid[(i + j) % grid.len()],
+                        grid[(i + 13) % grid.len()],
+                        p + DVec3::new(1000.0, 0.0, 0.0),
+                    ];
+                    let to_axes = [n, -n, other, grid_axes[(3 * j + i) % grid_axes.len()]];
+                    for &p1 in &ends {
+                        for &n1 in &to_axes {
+                            if !plan.probe_skipped(m, (&a0, p, n), (p1, n1)) {
+                                continue;
+                            }
+                            rep.points += 1;
+                            match held_axis_probe(m, plan, (&a0, p, n), (p1, n1)) {
+                                Ok((_, _, false)) => {}
+                                Ok((r0, re, true)) => {
+                                    return Err(format!(
+                                        "{}: the held-axis probe is skipped from {p}, {n} (axes {a0:?}) to {p1}, {n1} under a {}° bound, but it finds the realised axis jumping from {r0} to {re}",
+                                        m.name(),
+                                        plan.bounds().max_angle_deg
+                                    ));
+                                }
+                                Err(e) => {
+                                    return Err(format!(
+                                        "{}: the held-axis probe is skipped from {p}, {n} (axes {a0:?}) to {p1}, {n1}, but it fails: {e}",
+                                        m.name()
+                                    ));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    Ok(rep)
 }

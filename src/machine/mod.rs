@@ -52,6 +52,7 @@ pub mod bhead;
 pub mod bound;
 pub mod cartesian;
 pub mod config;
+pub mod drift;
 pub mod emit;
 pub mod feed;
 pub mod flavour;
@@ -199,6 +200,26 @@ pub trait Machine: Send + Sync + fmt::Debug {
     /// Law 1 ([`laws::check_round_trip`]) and law 2 hold a machine that says so to it at every
     /// point they solve. Default: `None`.
     fn fixed_tool_axis(&self) -> Option<DVec3> {
+        None
+    }
+    /// A bound (degrees) on how far the realised tool axis can move at the start of a move
+    /// from a pose solved for `(p, n)`: for `axes = inverse(p, n, previous)` (whatever
+    /// `previous`) and every request `(p', n')` with `n'` a unit vector within `turn` radians of
+    /// the unit `n` and `|p' − p| ≤ tip_mm`, `inverse(p', n', Some(axes))` succeeds and its
+    /// realised axis `forward(·).1` is within the bound of `forward(axes).1`. `None`: no bound
+    /// is known there (a held axis, a switch between branches or ends, a travel limit within
+    /// reach). The held-axis probe of [`tessellate`] (a forward, an inverse and a forward per
+    /// move) is skipped where the bound is within its limit; law 7
+    /// ([`laws::check_start_drift`]) checks the bound against that probe's own computation at
+    /// every grid pose. Default: `None` (the probe runs).
+    fn start_drift_deg(
+        &self,
+        _p: DVec3,
+        _n: DVec3,
+        _axes: &[f64],
+        _turn: f64,
+        _tip_mm: f64,
+    ) -> Option<f64> {
         None
     }
     /// Whether the machine realises every request exactly along each piece its

@@ -45,7 +45,7 @@
 
 use glam::DVec3;
 
-use super::angles::{rot_z, unwrap_near, wrap180};
+use super::angles::{unwrap_near, wrap180, Turn};
 use super::{
     require, AxisSet, Capabilities, InverseResult, Machine, MachineError, Workspace, POLE_EPSILON,
     UNLIMITED,
@@ -125,6 +125,11 @@ impl Default for RtnParams {
 pub struct Rtn {
     axis_set: AxisSet,
     params: RtnParams,
+    /// The unit XY direction of the tool axis whose rotation is the middle of the rotation
+    /// shadow (single revolution; [`Machine::start_drift_deg`]).
+    shadow_middle: glam::DVec2,
+    /// `(sin α, cos α)` of the tilt, computed once (the same bits as each call's).
+    tilt_sin_cos: (f64, f64),
 }
 
 impl Rtn {
@@ -149,7 +154,17 @@ impl Rtn {
             Revolution::Unlimited => UNLIMITED,
         };
         let axis_set = AxisSet::linear_then_rotary(name, names, &[r]);
-        Ok(Rtn { axis_set, params })
+        // the tool axis' azimuth whose rotation is the shadow's middle m (range_window)
+        let psi_m = num::rad((hi + lo + 360.0) / 2.0)
+            - (num::rad(params.rot_convention.base_deg()) + num::rad(params.rot_offset_deg));
+        let shadow_middle = glam::DVec2::new(num::cos(psi_m), num::sin(psi_m));
+        let tilt = num::rad(params.tilt_deg);
+        Ok(Rtn {
+            axis_set,
+            tilt_sin_cos: (num::sin(tilt), num::cos(tilt)),
+            params,
+            shadow_middle,
+        })
     }
 
     /// The parameters.
@@ -249,24 +264,24 @@ impl Rtn {
         num::rad(r - self.params.rot_convention.base_deg() - self.params.rot_offset_deg)
     }
 
+    /// The tool axis at azimuth `phi` (radians): `(sin α cos φ, sin α sin φ, cos α)`.
     fn axis_of(&self, phi: f64) -> DVec3 {
-        let t = num::rad(self.params.tilt_deg);
-        DVec3::new(
-            num::sin(t) * num::cos(phi),
-            num::sin(t) * num::sin(phi),
-            num::cos(t),
-        )
+        self.axis_turned(&Turn::new(DVec3::Z, phi))
     }
 
-    fn offset(&self, phi: f64) -> DVec3 {
-        rot_z(
-            DVec3::new(
-                self.params.e_parallel_mm,
-                self.params.e_perpendicular_mm,
-                0.0,
-            ),
-            phi,
-        )
+    /// [`Rtn::axis_of`] with the azimuth's sine and cosine given (the tilt's computed once).
+    fn axis_turned(&self, phi: &Turn) -> DVec3 {
+        let (s, c) = self.tilt_sin_cos;
+        DVec3::new(s * phi.cos(), s * phi.sin(), c)
+    }
+
+    /// The tip's offset from the rotation axis at azimuth `phi`: `R_z(φ)·(e_par, e_perp, 0)`.
+    fn offset(&self, phi: &Turn) -> DVec3 {
+        phi.about_z(DVec3::new(
+            self.params.e_parallel_mm,
+            self.params.e_perpendicular_mm,
+            0.0,
+        ))
     }
 }
 
@@ -326,17 +341,17 @@ impl Machine for Rtn {
             (Revolution::Unlimited, None) => wrap180(target),
             (Revolution::Single, _) => self.in_range(target, prev),
         };
-        let phi = self.azimuth_of(r);
-        let o = self.offset(phi);
+        let o = self.offset(&Turn::new(DVec3::Z, self.azimuth_of(r)));
         let axes = vec![p.x - o.x, p.y - o.y, p.z, r];
         self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
         self.axis_set.check_count(4, axes)?;
-        let phi = self.azimuth_of(axes[3]);
+        // one sine and cosine of the azimuth for the offset and the axis
+        let phi = Turn::new(DVec3::Z, self.azimuth_of(axes[3]));
         Ok((
-            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(phi),
-            self.axis_of(phi),
+            DVec3::new(axes[0], axes[1], axes[2]) + self.offset(&phi),
+            self.axis_turned(&phi),
         ))
     }
     fn realised_axis(&self, _p: DVec3, n: DVec3) -> DVec3 {
@@ -422,11 +437,39 @@ impl Machine for Rtn {
             .e_parallel_mm
             .hypot(self.params.e_perpendicular_mm);
         let dphi = num::rad(a1[3] - a0[3]);
-        let sin_t = num::sin(num::rad(self.params.tilt_deg)).abs();
+        // the same bits as sin(rad(tilt)), computed once
+        let sin_t = self.tilt_sin_cos.0.abs();
         Some((
             e * bound::chord_deviation(dphi * dphi) + bound::ROUND_TRIP_SLACK_MM,
             sin_t * az_error + bound::ROUND_TRIP_SLACK_DEG,
         ))
+    }
+    /// The rotation is the target `rotation_of(ψ)`, ψ = atan2(n_y, n_x), unwrapped next to
+    /// the previous value (unlimited) or taken into the range (single: [`Rtn::in_range`],
+    /// 1-Lipschitz in the target modulo 360° except at the shadow's middle, where the nozzle's
+    /// stop switches end); it is held only where `|n_xy| < POLE_EPSILON`. A turn of the request
+    /// by at most `turn` moves ψ by at most `d = turn/(ρ − turn)` ([`super::drift`], ρ =
+    /// |n_xy|), clear of the pole; two axes of the cone whose rotations differ by `d` are at
+    /// most `sin(tilt)·d ≤ d` apart. For a single revolution only where the drift (plus the
+    /// range's tie slack) cannot reach the shadow's middle.
+    fn start_drift_deg(
+        &self,
+        _p: DVec3,
+        n: DVec3,
+        _axes: &[f64],
+        turn: f64,
+        _tip_mm: f64,
+    ) -> Option<f64> {
+        use super::drift;
+        let xy = n.truncate();
+        let d = drift::azimuth_drift(xy, n.length(), turn)?;
+        if self.params.revolution == Revolution::Single {
+            let reach = d + num::rad(2.0 * super::LIMIT_SLACK_DEG);
+            if !drift::clear_of(xy, self.shadow_middle, reach) {
+                return None;
+            }
+        }
+        Some(num::deg(d) + drift::DRIFT_SLACK_DEG)
     }
     fn workspace(&self) -> Workspace {
         Workspace::desktop(180.0)

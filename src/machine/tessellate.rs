@@ -55,7 +55,7 @@
 //! [`counters`]: kinematics evaluations (`inverse` and `forward`) and pieces sampled or
 //! bounded by the tessellation since the process started (the bench reads them).
 
-use core::cell::Cell;
+use core::cell::{Cell, RefCell};
 use core::sync::atomic::{AtomicU64, Ordering};
 
 use glam::DVec3;
@@ -370,6 +370,9 @@ pub struct Plan {
     requests_realised: bool,
     /// [`Machine::fixed_tool_axis`] is given: no held-axis probe.
     fixed_axis: bool,
+    /// The end of the last move tessellated with this plan, as solved: `inverse(p, n, ·)`'s
+    /// axes for its `(p, n)` ([`Plan::solved_start`]).
+    last_solved: RefCell<Option<Solved>>,
     /// [`Machine::realises_bounded_requests`].
     bounded_requests_realised: bool,
     /// The held-axis probe's limit: [`SAMPLING_MARGIN`] of the angle bound.
@@ -397,6 +400,7 @@ impl Plan {
                 .then(|| machine.limits().iter().map(|l| l.rotary).collect()),
             requests_realised: machine.realises_requests(),
             fixed_axis: machine.fixed_tool_axis().is_some(),
+            last_solved: RefCell::new(None),
             bounded_requests_realised: machine.realises_bounded_requests(),
             probe_limit: AngleLimit::new(SAMPLING_MARGIN * bounds.max_angle_deg),
             cap_limit: bounds.max_step_deg.map(AngleLimit::new),
@@ -455,6 +459,63 @@ impl Plan {
     pub fn bounds(&self) -> &Bounds {
         &self.bounds
     }
+
+    /// Note that `axes` are `inverse(p, n, ·)`'s solution for the request `(p, n)` (the
+    /// caller promises it: [`Plan::probe_skipped`] relies on it).
+    pub(crate) fn note_solved(&self, axes: &[f64], p: DVec3, n: DVec3) {
+        *self.last_solved.borrow_mut() = Some(Solved {
+            axes: AxisBuf::from_slice(axes),
+            p,
+            n,
+        });
+    }
+
+    /// Whether the start pose `from = (axes, p, n)` is, bit for bit, the last end this plan
+    /// solved: `axes = inverse(p, n, ·)`, as [`Machine::start_drift_deg`] requires.
+    fn solved_start(&self, (axes, p, n): (&[f64], DVec3, DVec3)) -> bool {
+        let same =
+            |a: DVec3, b: DVec3| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits);
+        self.last_solved.borrow().as_ref().is_some_and(|s| {
+            same(s.p, p)
+                && same(s.n, n)
+                && s.axes.len() == axes.len()
+                && s.axes
+                    .iter()
+                    .zip(axes)
+                    .all(|(x, y)| x.to_bits() == y.to_bits())
+        })
+    }
+
+    /// Whether the held-axis probe of a move from `from` to `to` can find no jump and raise no
+    /// error ([`tessellate_planned`]): the start was solved for its request
+    /// ([`Plan::solved_start`]), both tool axes are unit, the end's tip is finite, and the
+    /// machine's [`Machine::start_drift_deg`] for a turn of [`PROBE_TURN_RAD`] and a tip step
+    /// of [`START_PROBE`] of the move is within the probe's limit.
+    pub fn probe_skipped(
+        &self,
+        machine: &dyn Machine,
+        from: (&[f64], DVec3, DVec3),
+        to: (DVec3, DVec3),
+    ) -> bool {
+        let (a0, p0, n0) = from;
+        let unit = |n: DVec3| (n.length() - 1.0).abs() <= super::UNIT_EPSILON;
+        let tip = START_PROBE * (to.0 - p0).length();
+        unit(n0)
+            && unit(to.1)
+            && tip.is_finite()
+            && self.solved_start(from)
+            && machine
+                .start_drift_deg(p0, n0, a0, PROBE_TURN_RAD, tip)
+                .is_some_and(|d| d <= self.probe_limit.deg)
+    }
+}
+
+/// A move's end as solved ([`Plan::note_solved`]).
+#[derive(Clone, Debug)]
+struct Solved {
+    axes: AxisBuf,
+    p: DVec3,
+    n: DVec3,
 }
 
 struct Ctx<'m> {
@@ -857,6 +918,12 @@ pub const NO_OP_EPSILON: f64 = 5e-4;
 /// Parameter step used to look at the pose just after the start of a move.
 pub const START_PROBE: f64 = 1e-7;
 
+/// The largest angle (radians) between a unit `n₀` and the probe's request
+/// `slerp(n₀, n₁, START_PROBE)` for a unit `n₁`: the slerp turns by `START_PROBE·∠(n₀, n₁) ≤
+/// π·START_PROBE` (its normalised-lerp fallback within [`SLERP_EPSILON`] of 0 or π turns by
+/// less); 4·START_PROBE leaves room for rounding.
+pub const PROBE_TURN_RAD: f64 = 4.0 * START_PROBE;
+
 /// One input move: from the pose `from = (axes, p, n)` to the toolpath point `to`, split until
 /// the firmware's interpolation stays within `bounds`.
 ///
@@ -901,7 +968,7 @@ pub fn tessellate_planned(
     let mut ends = Vec::new();
     let mut reoriented = 0;
     let a_start;
-    let a0: &[f64] = if plan.fixed_axis {
+    let a0: &[f64] = if plan.fixed_axis || plan.probe_skipped(machine, from, (to.p, to.n)) {
         a0_in
     } else if let Some((r0, re)) = held_axis_jump(&ctx, from, to)? {
         let a_r = ctx.inverse(p0, re, Some(a0_in))?;
@@ -920,6 +987,7 @@ pub fn tessellate_planned(
         a0_in
     };
     let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
+    plan.note_solved(&a1, to.p, to.n);
     plan.note_dropped(rep, to.n, machine.realised_axis(to.p, to.n));
     rep.moves_in += 1;
     let pc = Piece {
@@ -1011,19 +1079,44 @@ pub fn tessellate_planned(
 /// move's start and at s = [`START_PROBE`], when they are more than the probe's limit apart.
 fn held_axis_jump(
     ctx: &Ctx,
-    (a0, p0, n0): (&[f64], DVec3, DVec3),
+    from: (&[f64], DVec3, DVec3),
     to: &ToolPoint,
 ) -> Result<Option<(DVec3, DVec3)>, MachineError> {
+    let (r0, re) = probe_axes(ctx, from, (to.p, to.n))?;
+    Ok(ctx.plan.probe_limit.exceeded(r0, re).then_some((r0, re)))
+}
+
+/// The held-axis probe's realised tool axes `(r₀, r_ε)` of a move from `(a₀, p₀, n₀)` to
+/// `(p₁, n₁)`: `forward(a₀)` and the realised axis of the request at s = [`START_PROBE`].
+fn probe_axes(
+    ctx: &Ctx,
+    (a0, p0, n0): (&[f64], DVec3, DVec3),
+    (p1, n1): (DVec3, DVec3),
+) -> Result<(DVec3, DVec3), MachineError> {
     let r0 = ctx.forward(a0)?.1;
-    let pe = p0.lerp(to.p, START_PROBE);
-    let ne = slerp(n0, to.n, START_PROBE);
+    let pe = p0.lerp(p1, START_PROBE);
+    let ne = slerp(n0, n1, START_PROBE);
     let re = if ctx.plan.requests_realised {
         ne
     } else {
         let ae = ctx.inverse(pe, ne, Some(a0))?;
         ctx.forward(&ae)?.1
     };
-    Ok(ctx.plan.probe_limit.exceeded(r0, re).then_some((r0, re)))
+    Ok((r0, re))
+}
+
+/// The held-axis probe of a move from `from` to `to` under `plan`, as [`tessellate_planned`]
+/// runs it: the realised axes `(r₀, r_ε)` and whether they are more than the probe's limit
+/// apart (law 7 checks [`Plan::probe_skipped`] against it).
+pub fn held_axis_probe(
+    machine: &dyn Machine,
+    plan: &Plan,
+    from: (&[f64], DVec3, DVec3),
+    to: (DVec3, DVec3),
+) -> Result<(DVec3, DVec3, bool), MachineError> {
+    let ctx = Ctx::new(machine, plan);
+    let (r0, re) = probe_axes(&ctx, from, to)?;
+    Ok((r0, re, plan.probe_limit.exceeded(r0, re)))
 }
 
 /// Turn a toolpath into machine moves whose linear interpolation stays within `bounds`.
@@ -1075,6 +1168,143 @@ pub fn tessellate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn point(p: DVec3, n: DVec3) -> ToolPoint {
+        ToolPoint {
+            p,
+            n,
+            e: 0.1,
+            f: 1200.0,
+            layer: 1,
+            feature: Feature::OuterWall,
+            travel: false,
+            line: 0,
+        }
+    }
+
+    /// A machine that counts the calls of `inverse` and `forward` of the one it wraps.
+    #[derive(Debug)]
+    struct Counting {
+        inner: Box<dyn Machine>,
+        calls: core::sync::atomic::AtomicUsize,
+    }
+
+    impl Counting {
+        fn count(&self) {
+            self.calls.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    impl Machine for Counting {
+        fn axis_set(&self) -> &super::super::AxisSet {
+            self.inner.axis_set()
+        }
+        fn inverse(&self, p: DVec3, n: DVec3, previous: Option<&[f64]>) -> InverseResult {
+            self.count();
+            self.inner.inverse(p, n, previous)
+        }
+        fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
+            self.count();
+            self.inner.forward(axes)
+        }
+        fn realised_axis(&self, p: DVec3, n: DVec3) -> DVec3 {
+            self.inner.realised_axis(p, n)
+        }
+        fn branch_freedom(&self, p: DVec3, n: DVec3) -> f64 {
+            self.inner.branch_freedom(p, n)
+        }
+        fn linear_at_fixed_pose(&self) -> bool {
+            self.inner.linear_at_fixed_pose()
+        }
+        fn interpolation_bound(
+            &self,
+            from: super::super::PieceEnd,
+            to: super::super::PieceEnd,
+        ) -> Option<(f64, f64)> {
+            self.inner.interpolation_bound(from, to)
+        }
+        fn start_drift_deg(
+            &self,
+            p: DVec3,
+            n: DVec3,
+            axes: &[f64],
+            turn: f64,
+            tip_mm: f64,
+        ) -> Option<f64> {
+            self.inner.start_drift_deg(p, n, axes, turn, tip_mm)
+        }
+        fn workspace(&self) -> super::super::Workspace {
+            self.inner.workspace()
+        }
+        fn capabilities(&self) -> super::super::Capabilities {
+            self.inner.capabilities()
+        }
+    }
+
+    /// The held-axis probe is skipped only from a start solved for its own request: on the B
+    /// head, a move from the end the plan just solved is not reoriented and costs three
+    /// kinematics evaluations less than the probed move; the same move from that tip and tool
+    /// axis with B held at 0° (the axes of another request, as after a pole) is reoriented;
+    /// and from the solved end with its tool axis or tip changed in the last bits the probe
+    /// runs again (a skip there is not proven).
+    #[test]
+    fn the_held_axis_probe_is_skipped_only_from_a_solved_start() {
+        let m = Counting {
+            inner: super::super::preset("fullcontrol-prusa-b")
+                .unwrap()
+                .build()
+                .unwrap(),
+            calls: Default::default(),
+        };
+        let plan = Plan::new(&m, &DEFAULT_BOUNDS);
+        let (p0, n0) = (
+            DVec3::new(10.0, 0.0, 60.0),
+            super::super::laws::axis(30.0, 0.0),
+        );
+        let (p1, n1) = (
+            DVec3::new(11.0, 0.2, 60.0),
+            super::super::laws::axis(30.2, 3.0),
+        );
+        let p2 = DVec3::new(12.0, 0.3, 60.0);
+        let n2 = super::super::laws::axis(30.4, 6.0);
+        let a0 = m.inverse(p0, n0, None).unwrap();
+        let mut rep = TessellationReport::default();
+        let first = tessellate_planned(&m, &plan, (&a0, p0, n0), &point(p1, n1), &mut rep).unwrap();
+        let a1 = first.last().unwrap().axes.clone();
+        assert!(plan.solved_start((&a1, p1, n1)));
+        let run = |from: (&[f64], DVec3, DVec3)| {
+            plan.note_solved(&a1, p1, n1);
+            let c0 = m.calls.load(Ordering::Relaxed);
+            let mut rep = TessellationReport::default();
+            let moves = tessellate_planned(&m, &plan, from, &point(p2, n2), &mut rep).unwrap();
+            // reoriented in place first: the tip held at the start while the axis turns
+            (
+                m.calls.load(Ordering::Relaxed) - c0,
+                moves[0].reorient && moves[0].p == p1,
+            )
+        };
+        let (solved, reoriented) = run((&a1, p1, n1));
+        assert!(!reoriented);
+        let mut held = a1.clone();
+        held[0] -= 46.0 * num::sin(num::rad(held[3]));
+        held[2] -= 46.0 * (num::cos(num::rad(held[3])) - 1.0);
+        held[3] = 0.0;
+        plan.note_solved(&a1, p1, n1);
+        assert!(!plan.solved_start((&held, p1, n1)));
+        let (_, reoriented) = run((&held, p1, n1));
+        assert!(
+            reoriented,
+            "a start holding B = 0 under a 30° request is reoriented"
+        );
+        let nudged = DVec3::from_array(n1.to_array().map(|x| f64::from_bits(x.to_bits() + 1)));
+        let moved = p1 + DVec3::new(0.0, 0.0, 1e-9);
+        for (p, n) in [(p1, nudged), (moved, n1)] {
+            plan.note_solved(&a1, p1, n1);
+            assert!(!plan.solved_start((&a1, p, n)));
+            let (probed, _) = run((&a1, p, n));
+            assert_eq!(probed, solved + 3, "evaluations from {p}, {n}");
+        }
+    }
 
     /// The trigonometry-free decision is the computed angle's, at angles spread over the whole
     /// range and clustered within 1e-12 … 1e-6 (relative) of each limit, for limits from
