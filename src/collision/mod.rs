@@ -59,6 +59,7 @@ pub mod contact;
 pub mod cull;
 pub mod material;
 pub mod posed_head;
+mod samples;
 pub mod solid;
 mod stretch;
 pub mod sweep;
