@@ -450,6 +450,15 @@ impl Checker {
         Ok(Pose { p, n, frame })
     }
 
+    /// The pose of `axes`: the last move's kept end when they are its axes bit for bit
+    /// ([`super::samples`]), else solved.
+    fn kept_or_solved(&self, axes: &[f64]) -> Result<Pose, MachineError> {
+        match self.samples.end(axes) {
+            Some(p) => Ok(p),
+            None => self.pose(axes),
+        }
+    }
+
     /// The pose at `t` of the way from axes `from` to `to` (each axis linear, as the firmware
     /// moves them; at most [`MAX_AXES`], interpolated on the stack).
     fn pose_between(&self, from: &[f64], to: &[f64], t: f64) -> Result<Pose, MachineError> {
@@ -516,14 +525,8 @@ impl Checker {
         }
         let pose_at = |t: f64| self.pose_between(from, to, t);
         // the last move's end is usually this one's start (`super::samples`)
-        let p0 = match self.samples.end(from) {
-            Some(p) => p,
-            None => self.pose(from)?,
-        };
-        let p1 = match self.samples.end(to) {
-            Some(p) => p,
-            None => self.pose(to)?,
-        };
+        let p0 = self.kept_or_solved(from)?;
+        let p1 = self.kept_or_solved(to)?;
         let mut n = ((self.displacement(&p0, &p1) / SAMPLE_STEP_MM).ceil() as usize).max(1);
         let mut poses = Vec::with_capacity(n + 1);
         poses.push(p0);
@@ -1197,14 +1200,8 @@ impl Checker {
     ) -> Result<(f64, f64, f64, f64), MachineError> {
         self.max_width = self.max_width.max(width);
         // the move's poses as the check sampled them, where they are the same (`super::samples`)
-        let a = match self.samples.end(from) {
-            Some(p) => p,
-            None => self.pose(from)?,
-        };
-        let b = match self.samples.end(to) {
-            Some(p) => p,
-            None => self.pose(to)?,
-        };
+        let a = self.kept_or_solved(from)?;
+        let b = self.kept_or_solved(to)?;
         // a straight bead when the pose is fixed; pieces of at most a cell otherwise
         let pieces = if a.n.angle_between(b.n) < 1e-9 {
             1
@@ -1264,6 +1261,16 @@ mod tests {
         reached.len()
     }
 
+    /// Where the tests lay their pad: about the origin for a table that turns the part about
+    /// it (Open5x), else about the middle of a 200 mm bed.
+    fn pad_centre(name: &str) -> DVec3 {
+        if name == "open5x-ab" {
+            DVec3::ZERO
+        } else {
+            DVec3::new(100.0, 100.0, 0.0)
+        }
+    }
+
     /// Whether two poses are the same doubles bit for bit (tip, axis, frame).
     fn same_pose(a: &Pose, b: &Pose) -> bool {
         let bits = |q: &Pose| {
@@ -1294,11 +1301,7 @@ mod tests {
             let mut ck = Checker::new(&spec).unwrap();
             let mut fresh = Checker::new(&spec).unwrap();
             let m = spec.build().unwrap();
-            let c = if name == "open5x-ab" {
-                DVec3::ZERO
-            } else {
-                DVec3::new(100.0, 100.0, 0.0)
-            };
+            let c = pad_centre(name);
             let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
             let lean =
                 |t: f64, az: f64| DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos());
@@ -1613,11 +1616,7 @@ mod tests {
             let spec = preset(name).unwrap();
             let mut ck = Checker::new(&spec).unwrap();
             let m = spec.build().unwrap();
-            let centre_xy = if name == "open5x-ab" {
-                DVec3::ZERO
-            } else {
-                DVec3::new(100.0, 100.0, 0.0)
-            };
+            let centre_xy = pad_centre(name);
             let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
             // the pad: 12 layers of lines 0.45 apart, 10 mm square, printed vertically
             let mut beads = Vec::new();
@@ -1791,11 +1790,7 @@ mod tests {
             let spec = preset(name).unwrap();
             let mut ck = Checker::new(&spec).unwrap();
             let m = spec.build().unwrap();
-            let c = if name == "open5x-ab" {
-                DVec3::ZERO
-            } else {
-                DVec3::new(100.0, 100.0, 0.0)
-            };
+            let c = pad_centre(name);
             let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
             // the pad: 3 layers of lines 0.45 apart, 30 mm square, printed vertically
             for layer in 1..=3 {
