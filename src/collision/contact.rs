@@ -66,6 +66,9 @@ pub struct ContactSurface {
     n: DVec3,
     half_width: f64,
     tan_beta: f64,
+    /// `sin θ = √(1 − n_z²)`, the tool's tilt from vertical (computed once per pose: the block
+    /// and row bounds ask for it at every block and row of a search).
+    sin_t: f64,
     monotone: bool,
 }
 
@@ -83,6 +86,7 @@ impl ContactSurface {
             n,
             half_width: 0.5 * width,
             tan_beta,
+            sin_t,
             monotone: n.z - tan_beta * sin_t > 0.0,
         }
     }
@@ -111,7 +115,7 @@ impl ContactSurface {
     /// [`ContactSurface::floor_at`] of a vertical line at horizontal distance `d` from the tip
     /// (the bound depends on that distance only, and does not decrease with it).
     pub fn floor_at_distance(&self, d: f64) -> f64 {
-        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let sin_t = self.sin_t;
         let t = self.tan_beta;
         let gain = t * self.n.z - sin_t;
         if gain < 0.0 {
@@ -152,7 +156,7 @@ impl ContactSurface {
     /// below height `m` (`None`: none known): where [`ContactSurface::floor_at`] reaches `m`,
     /// `D = ρ (1 + T sin θ) + c T sin θ` with `ρ = (m − p_z − c T n_z)/(T n_z − sin θ)`.
     pub fn radius_below(&self, m: f64) -> Option<f64> {
-        let sin_t = (1.0 - self.n.z * self.n.z).max(0.0).sqrt();
+        let sin_t = self.sin_t;
         let t = self.tan_beta;
         let gain = t * self.n.z - sin_t;
         if gain <= 1e-12 {

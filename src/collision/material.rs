@@ -50,6 +50,25 @@ struct Tile {
 }
 
 impl Tile {
+    /// Raise cell `k` (`cj·TILE + ci`) to `z` for bead `bead` if `z` is higher, with the
+    /// maxima of its row, block, group and the tile.
+    fn raise(&mut self, k: usize, z: f64, bead: u32) {
+        let (ci, cj) = (k % TILE, k / TILE);
+        let z = z as f32;
+        let c = &mut self.h[k];
+        if z > *c {
+            *c = z;
+            self.owner[k] = bead;
+            let b = &mut self.block_max[(cj / BLOCK) * BLOCKS + ci / BLOCK];
+            *b = b.max(z);
+            let r = &mut self.row_max[cj * BLOCKS + ci / BLOCK];
+            *r = r.max(z);
+            let g = &mut self.group_max[(cj / (BLOCK * GROUP)) * GROUPS + ci / (BLOCK * GROUP)];
+            *g = g.max(z);
+            self.max = self.max.max(z);
+        }
+    }
+
     fn new() -> Tile {
         Tile {
             h: vec![f32::NEG_INFINITY; TILE * TILE],
@@ -109,6 +128,50 @@ impl std::fmt::Debug for Material {
     }
 }
 
+/// The highest block maximum of `tile` over its blocks `bi0..=bi1` × `bj0..=bj1` (−∞: none
+/// above −∞), returned as soon as it exceeds `stop`. The tile's own maximum stands for the
+/// whole tile and a group's for a group the range holds whole: each is the maximum of the
+/// same cells as its blocks' maxima (`Material::raise` raises all of them with the cell), so
+/// the value is the blocks' maximum read one by one, from 1 instead of 64 values (a tile) or
+/// 16 (a group).
+fn blocks_max(tile: &Tile, [bi0, bi1, bj0, bj1]: [usize; 4], stop: f64) -> f64 {
+    if bi0 == 0 && bj0 == 0 && bi1 == BLOCKS - 1 && bj1 == BLOCKS - 1 {
+        return tile.max as f64;
+    }
+    let mut best = f64::NEG_INFINITY;
+    if bi1 - bi0 + 1 < GROUP || bj1 - bj0 + 1 < GROUP {
+        // no whole group in the range: the blocks themselves
+        for bj in bj0..=bj1 {
+            for bi in bi0..=bi1 {
+                best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
+            }
+            if best > stop {
+                return best;
+            }
+        }
+        return best;
+    }
+    for gj in bj0 / GROUP..=bj1 / GROUP {
+        let (rj0, rj1) = (bj0.max(gj * GROUP), bj1.min(gj * GROUP + GROUP - 1));
+        for gi in bi0 / GROUP..=bi1 / GROUP {
+            let (ri0, ri1) = (bi0.max(gi * GROUP), bi1.min(gi * GROUP + GROUP - 1));
+            if rj1 - rj0 + 1 == GROUP && ri1 - ri0 + 1 == GROUP {
+                best = best.max(tile.group_max[gj * GROUPS + gi] as f64);
+            } else {
+                for bj in rj0..=rj1 {
+                    for bi in ri0..=ri1 {
+                        best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
+                    }
+                }
+            }
+            if best > stop {
+                return best;
+            }
+        }
+    }
+    best
+}
+
 /// The cell containing coordinate `v`.
 pub fn cell_of(v: f64) -> i64 {
     (v / CELL_MM).floor() as i64
@@ -154,28 +217,6 @@ impl Material {
         k.checked_sub(1).map(|k| self.layer_starts[k].1)
     }
 
-    fn raise(&mut self, i: i64, j: i64, z: f64, bead: u32) {
-        let (ti, tj) = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
-        let t = self.tiles.entry((ti, tj)).or_insert_with(Tile::new);
-        let (ci, cj) = (
-            i.rem_euclid(TILE as i64) as usize,
-            j.rem_euclid(TILE as i64) as usize,
-        );
-        let z = z as f32;
-        let c = &mut t.h[cj * TILE + ci];
-        if z > *c {
-            *c = z;
-            t.owner[cj * TILE + ci] = bead;
-            let b = &mut t.block_max[(cj / BLOCK) * BLOCKS + ci / BLOCK];
-            *b = b.max(z);
-            let r = &mut t.row_max[cj * BLOCKS + ci / BLOCK];
-            *r = r.max(z);
-            let g = &mut t.group_max[(cj / (BLOCK * GROUP)) * GROUPS + ci / (BLOCK * GROUP)];
-            *g = g.max(z);
-            t.max = t.max.max(z);
-        }
-    }
-
     /// What the material at (x, y) tells of the surface of layer `layer` there: the top of a
     /// bead of that layer, of an older one, or nothing ([`super::bead::Side`]).
     pub fn side_at(&self, x: f64, y: f64, layer: u32) -> Side {
@@ -216,6 +257,10 @@ impl Material {
         let dxy = d.truncate();
         let l2 = dxy.length_squared();
         let (lo, hi) = (p0.min(p1), p0.max(p1));
+        // the tile of the last cell raised: the next cells are mostly in it (one hash lookup
+        // per tile and row of cells, not per cell; a tile is still created only when a cell
+        // of it is raised)
+        let mut last: Option<((i64, i64), &mut Tile)> = None;
         for j in cell_of(lo.y - reach)..=cell_of(hi.y + reach) {
             for i in cell_of(lo.x - reach)..=cell_of(hi.x + reach) {
                 let c = glam::DVec2::new(centre(i), centre(j));
@@ -230,7 +275,17 @@ impl Material {
                     continue;
                 }
                 let lambda = off.dot(h).clamp(-half, half);
-                self.raise(i, j, on.z + lambda * slope, bead);
+                let key = (i.div_euclid(TILE as i64), j.div_euclid(TILE as i64));
+                let k =
+                    j.rem_euclid(TILE as i64) as usize * TILE + i.rem_euclid(TILE as i64) as usize;
+                match &mut last {
+                    Some((at, tile)) if *at == key => tile.raise(k, on.z + lambda * slope, bead),
+                    _ => {
+                        let tile = self.tiles.entry(key).or_insert_with(Tile::new);
+                        tile.raise(k, on.z + lambda * slope, bead);
+                        last = Some((key, tile));
+                    }
+                }
             }
         }
     }
@@ -269,13 +324,9 @@ impl Material {
     /// it everywhere skips the part's cell scan (`crate::collision::sweep`).
     pub fn max_over(&self, rect: (f64, f64, f64, f64)) -> f64 {
         let mut best = f64::NEG_INFINITY;
-        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
+        self.tiles_over(rect, |tile, blocks| {
             if (tile.max as f64) > best {
-                for bj in bj0..=bj1 {
-                    for bi in bi0..=bi1 {
-                        best = best.max(tile.block_max[bj * BLOCKS + bi] as f64);
-                    }
-                }
+                best = best.max(blocks_max(tile, blocks, f64::INFINITY));
             }
             false
         });
@@ -287,10 +338,8 @@ impl Material {
     /// stopping at the first block above `z` (a head part far above the print, the usual case
     /// for the heater block and the heat sink, costs a few tile lookups).
     pub fn any_above(&self, rect: (f64, f64, f64, f64), z: f64) -> bool {
-        self.tiles_over(rect, |tile, [bi0, bi1, bj0, bj1]| {
-            (tile.max as f64) > z
-                && (bj0..=bj1)
-                    .any(|bj| (bi0..=bi1).any(|bi| tile.block_max[bj * BLOCKS + bi] as f64 > z))
+        self.tiles_over(rect, |tile, blocks| {
+            (tile.max as f64) > z && blocks_max(tile, blocks, z) > z
         })
     }
 
@@ -405,11 +454,121 @@ mod tests {
     use super::*;
     use crate::test_rng::Lcg;
 
+    /// Every bead [`Material::deposit`] lays (the tile of the last cell kept from cell to cell)
+    /// raises exactly the cells the rule of its documentation names, to the value it names,
+    /// and no other: after each bead every cell about it is compared, bit for bit, with the
+    /// rule evaluated here (the cell centre's nearest point `q` on the path seen from above,
+    /// within `max(w/2, half a cell diagonal)`; the top `q_z + clamp((c − q)·h, ±w/2)·slope`,
+    /// kept where it is higher than the cell's). Beads of 0–9 mm across the corners of four
+    /// tiles (negative indices too), some vertical; then every tile's row, block, group and
+    /// tile maxima against its cells, and the count of tiles against those with a cell raised.
+    #[test]
+    fn a_bead_raises_exactly_the_cells_its_rule_names_across_tiles() {
+        let mut rng = Lcg(77);
+        let mut m = Material::new();
+        let mut raised_tiles = std::collections::HashSet::new();
+        let (mut raised, mut crossing) = (0, 0);
+        for bead in 1..=400u32 {
+            let a = rng.within(DVec3::new(-9.0, -9.0, 0.0), DVec3::new(9.0, 9.0, 2.0));
+            let b = match bead % 10 {
+                0 => a + DVec3::Z * rng.range(0.0, 0.3),
+                _ => a + rng.within(DVec3::new(-6.0, -6.0, -0.2), DVec3::new(6.0, 6.0, 0.2)),
+            };
+            let (slope, w) = (rng.range(-0.5, 0.5), rng.range(0.3, 0.7));
+            let (i0, i1) = (cell_of(a.x.min(b.x)) - 4, cell_of(a.x.max(b.x)) + 4);
+            let (j0, j1) = (cell_of(a.y.min(b.y)) - 4, cell_of(a.y.max(b.y)) + 4);
+            let before: Vec<f64> = (j0..=j1)
+                .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+                .map(|(i, j)| m.height(i, j))
+                .collect();
+            m.deposit(a, b, slope, w, 1 + bead / 50);
+            let across_dir = across(b - a);
+            let diag = CELL_MM * std::f64::consts::FRAC_1_SQRT_2;
+            let within = across_dir.map_or(diag, |_| (0.5 * w).max(diag));
+            let seg = (b - a).truncate();
+            let mut tiles_hit = std::collections::HashSet::new();
+            for (n, (i, j)) in (j0..=j1)
+                .flat_map(|j| (i0..=i1).map(move |i| (i, j)))
+                .enumerate()
+            {
+                let c = glam::DVec2::new(centre(i), centre(j));
+                let s = if seg.length_squared() > 0.0 {
+                    ((c - a.truncate()).dot(seg) / seg.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let q = a + (b - a) * s;
+                let away = c - q.truncate();
+                let old = before[n];
+                let want = if away.length() <= within {
+                    let side = away.dot(across_dir.unwrap_or(glam::DVec2::ZERO));
+                    let top = (q.z + side.clamp(-0.5 * w, 0.5 * w) * slope) as f32;
+                    if (top as f64) > old {
+                        raised += 1;
+                        tiles_hit.insert((i.div_euclid(TILE as i64), j.div_euclid(TILE as i64)));
+                        raised_tiles.insert((i.div_euclid(TILE as i64), j.div_euclid(TILE as i64)));
+                        top as f64
+                    } else {
+                        old
+                    }
+                } else {
+                    old
+                };
+                let got = m.height(i, j);
+                assert!(
+                    got.to_bits() == want.to_bits(),
+                    "bead {bead} from {a} to {b}: the cell ({i}, {j}) is {got}, the rule gives \
+                     {want} (it was {old})"
+                );
+            }
+            crossing += usize::from(tiles_hit.len() > 1);
+        }
+        assert_eq!(
+            m.tiles(),
+            raised_tiles.len(),
+            "tiles made, tiles with a cell raised"
+        );
+        for tile in m.tiles.values() {
+            let cell = |ci: usize, cj: usize| tile.h[cj * TILE + ci];
+            let top = |cis: std::ops::Range<usize>, cjs: std::ops::Range<usize>| {
+                cjs.flat_map(|cj| cis.clone().map(move |ci| (ci, cj)))
+                    .map(|(ci, cj)| cell(ci, cj))
+                    .fold(f32::NEG_INFINITY, f32::max)
+            };
+            assert_eq!(tile.max, top(0..TILE, 0..TILE), "the tile's maximum");
+            for bj in 0..BLOCKS {
+                for bi in 0..BLOCKS {
+                    let (x, y) = (bi * BLOCK, bj * BLOCK);
+                    let blk = top(x..x + BLOCK, y..y + BLOCK);
+                    assert_eq!(tile.block_max[bj * BLOCKS + bi], blk, "block ({bi}, {bj})");
+                    for cj in y..y + BLOCK {
+                        assert_eq!(
+                            tile.row_max[cj * BLOCKS + bi],
+                            top(x..x + BLOCK, cj..cj + 1)
+                        );
+                    }
+                }
+            }
+            for gj in 0..GROUPS {
+                for gi in 0..GROUPS {
+                    let (x, y) = (gi * BLOCK * GROUP, gj * BLOCK * GROUP);
+                    let g = top(x..x + BLOCK * GROUP, y..y + BLOCK * GROUP);
+                    assert_eq!(tile.group_max[gj * GROUPS + gi], g, "group ({gi}, {gj})");
+                }
+            }
+        }
+        assert!(
+            raised > 10_000 && crossing > 40,
+            "{raised} cells raised, {crossing} beads over more than one tile"
+        );
+    }
+
     /// [`Material::max_over`] is the largest top of the cells of the blocks the rectangle
     /// touches, found cell by cell through [`Material::height`] (no tile or block maximum):
     /// random beads over four tiles about the origin (negative indices too), random rectangles
-    /// from a cell wide to several tiles; and [`Material::any_above`] says whether that
-    /// largest top is above a height drawn on either side of it.
+    /// from a cell wide to several tiles (some holding whole groups and tiles, which are read
+    /// from the group's and the tile's own maxima); and [`Material::any_above`] says whether
+    /// that largest top is above a height drawn on either side of it.
     #[test]
     fn the_maximum_over_a_rectangle_is_the_highest_cell_of_the_blocks_it_touches_and_any_above_agrees(
     ) {
@@ -423,7 +582,7 @@ mod tests {
             m.deposit(a, b, rng.range(-0.3, 0.3), rng.range(0.3, 0.6), layer);
         }
         let b = BLOCK as i64;
-        let (mut wide, mut found) = (0, 0);
+        let (mut wide, mut found, mut groups, mut tiles) = (0, 0, 0, 0);
         for k in 0..3000 {
             let side = [0.1, 1.0, 7.0, 14.0, 30.0][k % 5];
             let x0 = rng.range(-16.0, 14.0);
@@ -455,10 +614,19 @@ mod tests {
             );
             wide += usize::from(bi1 - bi0 >= 2 * GROUP as i64);
             found += usize::from(brute.is_finite());
+            // a whole group (GROUP² blocks, aligned) or a whole tile inside the block range:
+            // the cases read from the group's and the tile's own maxima
+            let holds = |n: i64| {
+                let whole = |a: i64, b: i64| (a + n - 1).div_euclid(n) * n + n - 1 <= b;
+                whole(bi0, bi1) && whole(bj0, bj1)
+            };
+            groups += usize::from(holds(GROUP as i64) && brute.is_finite());
+            tiles += usize::from(holds(BLOCKS as i64) && brute.is_finite());
         }
         assert!(
-            wide > 300 && found > 1500,
-            "{wide} rectangles over eight blocks or more, {found} over material"
+            wide > 300 && found > 1500 && groups > 200 && tiles > 50,
+            "{wide} rectangles over eight blocks or more, {found} over material, {groups} holding \
+             a whole group, {tiles} a whole tile"
         );
     }
 }

@@ -49,7 +49,9 @@
 //! passes (`stretch.rs`, law test `a_stretch_carried_over_moves_and_deposits_lists_every_cell_reached`);
 //! a part without the contact rule whose last list was empty grows by
 //! [`sweep::CLEAR_STRETCH_MM`]. Each part is checked only at the poses its own reach needs
-//! (`checked_poses`). [`Checker::exhaustive`] switches every bound off: the law test
+//! (`checked_poses`). The poses sampled along a move are kept for its bead and the next move's
+//! start (`samples.rs`: the same axes or the same correctly rounded parameter, so the same
+//! pose bit for bit), instead of solving the kinematics again. [`Checker::exhaustive`] switches every bound off: the law test
 //! in `tests/collision_check.rs` compares the findings. The
 //! bench (`cargo run --release --example bench`) gives the check's cost beside `unwarp
 //! --machine`.
@@ -59,6 +61,7 @@ pub mod contact;
 pub mod cull;
 pub mod material;
 pub mod posed_head;
+mod samples;
 pub mod solid;
 mod stretch;
 pub mod sweep;

@@ -29,6 +29,7 @@ use super::bead;
 use super::contact::ContactSurface;
 use super::cull::{capsule_row, Reach, TipLine};
 use super::material::{cell_of, centre, Material, CELL_MM};
+use super::samples::Samples;
 use super::solid::Posed;
 use super::stretch::Stretch;
 use super::turn::{acos_bracket, exceeds_bracketed, BRACKET_MARGIN};
@@ -345,6 +346,9 @@ pub struct Checker {
     /// Per part, whether its last searched list was empty (a part without the contact rule then
     /// searches over [`CLEAR_STRETCH_MM`]).
     clear: Vec<bool>,
+    /// The poses sampled along the last move checked, reused by its bead and the next move
+    /// ([`super::samples`]).
+    samples: Samples,
 }
 
 impl std::fmt::Debug for Checker {
@@ -387,6 +391,7 @@ impl Checker {
             exhaustive: false,
             live: vec![None; n],
             clear: vec![false; n],
+            samples: Samples::default(),
         })
     }
 
@@ -445,6 +450,15 @@ impl Checker {
         Ok(Pose { p, n, frame })
     }
 
+    /// The pose of `axes`: the last move's kept end when they are its axes bit for bit
+    /// ([`super::samples`]), else solved.
+    fn kept_or_solved(&self, axes: &[f64]) -> Result<Pose, MachineError> {
+        match self.samples.end(axes) {
+            Some(p) => Ok(p),
+            None => self.pose(axes),
+        }
+    }
+
     /// The pose at `t` of the way from axes `from` to `to` (each axis linear, as the firmware
     /// moves them; at most [`MAX_AXES`], interpolated on the stack).
     fn pose_between(&self, from: &[f64], to: &[f64], t: f64) -> Result<Pose, MachineError> {
@@ -471,6 +485,12 @@ impl Checker {
                 )
             })
             .collect())
+    }
+
+    /// How many poses the last move kept (`super::samples`), for the tests.
+    #[cfg(test)]
+    fn samples_kept(&self) -> usize {
+        self.samples.len()
     }
 
     /// Upper bound of the displacement of any head point between two poses, mm.
@@ -504,8 +524,9 @@ impl Checker {
             });
         }
         let pose_at = |t: f64| self.pose_between(from, to, t);
-        let p0 = self.pose(from)?;
-        let p1 = self.pose(to)?;
+        // the last move's end is usually this one's start (`super::samples`)
+        let p0 = self.kept_or_solved(from)?;
+        let p1 = self.kept_or_solved(to)?;
         let mut n = ((self.displacement(&p0, &p1) / SAMPLE_STEP_MM).ceil() as usize).max(1);
         let mut poses = Vec::with_capacity(n + 1);
         poses.push(p0);
@@ -670,6 +691,7 @@ impl Checker {
         }
         self.findings.extend(found);
         self.carry(&mut lists);
+        self.samples.keep(from, to, poses);
         Ok(())
     }
 
@@ -1177,8 +1199,9 @@ impl Checker {
         width: f64,
     ) -> Result<(f64, f64, f64, f64), MachineError> {
         self.max_width = self.max_width.max(width);
-        let a = self.pose(from)?;
-        let b = self.pose(to)?;
+        // the move's poses as the check sampled them, where they are the same (`super::samples`)
+        let a = self.kept_or_solved(from)?;
+        let b = self.kept_or_solved(to)?;
         // a straight bead when the pose is fixed; pieces of at most a cell otherwise
         let pieces = if a.n.angle_between(b.n) < 1e-9 {
             1
@@ -1191,6 +1214,8 @@ impl Checker {
             let t = k as f64 / pieces as f64;
             let next = if k == pieces {
                 b
+            } else if let Some(p) = self.samples.at(from, to, k, pieces) {
+                p
             } else {
                 self.pose_between(from, to, t)?
             };
@@ -1234,6 +1259,138 @@ mod tests {
             );
         }
         reached.len()
+    }
+
+    /// Where the tests lay their pad: about the origin for a table that turns the part about
+    /// it (Open5x), else about the middle of a 200 mm bed.
+    fn pad_centre(name: &str) -> DVec3 {
+        if name == "open5x-ab" {
+            DVec3::ZERO
+        } else {
+            DVec3::new(100.0, 100.0, 0.0)
+        }
+    }
+
+    /// Whether two poses are the same doubles bit for bit (tip, axis, frame).
+    fn same_pose(a: &Pose, b: &Pose) -> bool {
+        let bits = |q: &Pose| {
+            let mut v: Vec<u64> = q.p.to_array().iter().map(|x| x.to_bits()).collect();
+            v.extend(q.n.to_array().iter().map(|x| x.to_bits()));
+            if let Some(f) = q.frame {
+                v.extend(f.to_cols_array().iter().map(|x| x.to_bits()));
+            }
+            v
+        };
+        a.frame.is_some() == b.frame.is_some() && bits(a) == bits(b)
+    }
+
+    /// The poses kept from the last move (`super::samples`) are the machine's own poses solved
+    /// afresh, bit for bit: after each checked move every interior parameter `k/m` (m ≤ 24)
+    /// the kept samples answer is compared with [`Checker::pose_between`] at `k as f64 / m as f64`, the
+    /// move's ends with the poses of its axes, and a parameter is answered exactly when `k·n`
+    /// is a multiple of `m`. Then the walk itself: a checker that reuses them and one that
+    /// forgets them before every move and bead give the same material (every cell's top, bit
+    /// for bit) and the same findings. Short and long turning moves of the PAX, Open5x A/B and
+    /// RTN heads over a pad, digging into it now and then.
+    #[test]
+    fn poses_reused_from_the_last_move_are_bit_for_bit_the_poses_solved_afresh() {
+        let mut rng = Lcg(41);
+        let (mut answered, mut ends) = (0, 0);
+        for name in ["pax-5axis", "open5x-ab", "rtn-slicer4rtn"] {
+            let spec = preset(name).unwrap();
+            let mut ck = Checker::new(&spec).unwrap();
+            let mut fresh = Checker::new(&spec).unwrap();
+            let m = spec.build().unwrap();
+            let c = pad_centre(name);
+            let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
+            let lean =
+                |t: f64, az: f64| DVec3::new(t.sin() * az.cos(), t.sin() * az.sin(), t.cos());
+            let tilts = name != "rtn-slicer4rtn";
+            let (mut tilt, mut az) = (0.3f64, rng.range(0.0, std::f64::consts::TAU));
+            let mut p = c + DVec3::new(0.0, 0.0, 0.2);
+            let mut axes = at(p, if tilts { lean(tilt, az) } else { DVec3::Z }, None);
+            for step in 0..160u64 {
+                let layer = 1 + (step / 40) as u32;
+                let long = step % 7 == 0;
+                let d = if long { 4.0 } else { 0.4 };
+                let q = c
+                    + (p - c + DVec3::new(rng.range(-d, d), rng.range(-d, d), 0.0))
+                        .clamp(DVec3::new(-8.0, -8.0, 0.0), DVec3::new(8.0, 8.0, 9.0))
+                        .with_z(0.2 * layer as f64 - if step % 11 == 0 { 0.4 } else { 0.0 });
+                tilt = (tilt + rng.range(-0.05, 0.05)).clamp(0.0, 0.5);
+                az += rng.range(-0.1, 0.1);
+                let next = at(
+                    q,
+                    if tilts { lean(tilt, az) } else { DVec3::Z },
+                    Some(&axes),
+                );
+                let first = step == 0;
+                ck.check_move(&axes, &next, step + 1, layer, first).unwrap();
+                fresh.samples.forget();
+                fresh
+                    .check_move(&axes, &next, step + 1, layer, first)
+                    .unwrap();
+                // the kept poses against the machine's
+                let n = ck.samples_kept() - 1;
+                for mm in 1..=24usize {
+                    for k in 1..mm {
+                        match ck.samples.at(&axes, &next, k, mm) {
+                            Some(kept) => {
+                                let solved =
+                                    ck.pose_between(&axes, &next, k as f64 / mm as f64).unwrap();
+                                assert!(
+                                    same_pose(&kept, &solved),
+                                    "{name}, move {step}: the kept pose at {k}/{mm} (of {n} \
+                                     samples) {kept:?}, solved afresh {solved:?}"
+                                );
+                                answered += 1;
+                            }
+                            None => assert!(
+                                !(k * n).is_multiple_of(mm),
+                                "{name}, move {step}: {k}/{mm} is sample {} of {n} but not \
+                                 answered",
+                                k * n / mm
+                            ),
+                        }
+                    }
+                }
+                for ax in [&axes, &next] {
+                    if let Some(kept) = ck.samples.end(ax) {
+                        let solved = ck.pose(ax).unwrap();
+                        assert!(
+                            same_pose(&kept, &solved),
+                            "{name}, move {step}: the kept end {kept:?}, solved {solved:?}"
+                        );
+                        ends += 1;
+                    }
+                }
+                ck.deposit(&axes, &next, 0.45).unwrap();
+                fresh.samples.forget();
+                fresh.deposit(&axes, &next, 0.45).unwrap();
+                (axes, p) = (next, q);
+            }
+            assert_eq!(
+                ck.findings(),
+                fresh.findings(),
+                "{name}: the findings with and without the kept poses"
+            );
+            assert!(!ck.findings().is_empty(), "{name}: no finding to compare");
+            let (lo, hi) = (cell_of(c.x - 12.0), cell_of(c.x + 12.0));
+            let (jlo, jhi) = (cell_of(c.y - 12.0), cell_of(c.y + 12.0));
+            for j in jlo..=jhi {
+                for i in lo..=hi {
+                    let (a, b) = (ck.material.height(i, j), fresh.material.height(i, j));
+                    assert!(
+                        a.to_bits() == b.to_bits(),
+                        "{name}: the cell ({i}, {j}) is {a} with the kept poses, {b} without"
+                    );
+                }
+            }
+        }
+        assert!(
+            answered > 10_000 && ends > 700,
+            "{answered} parameters answered from the kept samples, {ends} ends"
+        );
     }
 
     /// The cells of a list, by index.
@@ -1459,11 +1616,7 @@ mod tests {
             let spec = preset(name).unwrap();
             let mut ck = Checker::new(&spec).unwrap();
             let m = spec.build().unwrap();
-            let centre_xy = if name == "open5x-ab" {
-                DVec3::ZERO
-            } else {
-                DVec3::new(100.0, 100.0, 0.0)
-            };
+            let centre_xy = pad_centre(name);
             let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
             // the pad: 12 layers of lines 0.45 apart, 10 mm square, printed vertically
             let mut beads = Vec::new();
@@ -1637,11 +1790,7 @@ mod tests {
             let spec = preset(name).unwrap();
             let mut ck = Checker::new(&spec).unwrap();
             let m = spec.build().unwrap();
-            let c = if name == "open5x-ab" {
-                DVec3::ZERO
-            } else {
-                DVec3::new(100.0, 100.0, 0.0)
-            };
+            let c = pad_centre(name);
             let at = |p: DVec3, n: DVec3, prev: Option<&[f64]>| m.inverse(p, n, prev).unwrap();
             // the pad: 3 layers of lines 0.45 apart, 30 mm square, printed vertically
             for layer in 1..=3 {
