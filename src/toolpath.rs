@@ -214,18 +214,12 @@ mod tests {
     /// layer is always the last kept one's: a point on another layer is kept).
     #[test]
     fn thinning_keeps_every_nth_point_and_each_layers_first() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::test_rng::Lcg(0x2545_f491_4f6c_dd1d);
         for every in [0, 1, 2, 3, 7, 64] {
             let mut layer = 0u32;
             let layers: Vec<u32> = (0..5000)
                 .map(|_| {
-                    match next() % 23 {
+                    match (rng.unit() * 23.0) as u32 {
                         0 => layer += 1,
                         1 => layer = layer.saturating_sub(1), // a layer met again (a travel)
                         _ => {}

@@ -202,13 +202,8 @@ mod tests {
     /// against tolerances at, just off and between m and 2m, and the bound lies in [m, 2m].
     #[test]
     fn concave_bound_exceeds_decides_as_the_bound() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut unit = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::test_rng::Lcg(0x9e37_79b9_7f4a_7c15);
+        let mut unit = move || rng.unit();
         for k in 0..200_000 {
             let mut d = [unit(), unit(), unit()].map(|u| u * 10f64.powi((k % 7) as i32 - 4));
             match k % 5 {
