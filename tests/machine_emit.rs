@@ -29,10 +29,33 @@ use warpslice::toolpath::ToolPoint;
 use warpslice::unwarp::UnwarpOptions;
 use warpslice::warp::{WarpParams, WarpSpec};
 
-fn tmpdir(tag: &str) -> std::path::PathBuf {
+fn tmpdir(tag: &str) -> TmpDir {
     let d = std::env::temp_dir().join(format!("warpslice-mach-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    TmpDir(d)
+}
+
+/// A test's temporary directory, removed with everything in it when the test ends (the
+/// README example's alone left 63 MB in the temp dir on every run).
+struct TmpDir(std::path::PathBuf);
+
+impl Drop for TmpDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+impl std::ops::Deref for TmpDir {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::path::Path> for TmpDir {
+    fn as_ref(&self) -> &std::path::Path {
+        &self.0
+    }
 }
 
 /// A 10 mm cube (the 20 mm example scaled), STL bytes.
