@@ -211,7 +211,14 @@ export async function headTests(ctx) {
       const cliHits = new Map();
       for (const f of rep.findings.filter((x) => x.kind === 'collision')) cliHits.set(f.line, [...new Set([...(cliHits.get(f.line) ?? []), f.collision.part])]);
       const asText = (m) => [...m].map(([l, ps]) => `${l}:${[...ps].sort().join(',')}`).sort().join(' ');
-      const pageHits = await page.evaluate(() => import('./js/state.js').then(({ state }) => [...(state.tp.data?.hitParts ?? new Map())]));
+      // what the preview draws: each point flagged (`hit`), the file line it is on and the
+      // names of the parts in collision there (`hitSets`)
+      const pageHits = await page.evaluate(() => import('./js/state.js').then(({ state }) => {
+        const d = state.tp.data;
+        const m = new Map();
+        for (let i = 0; i < (d?.count ?? 0); i++) if (d.hit?.[i]) m.set(d.line[i], d.hitSets[d.hit[i] - 1]);
+        return [...m];
+      }));
       assert(asText(pageHits) === asText(cliHits), `${c.name}: the preview's collisions ${asText(pageHits)}, warpslice check's ${asText(cliHits)}`);
       // the counts by kind (a case whose first findings shown are of another kind — the
       // rotate-around's A beyond the RTN's range before its collision — still counts it)
