@@ -75,6 +75,12 @@ pub fn max(a: f64, b: f64) -> f64 {
         a
     }
 }
+/// Whether two lists of numbers are the same bit for bit (so −0 ≠ 0 and a NaN equals only
+/// the same NaN): "this is the very value computed before", for reusing a result.
+pub fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 /// Degrees to radians.
 #[inline]
 pub fn rad(deg: f64) -> f64 {

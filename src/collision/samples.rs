@@ -14,12 +14,7 @@
 //! doubles (compared bit for bit): the same pose again. Nothing else is reused.
 
 use super::sweep::Pose;
-
-/// Whether two axis vectors are the same doubles bit for bit (not `==`: −0 and +0 compare
-/// equal but a kinematics may tell them apart, and NaN never equals itself).
-fn same(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
-}
+use crate::num::same_bits;
 
 /// The poses sampled along one move (`poses[j]` at `t = j / n`, `n = poses.len() − 1`).
 #[derive(Clone, Debug, Default)]
@@ -54,9 +49,9 @@ impl Samples {
     /// The pose of axes `axes` if it is one of the kept move's ends.
     pub fn end(&self, axes: &[f64]) -> Option<Pose> {
         let (first, last) = (self.poses.first()?, self.poses.last()?);
-        if same(axes, &self.to) {
+        if same_bits(axes, &self.to) {
             Some(*last)
-        } else if same(axes, &self.from) {
+        } else if same_bits(axes, &self.from) {
             Some(*first)
         } else {
             None
@@ -69,7 +64,7 @@ impl Samples {
     /// which `a + (b − a)·1` need not reproduce to the last bit.
     pub fn at(&self, from: &[f64], to: &[f64], k: usize, m: usize) -> Option<Pose> {
         let n = self.poses.len().checked_sub(1)?;
-        if k == 0 || k >= m || !same(from, &self.from) || !same(to, &self.to) {
+        if k == 0 || k >= m || !same_bits(from, &self.from) || !same_bits(to, &self.to) {
             return None;
         }
         let kn = k.checked_mul(n)?;

@@ -473,17 +473,11 @@ impl Plan {
     /// Whether the start pose `from = (axes, p, n)` is, bit for bit, the last end this plan
     /// solved: `axes = inverse(p, n, ·)`, as [`Machine::start_drift_deg`] requires.
     fn solved_start(&self, (axes, p, n): (&[f64], DVec3, DVec3)) -> bool {
-        let same =
-            |a: DVec3, b: DVec3| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits);
-        self.last_solved.borrow().as_ref().is_some_and(|s| {
-            same(s.p, p)
-                && same(s.n, n)
-                && s.axes.len() == axes.len()
-                && s.axes
-                    .iter()
-                    .zip(axes)
-                    .all(|(x, y)| x.to_bits() == y.to_bits())
-        })
+        let same = |a: DVec3, b: DVec3| num::same_bits(&a.to_array(), &b.to_array());
+        self.last_solved
+            .borrow()
+            .as_ref()
+            .is_some_and(|s| same(s.p, p) && same(s.n, n) && num::same_bits(&s.axes, axes))
     }
 
     /// Whether the held-axis probe of a move from `from` to `to` can find no jump and raise no
