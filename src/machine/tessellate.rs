@@ -981,7 +981,10 @@ pub fn tessellate_planned(
         a0_in
     };
     let a1 = ctx.inverse(to.p, to.n, Some(a0))?;
-    plan.note_solved(&a1, to.p, to.n);
+    if !plan.fixed_axis {
+        // only a probe that may run reads it (a fixed tool axis never probes)
+        plan.note_solved(&a1, to.p, to.n);
+    }
     plan.note_dropped(rep, to.n, machine.realised_axis(to.p, to.n));
     rep.moves_in += 1;
     let pc = Piece {
