@@ -447,7 +447,9 @@ impl MachineEmitter {
         out.extend_from_slice(b"G1");
         let to_read = AxisBuf::from_fn(axes.len(), |i| {
             out.push(b' ');
-            out.extend_from_slice(self.limits[i].name.as_bytes());
+            for &c in self.limits[i].name.as_bytes() {
+                out.push(c);
+            }
             push_mm_read(out, axes[i])
         });
         let e_before = self.ew.current();
@@ -463,55 +465,63 @@ impl MachineEmitter {
             return Ok(());
         }
         let de = e.map_or(0.0, |(de, _)| de);
-        // most moves start where the last line ended: its values as read are known
-        let from_read = match &self.written_axes {
-            Some(w)
-                if w.raw
-                    .iter()
-                    .map(|a| a.to_bits())
-                    .eq(from.iter().map(|b| b.to_bits())) =>
-            {
-                w.read.clone()
-            }
-            _ => AxisBuf::from_fn(from.len(), |i| written_value(from[i], MM_DECIMALS)),
-        };
-        let firmware_length =
-            self.flavour
-                .length_rule()
-                .length(&self.rule_limits, &from_read, &to_read, de);
         if let Some(v) = e_word {
             out.extend_from_slice(b" E");
             push_e(out, v);
         }
+        let mode = self.feed_now();
+        // most moves start where the last line ended: its values as read are known (borrowed,
+        // not copied: the feed, its time and the firmware's length are all read from them here)
+        let computed;
+        let from_read: &[f64] = match &self.written_axes {
+            Some(w) if crate::num::same_bits(&w.raw, from) => &w.read,
+            _ => {
+                computed = AxisBuf::from_fn(from.len(), |i| written_value(from[i], MM_DECIMALS));
+                &computed
+            }
+        };
+        let firmware_length =
+            self.flavour
+                .length_rule()
+                .length(&self.rule_limits, from_read, &to_read, de);
         let feed = output_feed(
-            self.feed_now(),
+            mode,
             &FeedMove {
                 from,
                 to: axes,
                 tip_length,
                 firmware_length,
                 f,
-                fastest: fastest(&self.max_feed, &from_read, &to_read),
+                fastest: fastest(&self.max_feed, from_read, &to_read),
             },
         );
-        if let Some((axis, minutes)) = feed.slowed {
-            self.speeds.add_slowed(axis, minutes);
-        }
         let fo = feed.f;
-        self.write_feed(out, fo);
         // the feed in force: the one written, else the modal one
         let f_fw = if fo.is_finite() && fo > 0.0 {
             fo
         } else {
             self.last_f.unwrap_or(0.0)
         };
+        if let Some((axis, minutes)) = feed.slowed {
+            self.speeds.add_slowed(axis, minutes);
+        }
         // timed as the firmware reads it: the written values
         self.speeds
-            .add_move(self.feed_now(), &from_read, &to_read, f_fw, firmware_length);
-        self.written_axes = Some(Written {
-            raw: AxisBuf::from_slice(axes),
-            read: to_read,
-        });
+            .add_move(mode, from_read, &to_read, f_fw, firmware_length);
+        self.write_feed(out, fo);
+        match &mut self.written_axes {
+            // the same machine writes the same number of axes on every line
+            Some(w) if w.raw.len() == axes.len() => {
+                w.raw.copy_from_slice(axes);
+                w.read = to_read;
+            }
+            w => {
+                *w = Some(Written {
+                    raw: AxisBuf::from_slice(axes),
+                    read: to_read,
+                })
+            }
+        }
         out.extend_from_slice(tag.as_bytes());
         out.push(b'\n');
         Ok(())
@@ -783,7 +793,7 @@ impl MachineEmitter {
 
     /// Whether `axes` lie within the travel.
     fn in_travel(&self, axes: &[f64]) -> bool {
-        self.reach.outside(axes).next().is_none()
+        self.reach.first_outside(axes).is_none()
     }
 
     /// Whether the move `moves` from `prev` stays within the travel: its pieces, and the

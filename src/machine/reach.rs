@@ -15,6 +15,8 @@ use crate::emit::AxisReport;
 #[derive(Clone, Debug)]
 pub struct Reach {
     bounds: Vec<AxisBounds>,
+    /// `(minᵢ − s, maxᵢ + s)` per axis, computed once (the check runs on every written move).
+    inside: Vec<(f64, f64)>,
     lowest: Vec<f64>,
     highest: Vec<f64>,
 }
@@ -23,8 +25,20 @@ impl Reach {
     /// For these axes (machine order).
     pub fn new(bounds: Vec<AxisBounds>) -> Reach {
         let n = bounds.len();
+        let inside = bounds
+            .iter()
+            .map(|b| {
+                let s = if b.rotary {
+                    super::LIMIT_SLACK_DEG
+                } else {
+                    crate::tolerance::LENGTH_EPSILON
+                };
+                (b.min - s, b.max + s)
+            })
+            .collect();
         Reach {
             bounds,
+            inside,
             lowest: vec![f64::INFINITY; n],
             highest: vec![f64::NEG_INFINITY; n],
         }
@@ -38,28 +52,30 @@ impl Reach {
     /// Check raw `axes` (machine order): `Err(i)` names the first axis outside its travel (the
     /// move is not recorded); otherwise the values join the range written.
     pub fn check(&mut self, axes: &[f64]) -> Result<(), usize> {
-        if let Some(i) = self.outside(axes).next() {
+        if let Some(i) = self.first_outside(axes) {
             return Err(i);
         }
         self.observe(axes);
         Ok(())
     }
 
+    /// The first axis of raw `axes` outside its travel, if any.
+    pub fn first_outside(&self, axes: &[f64]) -> Option<usize> {
+        // false for a NaN, which is outside
+        let is_inside = |v: f64, (lo, hi): (f64, f64)| v >= lo && v <= hi;
+        axes.iter()
+            .zip(&self.inside)
+            .position(|(&v, &r)| !is_inside(v, r))
+    }
+
     /// The axes of raw `axes` (machine order) outside their travel, in order (see the module
     /// documentation for the slack).
     pub fn outside<'a>(&'a self, axes: &'a [f64]) -> impl Iterator<Item = usize> + 'a {
-        self.bounds
+        self.inside
             .iter()
             .zip(axes)
             .enumerate()
-            .filter(|(_, (b, &v))| {
-                let s = if b.rotary {
-                    super::LIMIT_SLACK_DEG
-                } else {
-                    crate::tolerance::LENGTH_EPSILON
-                };
-                !(v >= b.min - s && v <= b.max + s)
-            })
+            .filter(|(_, (&(lo, hi), &v))| !(v >= lo && v <= hi))
             .map(|(i, _)| i)
     }
 
