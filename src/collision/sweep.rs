@@ -440,6 +440,12 @@ impl Checker {
         &self.findings
     }
 
+    /// Every finding so far, to be completed by the caller (the input line, which only the
+    /// unwarp knows).
+    pub fn findings_mut(&mut self) -> &mut [CollisionFinding] {
+        &mut self.findings
+    }
+
     /// Take the findings.
     pub fn take_findings(&mut self) -> Vec<CollisionFinding> {
         std::mem::take(&mut self.findings)

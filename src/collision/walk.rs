@@ -307,6 +307,16 @@ impl Walker {
         &self.checker
     }
 
+    /// Every finding so far, to be completed by the caller ([`Checker::findings_mut`]).
+    pub fn findings_mut(&mut self) -> &mut [CollisionFinding] {
+        self.checker.findings_mut()
+    }
+
+    /// The lines read whole so far: a later finding is on a later line.
+    pub fn lines_read(&self) -> u64 {
+        self.reader.lines()
+    }
+
     /// Feed the next bytes of the G-code.
     pub fn push(&mut self, bytes: &[u8]) -> Result<(), MachineError> {
         let checker = &mut self.checker;

@@ -21,11 +21,13 @@ use crate::toolpath::ToolPoint;
 mod cartesian;
 pub mod clearance;
 mod e_writer;
+mod input_lines;
 mod report;
 
 pub use cartesian::Cartesian;
 pub use e_writer::{EWriter, E_QUANTUM};
-pub use report::{AxisReport, CollisionFinding, FeedMode, InputLines, MachineReport, SwingPlace};
+pub use input_lines::InputLines;
+pub use report::{AxisReport, CollisionFinding, FeedMode, MachineReport, SwingPlace};
 
 /// Feed for travels, lifts and descents warpslice adds when the slicer gave none, mm/min
 /// (100 mm/s).
@@ -187,4 +189,11 @@ pub trait Emitter: Send {
     fn machine_report(&self) -> Option<MachineReport> {
         None
     }
+    /// The input line of output line `line` (1-based), where the emitter records them
+    /// ([`InputLines`]: the machine emitter with the collision check); `None` otherwise.
+    fn input_line_of(&self, _line: u64) -> Option<u64> {
+        None
+    }
+    /// No later [`Emitter::input_line_of`] asks for an output line before `line`.
+    fn forget_input_lines_before(&mut self, _line: u64) {}
 }

@@ -96,10 +96,6 @@ pub struct MachineReport {
     /// Every collision found (with `allow_collisions`; otherwise the first stops the unwarp).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub collisions: Vec<CollisionFinding>,
-    /// Input line of each output line (recorded when the collision check runs; not
-    /// serialised).
-    #[serde(skip)]
-    pub input_lines: InputLines,
     /// Every axis: its travel, the range written and the margins, its largest feed and the
     /// moves it slowed (machine order).
     pub axes: Vec<AxisReport>,
@@ -173,28 +169,4 @@ pub struct CollisionFinding {
     /// when the machine G-code was checked alone (`warpslice check`: no input file).
     #[serde(default)]
     pub input_line: Option<u64>,
-}
-
-/// Which input line each output line came from, as runs: `(first output line, input line)`,
-/// output lines increasing; an output line belongs to the last run starting at or before it.
-/// Recorded by the machine emitter when the collision check runs (one entry per change of the
-/// input line, so a finding's output line can be traced back to the slicer's line).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct InputLines(pub Vec<(u64, u64)>);
-
-impl InputLines {
-    /// The input line of output line `line` (None: before the first run, or none recorded).
-    pub fn of(&self, line: u64) -> Option<u64> {
-        let k = self.0.partition_point(|(o, _)| *o <= line);
-        k.checked_sub(1).map(|k| self.0[k].1).filter(|&l| l > 0)
-    }
-
-    /// Record that the lines from output line `output` on come from input line `input`.
-    pub fn push(&mut self, output: u64, input: u64) {
-        match self.0.last_mut() {
-            Some((_, i)) if *i == input => {}
-            Some((o, i)) if *o == output => *i = input,
-            _ => self.0.push((output, input)),
-        }
-    }
 }

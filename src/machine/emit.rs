@@ -347,9 +347,6 @@ impl MachineEmitter {
     /// The measurements so far.
     pub fn report(&self) -> MachineReport {
         let mut r = self.report.clone();
-        if let Some(m) = &self.input_lines {
-            r.input_lines = m.clone();
-        }
         let t = &self.tess;
         r.moves_in = t.moves_in as u64;
         r.moves_out = (t.moves_out as u64 + r.rotate_arounds * 2 + r.swing_lifts * 2)
@@ -1328,6 +1325,14 @@ impl Emitter for MachineEmitter {
 
     fn machine_report(&self) -> Option<MachineReport> {
         Some(self.report())
+    }
+    fn input_line_of(&self, line: u64) -> Option<u64> {
+        self.input_lines.as_ref()?.of(line)
+    }
+    fn forget_input_lines_before(&mut self, line: u64) {
+        if let Some(m) = self.input_lines.as_mut() {
+            m.forget_before(line);
+        }
     }
 }
 

@@ -195,6 +195,19 @@ impl Unwarper {
             .unwrap_or_default()
     }
 
+    /// The input line of output line `line` (1-based), where the emitter records them
+    /// ([`crate::emit::Emitter::input_line_of`]).
+    pub fn input_line_of(&self, line: u64) -> Option<u64> {
+        self.core.as_ref()?.emit.input_line_of(line)
+    }
+
+    /// No later [`Unwarper::input_line_of`] asks for an output line before `line`.
+    pub fn forget_input_lines_before(&mut self, line: u64) {
+        if let Some(c) = self.core.as_mut() {
+            c.emit.forget_input_lines_before(line);
+        }
+    }
+
     /// Drain the toolpath collected so far (`collect_toolpath`).
     pub fn take_toolpath(&mut self) -> Vec<ToolPoint> {
         self.core
