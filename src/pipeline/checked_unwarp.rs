@@ -115,7 +115,7 @@ impl CheckedUnwarper {
     /// The input line of output line `line` while the unwarp still holds it: a line not yet
     /// walked by the check. The walked lines' are forgotten once their findings have them, so
     /// the record stays the size of a chunk, not of the file (105 MB of G-code on pax-5axis:
-    /// 239 → 63 MB peak, README "Memory").
+    /// 239 → 63 MB peak, README "Speed and memory").
     pub fn input_line_of(&self, line: u64) -> Option<u64> {
         self.inner.input_line_of(line)
     }
