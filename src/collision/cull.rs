@@ -149,6 +149,12 @@ impl<'a> Reach<'a> {
             return None;
         }
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        // the contact surface's interval first: on a row beside a tilted nozzle it is often
+        // empty, and the discs' chords (two radii, a square root each) are then not needed;
+        // the interval is the intersection either way (max and min round nothing)
+        if let Some(c) = self.contact {
+            (lo, hi) = c.above_on_row(y, m)?;
+        }
         for (o, r) in self.discs(m).iter().flatten() {
             let dy = y - o.y;
             let r = r + DISC_SLACK_MM;
@@ -159,11 +165,6 @@ impl<'a> Reach<'a> {
             let half = chord2.sqrt() + DISC_SLACK_MM;
             lo = lo.max(o.x - half);
             hi = hi.min(o.x + half);
-        }
-        if let Some(c) = self.contact {
-            let (a, b) = c.above_on_row(y, m)?;
-            lo = lo.max(a);
-            hi = hi.min(b);
         }
         (lo <= hi).then_some((lo, hi))
     }
