@@ -112,6 +112,20 @@ pub fn chord_deviation(acceleration: f64) -> f64 {
     acceleration / 8.0
 }
 
+/// Lemma 1 with one end's value known: a curve `f: [0, 1] → ℝ³` with `f(0) = 0`,
+/// `|f(1)| = end` and `|f''| ≤ acceleration` deviates from its chord `s f(1)` by at most
+/// `s(1 − s)/2 · acceleration` (Lemma 1), so `|f(s)| ≤ φ(s) = s·end + s(1 − s)/2 ·
+/// acceleration`. φ peaks at `s = ½ + end/acceleration`: when that is beyond 1
+/// (`acceleration ≤ 2·end`) the largest is `end` (at s = 1), else
+/// `acceleration/8 + end/2 + end²/(2·acceleration)`.
+pub fn deviation_with_end(end: f64, acceleration: f64) -> f64 {
+    if acceleration <= 2.0 * end {
+        end
+    } else {
+        acceleration / 8.0 + end / 2.0 + end * end / (2.0 * acceleration)
+    }
+}
+
 /// The angle (degrees) between two unit vectors at most `chord` apart: `2 asin(chord/2)`.
 pub fn angle_of_chord(chord: f64) -> f64 {
     num::deg(2.0 * num::asin((chord / 2.0).min(1.0)))

@@ -78,6 +78,31 @@
 //! within `(|ω̇| + Ω²)/8` of its chord, and the slerp of the ends within `w²/8` of it
 //! (w = ∠(n₀, n₁)); the angle is `2 asin(chord/2)` ([`bound::angle_of_chord`]).
 //!
+//! ## The middle (Lemma 1 with an end known)
+//! The firmware's pose at s = ½ is computed (`forward` of the mean axes): the tip error there,
+//! `e_m = |F(½) − p(½)|`, and the tool axis' chord to the slerp there, `d_m`. On each half,
+//! parametrised by s' ∈ [0, 1] from its exact end, the error vanishes at s' = 0, is e_m at
+//! s' = 1 and has `|e''| ≤ T` (T = the half's `sup |H''|` in s', above), so
+//! `|e| ≤ s' e_m + s'(1 − s')T/2` ([`bound::deviation_with_end`]); the same for the tool axis
+//! with `T = sup(|ω̇| + Ω²) + (w/2)²` (the firmware's axis and the half's slerp). The smaller of
+//! this and the bound above is taken: near a piece's middle the error is known, not bounded.
+//!
+//! ## The tool axis in closed form (the lifted chord)
+//! `(R l̂ᵢ)_z = uᵢ` (Eqs. 16–17) and `(R l̂ᵢ)_z = (Rᵀe₃)·l̂ᵢ`, so the firmware's tool axis
+//! `F = Rᵀe₃` has `F·l̂ᵢ = uᵢ(s)`, linear in s (the firmware moves the motors linearly); the
+//! l̂ᵢ are horizontal and span the plane (the balls are not collinear), so F's horizontal part
+//! `x(s)` is linear in s, and `F_z = √(1 − |x|²)` (F_z > 0 at the ends, and |x(s)| is at most
+//! the larger end's (convexity), so F_z never reaches 0 on a continuous pose). The ends realise
+//! their requests (law 1), so `x(s) = (1 − s) n₀,xy + s n₁,xy` within the round trip: the
+//! firmware's axis is the lifted chord `g(s) = (x, √(1 − |x|²))`, a function of n₀, n₁ alone.
+//! Against the slerp S: `d = g − S` vanishes at both ends, `S'' = −w² S`, and
+//! `g'' = (0, 0, z'')` with `z'' = −(|x'|² z² + (x·x')²)/z³`, `|z''| ≤ |x'|²/z³`
+//! (`(x·x')² ≤ |x|²|x'|²`, `z² + |x|² = 1`), z ≥ z_min = √(1 − max |nᵢ,xy|²). So with
+//! `M = |x'|²/z_min³ + w²`, d sampled at s = k/K ([`AXIS_SAMPLES`]) is within `M/(8K²)` of the
+//! chord of its two nearest samples (Lemma 1 on an interval of 1/K), whose length is at most
+//! the larger sample's: `|d| ≤ max_k |d(k/K)| + M/(8K²)`. On a conic layer at 30° this is about
+//! 1.3 times the true deviation where the Lemma 1 sum above is about 5 times.
+//!
 //! ## Where the bound is not given (the piece is sampled)
 //! The piece is not given a bound when an end is within [`LIMIT_MARGIN_MM`] of an axis limit,
 //! when a ball comes within that margin of its rail's end (the intended path, within the bound
@@ -89,6 +114,7 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use super::bound;
+use super::tessellate::Slerp;
 use super::threez::ThreeZ;
 use super::{Machine, PieceEnd};
 
@@ -136,15 +162,61 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     let am: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| (x + y) / 2.0).collect();
     let pm = (p0 + p1) / 2.0;
     let (tip0, turn0) = second_derivatives(m, (a0, p0), (&am, pm))?;
-    let (tip1, turn1) = second_derivatives(m, (a1, p1), (&am, pm))?;
-    let (tip, turn) = (4.0 * tip0.max(tip1), 4.0 * turn0.max(turn1));
+    let (tip_half, turn_half) = {
+        let (tip1, turn1) = second_derivatives(m, (a1, p1), (&am, pm))?;
+        (tip0.max(tip1), turn0.max(turn1))
+    };
+    let (tip, turn) = (4.0 * tip_half, 4.0 * turn_half);
     let w = bound::angle(n0, n1);
-    let axis = bound::chord_deviation(turn) + bound::chord_deviation(w * w);
+    let mut tip_bound = bound::chord_deviation(tip);
+    let mut axis = bound::chord_deviation(turn) + bound::chord_deviation(w * w);
+    // the firmware's pose at s = ½ (module documentation, "The middle")
+    if let Ok((fm, rm)) = m.forward(&am) {
+        tip_bound = tip_bound.min(bound::deviation_with_end((fm - pm).length(), tip_half));
+        let nm = Slerp::new(n0, n1).at(0.5);
+        axis = axis.min(bound::deviation_with_end(
+            (rm - nm).length(),
+            turn_half + (w / 2.0) * (w / 2.0),
+        ));
+    }
+    if let Some(lifted) = lifted_axis_deviation(n0, n1, w) {
+        axis = axis.min(lifted);
+    }
     let (bp, ba) = (
-        bound::chord_deviation(tip) + bound::ROUND_TRIP_SLACK_MM,
+        tip_bound + bound::ROUND_TRIP_SLACK_MM,
         bound::angle_of_chord(axis) + bound::ROUND_TRIP_SLACK_DEG,
     );
     (bp.is_finite() && ba.is_finite()).then_some((bp, ba))
+}
+
+/// Points `s = k/AXIS_SAMPLES` at which [`lifted_axis_deviation`] compares the firmware's tool
+/// axis with the slerp; between them Lemma 1 on intervals of `1/AXIS_SAMPLES` adds
+/// `M/(8·AXIS_SAMPLES²)`.
+pub const AXIS_SAMPLES: usize = 4;
+
+/// The largest chord between the firmware's tool axis and the slerp of `n0`, `n1` (unit,
+/// `w` apart) over the piece, from the lifted chord (module documentation, "The tool axis in
+/// closed form"); `None` when an end is not above the horizon.
+fn lifted_axis_deviation(n0: DVec3, n1: DVec3, w: f64) -> Option<f64> {
+    let (x0, x1) = (n0.truncate(), n1.truncate());
+    let r2 = x0.length_squared().max(x1.length_squared());
+    if !(n0.z > 0.0 && n1.z > 0.0 && r2 < 1.0) {
+        return None;
+    }
+    let z_min = (1.0 - r2).sqrt();
+    // |d''| ≤ |g''| + |S''| ≤ |x'|²/z³ + w²
+    let m = (x1 - x0).length_squared() / (z_min * z_min * z_min) + w * w;
+    let slerp = Slerp::new(n0, n1);
+    let mut worst = 0.0f64;
+    for k in 1..AXIS_SAMPLES {
+        let s = k as f64 / AXIS_SAMPLES as f64;
+        let x = x0.lerp(x1, s);
+        let g = x.extend((1.0 - x.length_squared()).sqrt());
+        worst = worst.max((g - slerp.at(s)).length());
+    }
+    let h = 1.0 / AXIS_SAMPLES as f64;
+    let d = worst + bound::chord_deviation(m * h * h);
+    d.is_finite().then_some(d)
 }
 
 /// The sup over the piece from the axes `a0` (tip `p0`) to `a1` (`p1`) of `|H''|` (the tip,
