@@ -255,6 +255,53 @@ mod tests {
     }
     use crate::test_rng::Lcg;
 
+    /// Lemma 1 with an end known, against curves sampled at 10 001 points: parabolas
+    /// `s·E·a + s(1 − s)/2·T·b` (|f''| = T; a = b is the worst case, where the bound is the
+    /// sampled maximum itself) and curves turning at constant |f''|.
+    #[test]
+    fn a_curve_with_a_known_end_stays_within_its_bound() {
+        let mut rng = Lcg(0xe4d);
+        let (mut tight, mut count) = (0, 0);
+        for i in 0..400 {
+            let (e, t) = (rng.range(0.0, 2.0), rng.range(0.0, 3.0));
+            let a = rng.within(DVec3::splat(-1.0), DVec3::ONE).normalize();
+            let b = if i % 3 == 0 {
+                a
+            } else {
+                rng.within(DVec3::splat(-1.0), DVec3::ONE).normalize()
+            };
+            let bound = deviation_with_end(e, t);
+            let sup = (0..=10_000)
+                .map(|k| {
+                    let s = k as f64 / 10_000.0;
+                    (a * (s * e) + b * (s * (1.0 - s) / 2.0 * t)).length()
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                sup <= bound + 1e-12,
+                "E {e}, T {t}: sampled {sup} > {bound}"
+            );
+            if i % 3 == 0 {
+                // collinear: the bound is attained (within the sampling step's error)
+                assert!(
+                    bound - sup <= 1e-7 * (1.0 + t),
+                    "E {e}, T {t}: {bound} vs {sup}"
+                );
+                tight += 1;
+            }
+            // a circle of radius r turned by k radians: |f''| = r k², one end at the origin
+            let (r, k) = (rng.range(0.1, 2.0), rng.range(0.1, 3.0));
+            let f = |s: f64| DVec3::new(r * (k * s).sin(), r * (1.0 - (k * s).cos()), 0.0);
+            let bound = deviation_with_end(f(1.0).length(), r * k * k);
+            let sup = (0..=10_000)
+                .map(|j| f(j as f64 / 10_000.0).length())
+                .fold(0.0, f64::max);
+            assert!(sup <= bound + 1e-12, "circle r {r}, k {k}: {sup} > {bound}");
+            count += 1;
+        }
+        assert!(tight > 100 && count == 400);
+    }
+
     /// The slerp from its definition (not the tessellation's code).
     fn great_circle(n0: DVec3, n1: DVec3, s: f64) -> DVec3 {
         let w = n0.dot(n1).clamp(-1.0, 1.0).acos();
