@@ -39,12 +39,14 @@
 //! ## Two halves
 //! Everything above is a bound over s ∈ [0, 1] from the start pose, with variation terms that
 //! grow with the rotation over the piece. The bound is taken twice, over each half of the piece
-//! from its own end (the half from s = 1 runs backwards; the firmware's axes at s = ½ are the
-//! mean of the ends', its tip the mean of theirs). On a half, parametrised by s' = 2s (or
-//! 2(1 − s)), each second derivative is ¼ of the one in s, so `sup |H''|` and `sup |ω̇| + Ω²`
-//! over the piece are at most 4× the larger of the halves' (each half from an exact pose, with
-//! half the rotation in its variation terms): about half the slack of a single bound from s = 0
-//! (bench ball, 3Z: pieces sampled 546 k → 313 k). The rails are checked along each half.
+//! from the firmware's pose at its middle (the firmware's axes at s = ½ are the mean of the
+//! ends', the intended tip the mean of theirs; the half towards s = 0 runs backwards), so one
+//! pose, one J̃₀⁻¹ and one rail position serve both halves and the middle's error below. On a
+//! half, parametrised by s' = 2s − 1 (or 1 − 2s), each second derivative is ¼ of the one in s,
+//! so `sup |H''|` and `sup |ω̇| + Ω²` over the piece are at most 4× the larger of the halves'
+//! (each with half the rotation in its variation terms): about half the slack of a single bound
+//! from s = 0 (bench ball, 3Z: pieces sampled 546 k → 313 k). The rails are checked along each
+//! half.
 //! Also `|ω − ω₀| ≤ min(δ|Δu|/Λ, (|Ã₀|_F + δ) Ω²)`: the second from `|ω̇| ≤ |Ã| Ω²` over s ≤ 1.
 //!
 //! ## The tip (Lemma 1)
@@ -79,10 +81,10 @@
 //! (w = ∠(n₀, n₁)); the angle is `2 asin(chord/2)` ([`bound::angle_of_chord`]).
 //!
 //! ## The middle (Lemma 1 with an end known)
-//! The firmware's pose at s = ½ is computed (`forward` of the mean axes): the tip error there,
-//! `e_m = |F(½) − p(½)|`, and the tool axis' chord to the slerp there, `d_m`. On each half,
-//! parametrised by s' ∈ [0, 1] from its exact end, the error vanishes at s' = 0, is e_m at
-//! s' = 1 and has `|e''| ≤ T` (T = the half's `sup |H''|` in s', above), so
+//! The firmware's pose at s = ½ gives (Eq. 23) the tip error there, `e_m = |F(½) − p(½)|`, and
+//! the tool axis' chord to the slerp there, `d_m`. On each half, parametrised by s' ∈ [0, 1]
+//! from the piece's exact end, the error vanishes at s' = 0, is e_m at s' = 1 and has
+//! `|e''| ≤ T` (T = the half's `sup |H''|` in s', above), so
 //! `|e| ≤ s' e_m + s'(1 − s')T/2` ([`bound::deviation_with_end`]); the same for the tool axis
 //! with `T = sup(|ω̇| + Ω²) + (w/2)²` (the firmware's axis and the half's slerp). The smaller of
 //! this and the bound above is taken: near a piece's middle the error is known, not bounded.
@@ -115,7 +117,7 @@ use glam::{DMat4, DVec3, DVec4};
 
 use super::bound;
 use super::tessellate::Slerp;
-use super::threez::ThreeZ;
+use super::threez::{BedPose, ThreeZ};
 use super::{Machine, PieceEnd};
 
 /// How far (mm) the firmware path's axes and balls must stay from an axis limit or a rail end
@@ -161,24 +163,22 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     // times the larger half's sup, tighter than one bound from s = 0 over the whole piece.
     let am: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| (x + y) / 2.0).collect();
     let pm = (p0 + p1) / 2.0;
-    let (tip0, turn0) = second_derivatives(m, (a0, p0), (&am, pm))?;
+    let middle = Start::new(m, &am)?;
+    let (tip0, turn0) = second_derivatives(m, &middle, (&am, pm), (a0, p0))?;
     let (tip_half, turn_half) = {
-        let (tip1, turn1) = second_derivatives(m, (a1, p1), (&am, pm))?;
+        let (tip1, turn1) = second_derivatives(m, &middle, (&am, pm), (a1, p1))?;
         (tip0.max(tip1), turn0.max(turn1))
     };
     let (tip, turn) = (4.0 * tip_half, 4.0 * turn_half);
     let w = bound::angle(n0, n1);
-    let mut tip_bound = bound::chord_deviation(tip);
-    let mut axis = bound::chord_deviation(turn) + bound::chord_deviation(w * w);
     // the firmware's pose at s = ½ (module documentation, "The middle")
-    if let Ok((fm, rm)) = m.forward(&am) {
-        tip_bound = tip_bound.min(bound::deviation_with_end((fm - pm).length(), tip_half));
-        let nm = Slerp::new(n0, n1).at(0.5);
-        axis = axis.min(bound::deviation_with_end(
-            (rm - nm).length(),
-            turn_half + (w / 2.0) * (w / 2.0),
-        ));
-    }
+    let (fm, rm) = m.pose_at(&middle.pose, &am);
+    let tip_bound =
+        bound::chord_deviation(tip).min(bound::deviation_with_end((fm - pm).length(), tip_half));
+    let nm = Slerp::new(n0, n1).at(0.5);
+    let mut axis = (bound::chord_deviation(turn) + bound::chord_deviation(w * w)).min(
+        bound::deviation_with_end((rm - nm).length(), turn_half + (w / 2.0) * (w / 2.0)),
+    );
     if let Some(lifted) = lifted_axis_deviation(n0, n1, w) {
         axis = axis.min(lifted);
     }
@@ -225,39 +225,93 @@ pub fn lifted_axis_deviation(n0: DVec3, n1: DVec3, w: f64) -> Option<f64> {
     d.is_finite().then_some(d)
 }
 
-/// The sup over the piece from the axes `a0` (tip `p0`) to `a1` (`p1`) of `|H''|` (the tip,
-/// mm per unit parameter²) and of `|ω̇| + Ω²` (the tool axis' `|(Rᵀe₃)''|`), both from the
-/// start pose `a0` (module documentation), with the rails checked along the way; `None` where
-/// no bound is given.
+/// What a bound from a start pose needs of that pose alone ([`second_derivatives`]): the bed's
+/// pose, the balls' offsets `rᵢ = R l̂ᵢ` in the world, J̃₀⁻¹ with `|Ã₀|_F`, `|b̃₀|` and
+/// `K₀ = ‖J̃₀⁻¹‖_F`, and each ball's slide along its rail.
+struct Start {
+    pose: BedPose,
+    /// Λ (module documentation), mm.
+    lambda: f64,
+    /// r₁, r₂.
+    r: [DVec3; 2],
+    inv: DMat4,
+    a_norm: f64,
+    b_norm: f64,
+    k0: f64,
+    /// R l̂ᵢ and ball i's slide along its rail (i = 0, 1, 2), when the rails are limited.
+    rails: Option<[(DVec3, f64); 3]>,
+}
+
+impl Start {
+    /// The start pose of the axes `a0`; `None` where J̃₀ is (nearly) singular or no pose
+    /// exists.
+    fn new(m: &ThreeZ, a0: &[f64]) -> Option<Start> {
+        let pose = m.bed_pose(a0).ok()?;
+        let l = m.ball_offsets();
+        let (d, nrm) = m.rails();
+        let lambda = (l[1].length_squared() + l[2].length_squared()).sqrt();
+        let dd = d[0].extend(0.0);
+        let r = [pose.rotate(l[1]), pose.rotate(l[2])];
+        let nn = [nrm[1].extend(0.0), nrm[2].extend(0.0)];
+        let rows = [
+            (r[0].cross(DVec3::Z) / lambda).extend(0.0),
+            (r[1].cross(DVec3::Z) / lambda).extend(0.0),
+            (r[0].cross(nn[0]) / lambda).extend(nn[0].dot(dd)),
+            (r[1].cross(nn[1]) / lambda).extend(nn[1].dot(dd)),
+        ];
+        let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+        let det = j0.determinant();
+        if det.is_nan() || det.abs() < MIN_DETERMINANT {
+            return None;
+        }
+        let inv = j0.inverse();
+        let row = |i: usize| -> DVec4 { inv.row(i) };
+        let a_norm =
+            (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
+        let b_norm = row(3).length();
+        let rails = m.params().rail_travel_mm.map(|_| {
+            [0, 1, 2].map(|i| {
+                let ri = pose.rotate(l[i]);
+                (ri, m.slide(i, d[0] * pose.tp + ri.truncate()))
+            })
+        });
+        Some(Start {
+            pose,
+            lambda,
+            r,
+            inv,
+            a_norm,
+            b_norm,
+            k0: a_norm.hypot(b_norm),
+            rails,
+        })
+    }
+}
+
+/// The sup over the piece from the axes `a0` (tip `p0`, start pose `start`) to `a1` (`p1`) of
+/// `|H''|` (the tip, mm per unit parameter²) and of `|ω̇| + Ω²` (the tool axis'
+/// `|(Rᵀe₃)''|`), both from the start pose (module documentation), with the rails checked
+/// along the way; `None` where no bound is given.
 fn second_derivatives(
     m: &ThreeZ,
+    start: &Start,
     (a0, p0): (&[f64], DVec3),
     (a1, p1): (&[f64], DVec3),
 ) -> Option<(f64, f64)> {
-    let pose0 = m.bed_pose(a0).ok()?;
+    let Start {
+        pose: pose0,
+        lambda,
+        r,
+        inv,
+        a_norm,
+        b_norm,
+        k0,
+        rails,
+    } = *start;
     let l = m.ball_offsets();
     let (d, nrm) = m.rails();
-    let lambda = (l[1].length_squared() + l[2].length_squared()).sqrt();
     let dd = d[0].extend(0.0);
-    let r = [pose0.rotate(l[1]), pose0.rotate(l[2])];
     let nn = [nrm[1].extend(0.0), nrm[2].extend(0.0)];
-    let rows = [
-        (r[0].cross(DVec3::Z) / lambda).extend(0.0),
-        (r[1].cross(DVec3::Z) / lambda).extend(0.0),
-        (r[0].cross(nn[0]) / lambda).extend(nn[0].dot(dd)),
-        (r[1].cross(nn[1]) / lambda).extend(nn[1].dot(dd)),
-    ];
-    let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
-    let det = j0.determinant();
-    if det.is_nan() || det.abs() < MIN_DETERMINANT {
-        return None;
-    }
-    let inv = j0.inverse();
-    let row = |i: usize| -> DVec4 { inv.row(i) };
-    let a_norm =
-        (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
-    let b_norm = row(3).length();
-    let k0 = a_norm.hypot(b_norm);
     let du_v = DVec4::new(
         (a1[2] - a1[3]) - (a0[2] - a0[3]),
         (a1[2] - a1[4]) - (a0[2] - a0[4]),
@@ -300,19 +354,16 @@ fn second_derivatives(
     let omega_dot =
         ((acc0.truncate().length() + spread) / lambda).min((a_norm + delta) * omega * omega);
     let t_ddot = (acc0.w.abs() + spread).min((b_norm + delta) * omega * omega * lambda);
-    if let Some([inward, outward]) = m.params().rail_travel_mm {
+    if let (Some([inward, outward]), Some(rails)) = (m.params().rail_travel_mm, rails) {
         // ball i slides along its rail at dᵢ·(ṫ D + ω × rᵢ): at the start exactly, and along the
         // piece within δ|Δu|·√(1 + |l̂ᵢ|²/Λ²) (|x − x₀| ≤ δ|Δu|) + |ω₀| Ω |l̂ᵢ| (|Δrᵢ| ≤ φ|l̂ᵢ|)
         // of it; over the piece (s ≤ 1) it slides at most that far from its start position
-        for (i, li) in l.iter().enumerate() {
-            let ri = pose0.rotate(*li);
+        for (i, (li, (ri, slide))) in l.iter().zip(rails).enumerate() {
             let v0 = d[i].dot((dd * x0.w + omega0.cross(ri)).truncate());
             let ratio = li.length() / lambda;
             let travel = v0.abs()
                 + delta * du * (1.0 + ratio * ratio).sqrt()
                 + w0 / lambda * omega * li.length();
-            let now = d[0] * pose0.tp + ri.truncate();
-            let slide = m.slide(i, now);
             let room = travel + LIMIT_MARGIN_MM;
             if slide + room > inward || -slide + room > outward {
                 return None;
