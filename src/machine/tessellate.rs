@@ -1203,8 +1203,35 @@ mod tests {
     }
 
     impl Counting {
+        fn of(preset: &str) -> Counting {
+            Counting {
+                inner: super::super::preset(preset).unwrap().build().unwrap(),
+                calls: Default::default(),
+            }
+        }
+
         fn count(&self) {
             self.calls.fetch_add(1, Ordering::Relaxed);
+        }
+
+        /// The move from `from` to `to` tessellated with `plan` right after the plan solved
+        /// `solved`: the kinematics evaluations it took, and whether it began with an in-place
+        /// reorientation (the tip held at the start while the axis turns).
+        fn counted_move(
+            &self,
+            plan: &Plan,
+            solved: (&[f64], DVec3, DVec3),
+            from: (&[f64], DVec3, DVec3),
+            to: (DVec3, DVec3),
+        ) -> (usize, bool) {
+            plan.note_solved(solved.0, solved.1, solved.2);
+            let c0 = self.calls.load(Ordering::Relaxed);
+            let mut rep = TessellationReport::default();
+            let moves = tessellate_planned(self, plan, from, &point(to.0, to.1), &mut rep).unwrap();
+            (
+                self.calls.load(Ordering::Relaxed) - c0,
+                moves[0].reorient && moves[0].p == from.1,
+            )
         }
     }
 
@@ -1268,13 +1295,7 @@ mod tests {
     /// runs again (a skip there is not proven).
     #[test]
     fn the_held_axis_probe_is_skipped_only_from_a_solved_start() {
-        let m = Counting {
-            inner: super::super::preset("fullcontrol-prusa-b")
-                .unwrap()
-                .build()
-                .unwrap(),
-            calls: Default::default(),
-        };
+        let m = Counting::of("fullcontrol-prusa-b");
         let plan = Plan::new(&m, &DEFAULT_BOUNDS);
         let (p0, n0) = (
             DVec3::new(10.0, 0.0, 60.0),
@@ -1291,17 +1312,8 @@ mod tests {
         let first = tessellate_planned(&m, &plan, (&a0, p0, n0), &point(p1, n1), &mut rep).unwrap();
         let a1 = first.last().unwrap().axes.clone();
         assert!(plan.solved_start((&a1, p1, n1)));
-        let run = |from: (&[f64], DVec3, DVec3)| {
-            plan.note_solved(&a1, p1, n1);
-            let c0 = m.calls.load(Ordering::Relaxed);
-            let mut rep = TessellationReport::default();
-            let moves = tessellate_planned(&m, &plan, from, &point(p2, n2), &mut rep).unwrap();
-            // reoriented in place first: the tip held at the start while the axis turns
-            (
-                m.calls.load(Ordering::Relaxed) - c0,
-                moves[0].reorient && moves[0].p == p1,
-            )
-        };
+        let run =
+            |from: (&[f64], DVec3, DVec3)| m.counted_move(&plan, (&a1, p1, n1), from, (p2, n2));
         let (solved, reoriented) = run((&a1, p1, n1));
         assert!(!reoriented);
         let mut held = a1.clone();
@@ -1332,13 +1344,7 @@ mod tests {
     /// reoriented in place first.
     #[test]
     fn a_realising_machines_probe_is_skipped_only_from_a_solved_start() {
-        let m = Counting {
-            inner: super::super::preset("ratrig-vcore3-3z")
-                .unwrap()
-                .build()
-                .unwrap(),
-            calls: Default::default(),
-        };
+        let m = Counting::of("ratrig-vcore3-3z");
         assert!(m.realises_requests());
         let plan = Plan::new(&m, &DEFAULT_BOUNDS);
         let (p1, n1) = (
@@ -1350,16 +1356,8 @@ mod tests {
             super::super::laws::axis(20.1, 41.0),
         );
         let a1 = m.inverse(p1, n1, None).unwrap();
-        let run = |from: (&[f64], DVec3, DVec3)| {
-            plan.note_solved(&a1, p1, n1);
-            let c0 = m.calls.load(Ordering::Relaxed);
-            let mut rep = TessellationReport::default();
-            let moves = tessellate_planned(&m, &plan, from, &point(p2, n2), &mut rep).unwrap();
-            (
-                m.calls.load(Ordering::Relaxed) - c0,
-                moves[0].reorient && moves[0].p == p1,
-            )
-        };
+        let run =
+            |from: (&[f64], DVec3, DVec3)| m.counted_move(&plan, (&a1, p1, n1), from, (p2, n2));
         let (solved, reoriented) = run((&a1, p1, n1));
         assert!(!reoriented);
         let nudged = DVec3::from_array(n1.to_array().map(|x| f64::from_bits(x.to_bits() + 1)));

@@ -411,9 +411,12 @@ mod tests {
         DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())
     }
 
+    /// A piece's start axes and tool axis, end axes and tool axis, and whether it is conic.
+    type TestPiece = (Vec<f64>, DVec3, Vec<f64>, DVec3, bool);
+
     /// Random pieces on the RatRig bed (tilts up to 30°, turns up to 8°, tips up to 3 mm
     /// apart) and conic ones (30° tilt, the azimuth turned): `(a₀, n₀, a₁, n₁, conic)`.
-    fn pieces(m: &dyn Machine) -> Vec<(Vec<f64>, DVec3, Vec<f64>, DVec3, bool)> {
+    fn pieces(m: &dyn Machine) -> Vec<TestPiece> {
         let mut rng = Lcg(0x3a2_5eed);
         let mut out = Vec::new();
         for i in 0..600 {
