@@ -67,14 +67,18 @@ fn check(m: &dyn Machine) {
 }
 
 /// The machines whose realised tool axis is a closed form of the request away from a hold
-/// (the B head, the rotating tilted nozzle) bound its drift at most grid poses, so the
-/// tessellation skips the held-axis probe there (else law 7 checks nothing).
+/// (the B head, the rotating tilted nozzle) bound its drift at most grid poses, and the
+/// machines that realise their requests (the triple-Z bed, the 5-axis head) skip the probe
+/// from every solved start, so the tessellation skips the held-axis probe there (else law 7
+/// checks nothing).
 #[test]
 fn start_drift_bounds_are_given_where_proven() {
     for (name, least) in [
         ("fullcontrol-prusa-b", 10_000),
         ("rtn-slicer4rtn", 10_000),
         ("rotbot", 10_000),
+        ("ratrig-vcore3-3z", 1_000),
+        ("pax-5axis", 1_000),
     ] {
         let m = preset(name)
             .and_then(|s| s.build())

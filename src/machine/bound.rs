@@ -112,6 +112,20 @@ pub fn chord_deviation(acceleration: f64) -> f64 {
     acceleration / 8.0
 }
 
+/// Lemma 1 with one end's value known: a curve `f: [0, 1] → ℝ³` with `f(0) = 0`,
+/// `|f(1)| = end` and `|f''| ≤ acceleration` deviates from its chord `s f(1)` by at most
+/// `s(1 − s)/2 · acceleration` (Lemma 1), so `|f(s)| ≤ φ(s) = s·end + s(1 − s)/2 ·
+/// acceleration`. φ peaks at `s = ½ + end/acceleration`: when that is beyond 1
+/// (`acceleration ≤ 2·end`) the largest is `end` (at s = 1), else
+/// `acceleration/8 + end/2 + end²/(2·acceleration)`.
+pub fn deviation_with_end(end: f64, acceleration: f64) -> f64 {
+    if acceleration <= 2.0 * end {
+        end
+    } else {
+        acceleration / 8.0 + end / 2.0 + end * end / (2.0 * acceleration)
+    }
+}
+
 /// The angle (degrees) between two unit vectors at most `chord` apart: `2 asin(chord/2)`.
 pub fn angle_of_chord(chord: f64) -> f64 {
     num::deg(2.0 * num::asin((chord / 2.0).min(1.0)))
@@ -240,6 +254,53 @@ mod tests {
         }
     }
     use crate::test_rng::Lcg;
+
+    /// Lemma 1 with an end known, against curves sampled at 10 001 points: parabolas
+    /// `s·E·a + s(1 − s)/2·T·b` (|f''| = T; a = b is the worst case, where the bound is the
+    /// sampled maximum itself) and curves turning at constant |f''|.
+    #[test]
+    fn a_curve_with_a_known_end_stays_within_its_bound() {
+        let mut rng = Lcg(0xe4d);
+        let (mut tight, mut count) = (0, 0);
+        for i in 0..400 {
+            let (e, t) = (rng.range(0.0, 2.0), rng.range(0.0, 3.0));
+            let a = rng.within(DVec3::splat(-1.0), DVec3::ONE).normalize();
+            let b = if i % 3 == 0 {
+                a
+            } else {
+                rng.within(DVec3::splat(-1.0), DVec3::ONE).normalize()
+            };
+            let bound = deviation_with_end(e, t);
+            let sup = (0..=10_000)
+                .map(|k| {
+                    let s = k as f64 / 10_000.0;
+                    (a * (s * e) + b * (s * (1.0 - s) / 2.0 * t)).length()
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                sup <= bound + 1e-12,
+                "E {e}, T {t}: sampled {sup} > {bound}"
+            );
+            if i % 3 == 0 {
+                // collinear: the bound is attained (within the sampling step's error)
+                assert!(
+                    bound - sup <= 1e-7 * (1.0 + t),
+                    "E {e}, T {t}: {bound} vs {sup}"
+                );
+                tight += 1;
+            }
+            // a circle of radius r turned by k radians: |f''| = r k², one end at the origin
+            let (r, k) = (rng.range(0.1, 2.0), rng.range(0.1, 3.0));
+            let f = |s: f64| DVec3::new(r * (k * s).sin(), r * (1.0 - (k * s).cos()), 0.0);
+            let bound = deviation_with_end(f(1.0).length(), r * k * k);
+            let sup = (0..=10_000)
+                .map(|j| f(j as f64 / 10_000.0).length())
+                .fold(0.0, f64::max);
+            assert!(sup <= bound + 1e-12, "circle r {r}, k {k}: {sup} > {bound}");
+            count += 1;
+        }
+        assert!(tight > 100 && count == 400);
+    }
 
     /// The slerp from its definition (not the tessellation's code).
     fn great_circle(n0: DVec3, n1: DVec3, s: f64) -> DVec3 {

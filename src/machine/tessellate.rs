@@ -482,9 +482,14 @@ impl Plan {
 
     /// Whether the held-axis probe of a move from `from` to `to` can find no jump and raise no
     /// error ([`tessellate_planned`]): the start was solved for its request
-    /// ([`Plan::solved_start`]), both tool axes are unit, the end's tip is finite, and the
-    /// machine's [`Machine::start_drift_deg`] for a turn of [`PROBE_TURN_RAD`] and a tip step
-    /// of [`START_PROBE`] of the move is within the probe's limit.
+    /// ([`Plan::solved_start`]), both tool axes are unit, the end's tip is finite, and either
+    /// - the machine [realises its requests](Machine::realises_requests): the probe compares
+    ///   `r₀ = forward(a₀)`, which succeeds and is within law 1's round trip
+    ///   ([`REALISED_PROBE_DEG`]) of n₀ since `a₀ = inverse(p₀, n₀, ·)`, with the request
+    ///   `slerp(n₀, n₁, START_PROBE)` itself, within [`PROBE_TURN_RAD`] of n₀ (nothing is
+    ///   solved), so it finds at most their sum; skipped where that is within its limit;
+    /// - or the machine's [`Machine::start_drift_deg`] for a turn of [`PROBE_TURN_RAD`] and a
+    ///   tip step of [`START_PROBE`] of the move is within the probe's limit.
     pub fn probe_skipped(
         &self,
         machine: &dyn Machine,
@@ -498,9 +503,13 @@ impl Plan {
             && unit(to.1)
             && tip.is_finite()
             && self.solved_start(from)
-            && machine
-                .start_drift_deg(p0, n0, a0, PROBE_TURN_RAD, tip)
-                .is_some_and(|d| d <= self.probe_limit.deg)
+            && if self.requests_realised {
+                REALISED_PROBE_DEG <= self.probe_limit.deg
+            } else {
+                machine
+                    .start_drift_deg(p0, n0, a0, PROBE_TURN_RAD, tip)
+                    .is_some_and(|d| d <= self.probe_limit.deg)
+            }
     }
 }
 
@@ -918,6 +927,13 @@ pub const START_PROBE: f64 = 1e-7;
 /// less); 4·START_PROBE leaves room for rounding.
 pub const PROBE_TURN_RAD: f64 = 4.0 * START_PROBE;
 
+/// The largest angle (degrees) the held-axis probe of a machine that
+/// [realises its requests](Machine::realises_requests) can find from a start solved for its
+/// own request ([`Plan::probe_skipped`]): [`PROBE_TURN_RAD`] plus law 1's round trip
+/// ([`super::laws::ANGLE_TOLERANCE`]), ≈ 2.3e-5°.
+pub const REALISED_PROBE_DEG: f64 =
+    (PROBE_TURN_RAD + super::laws::ANGLE_TOLERANCE) * (180.0 / core::f64::consts::PI);
+
 /// One input move: from the pose `from = (axes, p, n)` to the toolpath point `to`, split until
 /// the firmware's interpolation stays within `bounds`.
 ///
@@ -1187,8 +1203,35 @@ mod tests {
     }
 
     impl Counting {
+        fn of(preset: &str) -> Counting {
+            Counting {
+                inner: super::super::preset(preset).unwrap().build().unwrap(),
+                calls: Default::default(),
+            }
+        }
+
         fn count(&self) {
             self.calls.fetch_add(1, Ordering::Relaxed);
+        }
+
+        /// The move from `from` to `to` tessellated with `plan` right after the plan solved
+        /// `solved`: the kinematics evaluations it took, and whether it began with an in-place
+        /// reorientation (the tip held at the start while the axis turns).
+        fn counted_move(
+            &self,
+            plan: &Plan,
+            solved: (&[f64], DVec3, DVec3),
+            from: (&[f64], DVec3, DVec3),
+            to: (DVec3, DVec3),
+        ) -> (usize, bool) {
+            plan.note_solved(solved.0, solved.1, solved.2);
+            let c0 = self.calls.load(Ordering::Relaxed);
+            let mut rep = TessellationReport::default();
+            let moves = tessellate_planned(self, plan, from, &point(to.0, to.1), &mut rep).unwrap();
+            (
+                self.calls.load(Ordering::Relaxed) - c0,
+                moves[0].reorient && moves[0].p == from.1,
+            )
         }
     }
 
@@ -1206,6 +1249,12 @@ mod tests {
         }
         fn realised_axis(&self, p: DVec3, n: DVec3) -> DVec3 {
             self.inner.realised_axis(p, n)
+        }
+        fn realises_requests(&self) -> bool {
+            self.inner.realises_requests()
+        }
+        fn realises_bounded_requests(&self) -> bool {
+            self.inner.realises_bounded_requests()
         }
         fn branch_freedom(&self, p: DVec3, n: DVec3) -> f64 {
             self.inner.branch_freedom(p, n)
@@ -1246,13 +1295,7 @@ mod tests {
     /// runs again (a skip there is not proven).
     #[test]
     fn the_held_axis_probe_is_skipped_only_from_a_solved_start() {
-        let m = Counting {
-            inner: super::super::preset("fullcontrol-prusa-b")
-                .unwrap()
-                .build()
-                .unwrap(),
-            calls: Default::default(),
-        };
+        let m = Counting::of("fullcontrol-prusa-b");
         let plan = Plan::new(&m, &DEFAULT_BOUNDS);
         let (p0, n0) = (
             DVec3::new(10.0, 0.0, 60.0),
@@ -1269,17 +1312,8 @@ mod tests {
         let first = tessellate_planned(&m, &plan, (&a0, p0, n0), &point(p1, n1), &mut rep).unwrap();
         let a1 = first.last().unwrap().axes.clone();
         assert!(plan.solved_start((&a1, p1, n1)));
-        let run = |from: (&[f64], DVec3, DVec3)| {
-            plan.note_solved(&a1, p1, n1);
-            let c0 = m.calls.load(Ordering::Relaxed);
-            let mut rep = TessellationReport::default();
-            let moves = tessellate_planned(&m, &plan, from, &point(p2, n2), &mut rep).unwrap();
-            // reoriented in place first: the tip held at the start while the axis turns
-            (
-                m.calls.load(Ordering::Relaxed) - c0,
-                moves[0].reorient && moves[0].p == p1,
-            )
-        };
+        let run =
+            |from: (&[f64], DVec3, DVec3)| m.counted_move(&plan, (&a1, p1, n1), from, (p2, n2));
         let (solved, reoriented) = run((&a1, p1, n1));
         assert!(!reoriented);
         let mut held = a1.clone();
@@ -1301,6 +1335,44 @@ mod tests {
             let (probed, _) = run((&a1, p, n));
             assert_eq!(probed, solved + 3, "evaluations from {p}, {n}");
         }
+    }
+
+    /// On a machine that realises its requests (the triple-Z bed) the probe is skipped from a
+    /// start solved for its own request: a move from the end the plan just solved costs one
+    /// evaluation (the probe's `forward`) less than from the same end with its tool axis changed
+    /// in the last bits; a start whose axes were solved for another tool axis (2° away) is
+    /// reoriented in place first.
+    #[test]
+    fn a_realising_machines_probe_is_skipped_only_from_a_solved_start() {
+        let m = Counting::of("ratrig-vcore3-3z");
+        assert!(m.realises_requests());
+        let plan = Plan::new(&m, &DEFAULT_BOUNDS);
+        let (p1, n1) = (
+            DVec3::new(150.0, 140.0, 60.0),
+            super::super::laws::axis(20.0, 40.0),
+        );
+        let (p2, n2) = (
+            DVec3::new(150.5, 140.2, 60.0),
+            super::super::laws::axis(20.1, 41.0),
+        );
+        let a1 = m.inverse(p1, n1, None).unwrap();
+        let run =
+            |from: (&[f64], DVec3, DVec3)| m.counted_move(&plan, (&a1, p1, n1), from, (p2, n2));
+        let (solved, reoriented) = run((&a1, p1, n1));
+        assert!(!reoriented);
+        let nudged = DVec3::from_array(n1.to_array().map(|x| f64::from_bits(x.to_bits() + 1)));
+        assert!(!plan.solved_start((&a1, p1, nudged)));
+        let (probed, reoriented) = run((&a1, p1, nudged));
+        assert!(!reoriented);
+        assert_eq!(probed, solved + 1, "the probe's forward");
+        let other = m
+            .inverse(p1, super::super::laws::axis(22.0, 40.0), None)
+            .unwrap();
+        let (_, reoriented) = run((&other, p1, n1));
+        assert!(
+            reoriented,
+            "a start realising another axis is reoriented first"
+        );
     }
 
     /// The trigonometry-free decision is the computed angle's, at angles spread over the whole

@@ -269,6 +269,21 @@ impl ThreeZ {
         Ok(BedPose { t1, t2, spin, tp })
     }
 
+    /// [`Machine::forward`] with the bed's pose of these axes already found
+    /// ([`ThreeZ::bed_pose`]): the tip and tool axis of Eq. 23.
+    pub(super) fn pose_at(&self, pose: &BedPose, axes: &[f64]) -> (DVec3, DVec3) {
+        let (x, y, z0) = (axes[0], axes[1], axes[2]);
+        let (t1_back, t2_back) = (pose.t1.reversed(), pose.t2.reversed());
+        let r21t = |v: DVec3| t1_back.apply(t2_back.apply(v));
+        // Eq. 23.
+        let b0 = self.d[0] * pose.tp;
+        let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
+        let p = r21t(pose.spin.reversed().about_z(v)) + self.b_hat[0];
+        // The nozzle is vertical in the world: in bed space it points along Rᵀ e₃ = R₁ᵀ R₂ᵀ e₃
+        // (R_θ' turns about e₃).
+        (p, r21t(DVec3::Z))
+    }
+
     /// How far ball `i`, at `now` (xy, relative to b̂₀'s planar position), has slid along its
     /// rail from its planar position, signed towards the centroid of the balls (inward), mm.
     pub(super) fn slide(&self, i: usize, now: DVec2) -> f64 {
@@ -444,18 +459,9 @@ impl Machine for ThreeZ {
         self.axis_set.check_limits(axes, p)
     }
     fn forward(&self, axes: &[f64]) -> Result<(DVec3, DVec3), MachineError> {
-        let pose = self.bed_pose(axes)?;
-        let (x, y, z0) = (axes[0], axes[1], axes[2]);
-        let (t1_back, t2_back) = (pose.t1.reversed(), pose.t2.reversed());
-        let r21t = |v: DVec3| t1_back.apply(t2_back.apply(v));
-        // Eq. 23.
-        let b0 = self.d[0] * pose.tp;
-        let v = DVec3::new(x - b0.x, y - b0.y, z0) - self.b_hat[0];
-        let p = r21t(pose.spin.reversed().about_z(v)) + self.b_hat[0];
-        // The nozzle is vertical in the world: in bed space it points along Rᵀ e₃ = R₁ᵀ R₂ᵀ e₃
-        // (R_θ' turns about e₃).
-        Ok((p, r21t(DVec3::Z)))
+        Ok(self.pose_at(&self.bed_pose(axes)?, axes))
     }
+
     /// The bed turns the tool axis exactly onto the nozzle (`Rᵀe₃ = n̂`, the module doc) and
     /// puts the tip exactly under it: nothing is dropped, clipped or held.
     fn realises_requests(&self) -> bool {

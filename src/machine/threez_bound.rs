@@ -39,12 +39,14 @@
 //! ## Two halves
 //! Everything above is a bound over s ∈ [0, 1] from the start pose, with variation terms that
 //! grow with the rotation over the piece. The bound is taken twice, over each half of the piece
-//! from its own end (the half from s = 1 runs backwards; the firmware's axes at s = ½ are the
-//! mean of the ends', its tip the mean of theirs). On a half, parametrised by s' = 2s (or
-//! 2(1 − s)), each second derivative is ¼ of the one in s, so `sup |H''|` and `sup |ω̇| + Ω²`
-//! over the piece are at most 4× the larger of the halves' (each half from an exact pose, with
-//! half the rotation in its variation terms): about half the slack of a single bound from s = 0
-//! (bench ball, 3Z: pieces sampled 546 k → 313 k). The rails are checked along each half.
+//! from the firmware's pose at its middle (the firmware's axes at s = ½ are the mean of the
+//! ends', the intended tip the mean of theirs; the half towards s = 0 runs backwards), so one
+//! pose, one J̃₀⁻¹ and one rail position serve both halves and the middle's error below. On a
+//! half, parametrised by s' = 2s − 1 (or 1 − 2s), each second derivative is ¼ of the one in s,
+//! so `sup |H''|` and `sup |ω̇| + Ω²` over the piece are at most 4× the larger of the halves'
+//! (each with half the rotation in its variation terms): about half the slack of a single bound
+//! from s = 0 (bench ball, 3Z: pieces sampled 546 k → 313 k). The rails are checked along each
+//! half.
 //! Also `|ω − ω₀| ≤ min(δ|Δu|/Λ, (|Ã₀|_F + δ) Ω²)`: the second from `|ω̇| ≤ |Ã| Ω²` over s ≤ 1.
 //!
 //! ## The tip (Lemma 1)
@@ -78,6 +80,31 @@
 //! within `(|ω̇| + Ω²)/8` of its chord, and the slerp of the ends within `w²/8` of it
 //! (w = ∠(n₀, n₁)); the angle is `2 asin(chord/2)` ([`bound::angle_of_chord`]).
 //!
+//! ## The middle (Lemma 1 with an end known)
+//! The firmware's pose at s = ½ gives (Eq. 23) the tip error there, `e_m = |F(½) − p(½)|`, and
+//! the tool axis' chord to the slerp there, `d_m`. On each half, parametrised by s' ∈ [0, 1]
+//! from the piece's exact end, the error vanishes at s' = 0, is e_m at s' = 1 and has
+//! `|e''| ≤ T` (T = the half's `sup |H''|` in s', above), so
+//! `|e| ≤ s' e_m + s'(1 − s')T/2` ([`bound::deviation_with_end`]); the same for the tool axis
+//! with `T = sup(|ω̇| + Ω²) + (w/2)²` (the firmware's axis and the half's slerp). The smaller of
+//! this and the bound above is taken: near a piece's middle the error is known, not bounded.
+//!
+//! ## The tool axis in closed form (the lifted chord)
+//! `(R l̂ᵢ)_z = uᵢ` (Eqs. 16–17) and `(R l̂ᵢ)_z = (Rᵀe₃)·l̂ᵢ`, so the firmware's tool axis
+//! `F = Rᵀe₃` has `F·l̂ᵢ = uᵢ(s)`, linear in s (the firmware moves the motors linearly); the
+//! l̂ᵢ are horizontal and span the plane (the balls are not collinear), so F's horizontal part
+//! `x(s)` is linear in s, and `F_z = √(1 − |x|²)` (F_z > 0 at the ends, and |x(s)| is at most
+//! the larger end's (convexity), so F_z never reaches 0 on a continuous pose). The ends realise
+//! their requests (law 1), so `x(s) = (1 − s) n₀,xy + s n₁,xy` within the round trip: the
+//! firmware's axis is the lifted chord `g(s) = (x, √(1 − |x|²))`, a function of n₀, n₁ alone.
+//! Against the slerp S: `d = g − S` vanishes at both ends, `S'' = −w² S`, and
+//! `g'' = (0, 0, z'')` with `z'' = −(|x'|² z² + (x·x')²)/z³`, `|z''| ≤ |x'|²/z³`
+//! (`(x·x')² ≤ |x|²|x'|²`, `z² + |x|² = 1`), z ≥ z_min = √(1 − max |nᵢ,xy|²). So with
+//! `M = |x'|²/z_min³ + w²`, d sampled at s = k/K ([`AXIS_SAMPLES`]) is within `M/(8K²)` of the
+//! chord of its two nearest samples (Lemma 1 on an interval of 1/K), whose length is at most
+//! the larger sample's: `|d| ≤ max_k |d(k/K)| + M/(8K²)`. On a conic layer at 30° this is about
+//! 1.3 times the true deviation where the Lemma 1 sum above is about 5 times.
+//!
 //! ## Where the bound is not given (the piece is sampled)
 //! The piece is not given a bound when an end is within [`LIMIT_MARGIN_MM`] of an axis limit,
 //! when a ball comes within that margin of its rail's end (the intended path, within the bound
@@ -89,7 +116,8 @@
 use glam::{DMat4, DVec3, DVec4};
 
 use super::bound;
-use super::threez::ThreeZ;
+use super::tessellate::Slerp;
+use super::threez::{BedPose, ThreeZ};
 use super::{Machine, PieceEnd};
 
 /// How far (mm) the firmware path's axes and balls must stay from an axis limit or a rail end
@@ -135,51 +163,155 @@ pub fn bound(m: &ThreeZ, from: PieceEnd, to: PieceEnd) -> Option<(f64, f64)> {
     // times the larger half's sup, tighter than one bound from s = 0 over the whole piece.
     let am: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| (x + y) / 2.0).collect();
     let pm = (p0 + p1) / 2.0;
-    let (tip0, turn0) = second_derivatives(m, (a0, p0), (&am, pm))?;
-    let (tip1, turn1) = second_derivatives(m, (a1, p1), (&am, pm))?;
-    let (tip, turn) = (4.0 * tip0.max(tip1), 4.0 * turn0.max(turn1));
+    let middle = Start::new(m, &am)?;
+    let (tip0, turn0) = second_derivatives(m, &middle, (&am, pm), (a0, p0))?;
+    let (tip_half, turn_half) = {
+        let (tip1, turn1) = second_derivatives(m, &middle, (&am, pm), (a1, p1))?;
+        (tip0.max(tip1), turn0.max(turn1))
+    };
+    let (tip, turn) = (4.0 * tip_half, 4.0 * turn_half);
     let w = bound::angle(n0, n1);
-    let axis = bound::chord_deviation(turn) + bound::chord_deviation(w * w);
+    // the firmware's pose at s = ½ (module documentation, "The middle")
+    let (fm, rm) = m.pose_at(&middle.pose, &am);
+    let tip_bound =
+        bound::chord_deviation(tip).min(bound::deviation_with_end((fm - pm).length(), tip_half));
+    let nm = Slerp::new(n0, n1).at(0.5);
+    let mut axis = (bound::chord_deviation(turn) + bound::chord_deviation(w * w)).min(
+        bound::deviation_with_end((rm - nm).length(), turn_half + (w / 2.0) * (w / 2.0)),
+    );
+    if let Some(lifted) = lifted_axis_deviation(n0, n1, w) {
+        axis = axis.min(lifted);
+    }
     let (bp, ba) = (
-        bound::chord_deviation(tip) + bound::ROUND_TRIP_SLACK_MM,
+        tip_bound + bound::ROUND_TRIP_SLACK_MM,
         bound::angle_of_chord(axis) + bound::ROUND_TRIP_SLACK_DEG,
     );
     (bp.is_finite() && ba.is_finite()).then_some((bp, ba))
 }
 
-/// The sup over the piece from the axes `a0` (tip `p0`) to `a1` (`p1`) of `|H''|` (the tip,
-/// mm per unit parameter²) and of `|ω̇| + Ω²` (the tool axis' `|(Rᵀe₃)''|`), both from the
-/// start pose `a0` (module documentation), with the rails checked along the way; `None` where
-/// no bound is given.
+/// Points `s = k/AXIS_SAMPLES` at which [`lifted_axis_deviation`] compares the firmware's tool
+/// axis with the slerp; between them Lemma 1 on intervals of `1/AXIS_SAMPLES` adds
+/// `M/(8·AXIS_SAMPLES²)`.
+pub const AXIS_SAMPLES: usize = 4;
+
+/// The firmware's tool axis at `s` on a piece whose ends realise `n0`, `n1` (above the
+/// horizon): the lifted chord `g(s) = (x, √(1 − |x|²))`, `x = (1 − s) n₀,xy + s n₁,xy` (module
+/// documentation).
+pub fn lifted_axis(n0: DVec3, n1: DVec3, s: f64) -> DVec3 {
+    let x = n0.truncate().lerp(n1.truncate(), s);
+    x.extend((1.0 - x.length_squared()).sqrt())
+}
+
+/// The largest chord between the firmware's tool axis and the slerp of `n0`, `n1` (unit,
+/// `w` apart) over the piece, from the lifted chord (module documentation, "The tool axis in
+/// closed form"); `None` when an end is not above the horizon.
+pub fn lifted_axis_deviation(n0: DVec3, n1: DVec3, w: f64) -> Option<f64> {
+    let (x0, x1) = (n0.truncate(), n1.truncate());
+    let r2 = x0.length_squared().max(x1.length_squared());
+    if !(n0.z > 0.0 && n1.z > 0.0 && r2 < 1.0) {
+        return None;
+    }
+    let z_min = (1.0 - r2).sqrt();
+    // |d''| ≤ |g''| + |S''| ≤ |x'|²/z³ + w²
+    let m = (x1 - x0).length_squared() / (z_min * z_min * z_min) + w * w;
+    let slerp = Slerp::new(n0, n1);
+    let mut worst = 0.0f64;
+    for k in 1..AXIS_SAMPLES {
+        let s = k as f64 / AXIS_SAMPLES as f64;
+        worst = worst.max((lifted_axis(n0, n1, s) - slerp.at(s)).length());
+    }
+    let h = 1.0 / AXIS_SAMPLES as f64;
+    let d = worst + bound::chord_deviation(m * h * h);
+    d.is_finite().then_some(d)
+}
+
+/// What a bound from a start pose needs of that pose alone ([`second_derivatives`]): the bed's
+/// pose, the balls' offsets `rᵢ = R l̂ᵢ` in the world, J̃₀⁻¹ with `|Ã₀|_F`, `|b̃₀|` and
+/// `K₀ = ‖J̃₀⁻¹‖_F`, and each ball's slide along its rail.
+struct Start {
+    pose: BedPose,
+    /// Λ (module documentation), mm.
+    lambda: f64,
+    /// r₁, r₂.
+    r: [DVec3; 2],
+    inv: DMat4,
+    a_norm: f64,
+    b_norm: f64,
+    k0: f64,
+    /// R l̂ᵢ and ball i's slide along its rail (i = 0, 1, 2), when the rails are limited.
+    rails: Option<[(DVec3, f64); 3]>,
+}
+
+impl Start {
+    /// The start pose of the axes `a0`; `None` where J̃₀ is (nearly) singular or no pose
+    /// exists.
+    fn new(m: &ThreeZ, a0: &[f64]) -> Option<Start> {
+        let pose = m.bed_pose(a0).ok()?;
+        let l = m.ball_offsets();
+        let (d, nrm) = m.rails();
+        let lambda = (l[1].length_squared() + l[2].length_squared()).sqrt();
+        let dd = d[0].extend(0.0);
+        let r = [pose.rotate(l[1]), pose.rotate(l[2])];
+        let nn = [nrm[1].extend(0.0), nrm[2].extend(0.0)];
+        let rows = [
+            (r[0].cross(DVec3::Z) / lambda).extend(0.0),
+            (r[1].cross(DVec3::Z) / lambda).extend(0.0),
+            (r[0].cross(nn[0]) / lambda).extend(nn[0].dot(dd)),
+            (r[1].cross(nn[1]) / lambda).extend(nn[1].dot(dd)),
+        ];
+        let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
+        let det = j0.determinant();
+        if det.is_nan() || det.abs() < MIN_DETERMINANT {
+            return None;
+        }
+        let inv = j0.inverse();
+        let row = |i: usize| -> DVec4 { inv.row(i) };
+        let a_norm =
+            (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
+        let b_norm = row(3).length();
+        let rails = m.params().rail_travel_mm.map(|_| {
+            [0, 1, 2].map(|i| {
+                let ri = pose.rotate(l[i]);
+                (ri, m.slide(i, d[0] * pose.tp + ri.truncate()))
+            })
+        });
+        Some(Start {
+            pose,
+            lambda,
+            r,
+            inv,
+            a_norm,
+            b_norm,
+            k0: a_norm.hypot(b_norm),
+            rails,
+        })
+    }
+}
+
+/// The sup over the piece from the axes `a0` (tip `p0`, start pose `start`) to `a1` (`p1`) of
+/// `|H''|` (the tip, mm per unit parameter²) and of `|ω̇| + Ω²` (the tool axis'
+/// `|(Rᵀe₃)''|`), both from the start pose (module documentation), with the rails checked
+/// along the way; `None` where no bound is given.
 fn second_derivatives(
     m: &ThreeZ,
+    start: &Start,
     (a0, p0): (&[f64], DVec3),
     (a1, p1): (&[f64], DVec3),
 ) -> Option<(f64, f64)> {
-    let pose0 = m.bed_pose(a0).ok()?;
+    let Start {
+        pose: pose0,
+        lambda,
+        r,
+        inv,
+        a_norm,
+        b_norm,
+        k0,
+        rails,
+    } = *start;
     let l = m.ball_offsets();
     let (d, nrm) = m.rails();
-    let lambda = (l[1].length_squared() + l[2].length_squared()).sqrt();
     let dd = d[0].extend(0.0);
-    let r = [pose0.rotate(l[1]), pose0.rotate(l[2])];
     let nn = [nrm[1].extend(0.0), nrm[2].extend(0.0)];
-    let rows = [
-        (r[0].cross(DVec3::Z) / lambda).extend(0.0),
-        (r[1].cross(DVec3::Z) / lambda).extend(0.0),
-        (r[0].cross(nn[0]) / lambda).extend(nn[0].dot(dd)),
-        (r[1].cross(nn[1]) / lambda).extend(nn[1].dot(dd)),
-    ];
-    let j0 = DMat4::from_cols(rows[0], rows[1], rows[2], rows[3]).transpose();
-    let det = j0.determinant();
-    if det.is_nan() || det.abs() < MIN_DETERMINANT {
-        return None;
-    }
-    let inv = j0.inverse();
-    let row = |i: usize| -> DVec4 { inv.row(i) };
-    let a_norm =
-        (row(0).length_squared() + row(1).length_squared() + row(2).length_squared()).sqrt();
-    let b_norm = row(3).length();
-    let k0 = a_norm.hypot(b_norm);
     let du_v = DVec4::new(
         (a1[2] - a1[3]) - (a0[2] - a0[3]),
         (a1[2] - a1[4]) - (a0[2] - a0[4]),
@@ -222,19 +354,16 @@ fn second_derivatives(
     let omega_dot =
         ((acc0.truncate().length() + spread) / lambda).min((a_norm + delta) * omega * omega);
     let t_ddot = (acc0.w.abs() + spread).min((b_norm + delta) * omega * omega * lambda);
-    if let Some([inward, outward]) = m.params().rail_travel_mm {
+    if let (Some([inward, outward]), Some(rails)) = (m.params().rail_travel_mm, rails) {
         // ball i slides along its rail at dᵢ·(ṫ D + ω × rᵢ): at the start exactly, and along the
         // piece within δ|Δu|·√(1 + |l̂ᵢ|²/Λ²) (|x − x₀| ≤ δ|Δu|) + |ω₀| Ω |l̂ᵢ| (|Δrᵢ| ≤ φ|l̂ᵢ|)
         // of it; over the piece (s ≤ 1) it slides at most that far from its start position
-        for (i, li) in l.iter().enumerate() {
-            let ri = pose0.rotate(*li);
+        for (i, (li, (ri, slide))) in l.iter().zip(rails).enumerate() {
             let v0 = d[i].dot((dd * x0.w + omega0.cross(ri)).truncate());
             let ratio = li.length() / lambda;
             let travel = v0.abs()
                 + delta * du * (1.0 + ratio * ratio).sqrt()
                 + w0 / lambda * omega * li.length();
-            let now = d[0] * pose0.tp + ri.truncate();
-            let slide = m.slide(i, now);
             let room = travel + LIMIT_MARGIN_MM;
             if slide + room > inward || -slide + room > outward {
                 return None;
@@ -262,4 +391,135 @@ fn second_derivatives(
     let tip =
         (h0.length() + h_moves).min(t_ddot + (omega_dot + omega * omega) * v + 2.0 * omega * dp);
     Some((tip, omega_dot + omega * omega))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::machine::spec::preset;
+    use crate::num;
+    use crate::test_rng::Lcg;
+
+    fn ratrig() -> Box<dyn Machine> {
+        preset("ratrig-vcore3-3z")
+            .and_then(|s| s.build())
+            .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn unit(tilt_deg: f64, azimuth_deg: f64) -> DVec3 {
+        let (t, a) = (num::rad(tilt_deg), num::rad(azimuth_deg));
+        DVec3::new(t.sin() * a.cos(), t.sin() * a.sin(), t.cos())
+    }
+
+    /// A piece's start axes and tool axis, end axes and tool axis, and whether it is conic.
+    type TestPiece = (Vec<f64>, DVec3, Vec<f64>, DVec3, bool);
+
+    /// Random pieces on the RatRig bed (tilts up to 30°, turns up to 8°, tips up to 3 mm
+    /// apart) and conic ones (30° tilt, the azimuth turned): `(a₀, n₀, a₁, n₁, conic)`.
+    fn pieces(m: &dyn Machine) -> Vec<TestPiece> {
+        let mut rng = Lcg(0x3a2_5eed);
+        let mut out = Vec::new();
+        for i in 0..600 {
+            let p0 = rng.within(DVec3::new(20.0, 20.0, 0.0), DVec3::new(280.0, 270.0, 150.0));
+            let p1 = p0 + rng.within(DVec3::splat(-2.0), DVec3::splat(2.0));
+            let (n0, n1) = if i % 2 == 0 {
+                let a = rng.range(-180.0, 180.0);
+                (unit(30.0, a), unit(30.0, a + rng.range(0.2, 8.0)))
+            } else {
+                let n0 = unit(rng.range(0.0, 29.0), rng.range(-180.0, 180.0));
+                let about = n0
+                    .cross(rng.within(DVec3::splat(-1.0), DVec3::ONE))
+                    .normalize();
+                let n1 = crate::machine::angles::rotate(n0, about, num::rad(rng.range(0.2, 8.0)));
+                (n0, n1)
+            };
+            if num::deg(num::angle_between(n1, DVec3::Z)) > 30.0 {
+                continue;
+            }
+            let (Ok(a0), Ok(a1)) = (m.inverse(p0, n0, None), m.inverse(p1, n1, None)) else {
+                continue;
+            };
+            out.push((a0, n0, a1, n1, i % 2 == 0));
+        }
+        out
+    }
+
+    /// The great-circle interpolation from its definition (not the tessellation's `Slerp`).
+    fn great_circle(n0: DVec3, n1: DVec3, s: f64) -> DVec3 {
+        let w = n0.dot(n1).clamp(-1.0, 1.0).acos();
+        (n0 * ((1.0 - s) * w).sin() + n1 * (s * w).sin()) / w.sin()
+    }
+
+    /// The fact the tool-axis closed form rests on: the firmware's axis, `forward` of the
+    /// interpolated motor heights, is the lifted chord of the ends' axes.
+    #[test]
+    fn the_firmwares_tool_axis_is_the_lifted_chord() {
+        let m = ratrig();
+        let mut worst = 0.0f64;
+        let all = pieces(m.as_ref());
+        for (a0, n0, a1, n1, _) in &all {
+            for k in 0..=50 {
+                let s = k as f64 / 50.0;
+                let axes: Vec<f64> = a0.iter().zip(a1).map(|(x, y)| x + (y - x) * s).collect();
+                let f = m.forward(&axes).unwrap().1;
+                let d = num::angle_between(f, lifted_axis(*n0, *n1, s));
+                worst = worst.max(d);
+                assert!(
+                    d <= 1e-9,
+                    "s {s}: forward {f} vs lifted {}, {d:e} rad",
+                    lifted_axis(*n0, *n1, s)
+                );
+            }
+        }
+        eprintln!(
+            "{} pieces, lifted chord within {worst:e} rad of forward",
+            all.len()
+        );
+        assert!(all.len() > 400);
+    }
+
+    /// The closed form of the tool axis' deviation holds against the firmware's axis
+    /// (`forward` of the interpolated axes) and the slerp, sampled at 1000 points, and is
+    /// within 1.4 times it on the conic pieces (a conic layer's, the bench ball's) turning by
+    /// 0.5° or more (elsewhere the true deviation can be far smaller than the `M/(8K²)` term).
+    #[test]
+    fn the_lifted_axis_bound_holds_and_is_tight() {
+        let m = ratrig();
+        let (mut count, mut loosest, mut tightest) = (0, 0.0f64, f64::INFINITY);
+        for (a0, n0, a1, n1, conic) in pieces(m.as_ref()) {
+            let w = num::angle_between(n0, n1);
+            let bound = lifted_axis_deviation(n0, n1, w).expect("above the horizon");
+            let mut sampled = 0.0f64;
+            for k in 1..1000 {
+                let s = k as f64 / 1000.0;
+                let axes: Vec<f64> = a0.iter().zip(&a1).map(|(x, y)| x + (y - x) * s).collect();
+                let f = m.forward(&axes).unwrap().1;
+                sampled = sampled.max((f - great_circle(n0, n1, s)).length());
+            }
+            // the round trip of the ends (1e-9 rad each)
+            assert!(
+                sampled <= bound + 3e-9,
+                "{n0} → {n1}: sampled chord {sampled:e} > bound {bound:e}"
+            );
+            tightest = tightest.min(bound / sampled.max(1e-300));
+            if conic && num::deg(w) >= 0.5 {
+                loosest = loosest.max(bound / sampled);
+            }
+            count += 1;
+        }
+        eprintln!("{count} pieces: bound / sampled from {tightest:.3} to {loosest:.3}");
+        assert!(
+            count > 400 && loosest <= 1.4,
+            "the bound is {loosest}× the sampled deviation"
+        );
+    }
+
+    /// Below the horizon (or on it) the lift is not the firmware's axis: no closed form.
+    #[test]
+    fn the_lifted_axis_bound_is_not_given_below_the_horizon() {
+        let w = 0.1;
+        assert!(lifted_axis_deviation(unit(30.0, 0.0), unit(95.0, 3.0), w).is_none());
+        assert!(lifted_axis_deviation(unit(90.0, 0.0), unit(30.0, 3.0), w).is_none());
+        assert!(lifted_axis_deviation(unit(30.0, 0.0), unit(29.0, 3.0), w).is_some());
+    }
 }
