@@ -444,9 +444,7 @@ impl MachineEmitter {
         out.extend_from_slice(b"G1");
         let to_read = AxisBuf::from_fn(axes.len(), |i| {
             out.push(b' ');
-            for &c in self.limits[i].name.as_bytes() {
-                out.push(c);
-            }
+            out.extend_from_slice(self.limits[i].name.as_bytes());
             push_mm_read(out, axes[i])
         });
         let e_before = self.ew.current();
@@ -790,7 +788,7 @@ impl MachineEmitter {
 
     /// Whether `axes` lie within the travel.
     fn in_travel(&self, axes: &[f64]) -> bool {
-        self.reach.first_outside(axes).is_none()
+        self.reach.outside(axes).next().is_none()
     }
 
     /// Whether the move `moves` from `prev` stays within the travel: its pieces, and the

@@ -52,20 +52,11 @@ impl Reach {
     /// Check raw `axes` (machine order): `Err(i)` names the first axis outside its travel (the
     /// move is not recorded); otherwise the values join the range written.
     pub fn check(&mut self, axes: &[f64]) -> Result<(), usize> {
-        if let Some(i) = self.first_outside(axes) {
+        if let Some(i) = self.outside(axes).next() {
             return Err(i);
         }
         self.observe(axes);
         Ok(())
-    }
-
-    /// The first axis of raw `axes` outside its travel, if any.
-    pub fn first_outside(&self, axes: &[f64]) -> Option<usize> {
-        // false for a NaN, which is outside
-        let is_inside = |v: f64, (lo, hi): (f64, f64)| v >= lo && v <= hi;
-        axes.iter()
-            .zip(&self.inside)
-            .position(|(&v, &r)| !is_inside(v, r))
     }
 
     /// The axes of raw `axes` (machine order) outside their travel, in order (see the module

@@ -137,9 +137,7 @@ impl CheckedUnwarper {
             Some(w) => {
                 let (mut findings, _) = w.finish()?;
                 // the last line, read by `finish`, may have found more
-                for f in &mut findings[self.resolved..] {
-                    f.input_line = self.inner.input_line_of(f.line);
-                }
+                name_input_lines(&self.inner, &mut findings[self.resolved..]);
                 self.verdict(findings, &mut report)?;
             }
             None => {
@@ -161,9 +159,7 @@ impl CheckedUnwarper {
             // finding is on a line not yet read whole, so the emitter may forget the ones
             // before it (the record stays the size of a chunk, not of the file)
             let found = w.findings_mut();
-            for f in &mut found[self.resolved..] {
-                f.input_line = self.inner.input_line_of(f.line);
-            }
+            name_input_lines(&self.inner, &mut found[self.resolved..]);
             self.resolved = found.len();
             self.inner.forget_input_lines_before(w.lines_read() + 1);
         }
@@ -194,6 +190,13 @@ impl CheckedUnwarper {
             m.collisions = findings;
         }
         Ok(())
+    }
+}
+
+/// Each finding's input line, from the unwarp's record (while it still holds the line).
+fn name_input_lines(inner: &Unwarper, findings: &mut [CollisionFinding]) {
+    for f in findings {
+        f.input_line = inner.input_line_of(f.line);
     }
 }
 
